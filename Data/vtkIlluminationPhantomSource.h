@@ -1,0 +1,71 @@
+/**
+ * @class vtkIlluminationPhantomSource
+ * @brief Procedural volumes for illumination tests, benchmarks and the demo.
+ *
+ * Scenes (point scalars "Density", spacing 1, origin 0):
+ * - ThreeSpheres: three spheres of value 200 in an empty (0) box, arranged as in Fig. 7 of
+ *   the selective-light-updates paper (unsigned char).
+ * - Slab: a homogeneous slab of value 1 over the whole x-y extent between the z indices
+ *   SlabBegin and SlabEnd (inclusive), 0 elsewhere (float), for analytic tests.
+ * - CTPhantom: a CT-like head: a skull shell, soft tissue, two low-density ventricles and a
+ *   few dense inclusions (unsigned short, 0..1000).
+ * Cost: one pass over the points.
+ */
+#ifndef vtkIlluminationPhantomSource_h
+#define vtkIlluminationPhantomSource_h
+
+#include "vtkImageAlgorithm.h"
+#include "VolIllumDataModule.h"
+
+class VOLILLUMDATA_EXPORT vtkIlluminationPhantomSource : public vtkImageAlgorithm
+{
+public:
+  static vtkIlluminationPhantomSource* New();
+  vtkTypeMacro(vtkIlluminationPhantomSource, vtkImageAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum Scenes
+  {
+    ThreeSpheres = 0,
+    Slab = 1,
+    CTPhantom = 2
+  };
+
+  ///@{
+  /** Which scene to generate. Default ThreeSpheres. */
+  vtkSetClampMacro(Scene, int, ThreeSpheres, CTPhantom);
+  vtkGetMacro(Scene, int);
+  ///@}
+
+  ///@{
+  /** Number of points along each axis (2 to 1024). Default 64^3. */
+  vtkSetVector3Macro(Dimensions, int);
+  vtkGetVector3Macro(Dimensions, int);
+  ///@}
+
+  ///@{
+  /** First and last z index of the slab scene. Defaults 16 and 47. */
+  vtkSetMacro(SlabBegin, int);
+  vtkGetMacro(SlabBegin, int);
+  vtkSetMacro(SlabEnd, int);
+  vtkGetMacro(SlabEnd, int);
+  ///@}
+
+protected:
+  vtkIlluminationPhantomSource();
+  ~vtkIlluminationPhantomSource() override = default;
+
+  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  int Scene = ThreeSpheres;
+  int Dimensions[3] = { 64, 64, 64 };
+  int SlabBegin = 16;
+  int SlabEnd = 47;
+
+private:
+  vtkIlluminationPhantomSource(const vtkIlluminationPhantomSource&) = delete;
+  void operator=(const vtkIlluminationPhantomSource&) = delete;
+};
+
+#endif

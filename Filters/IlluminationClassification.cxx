@@ -1,0 +1,270 @@
+#include "IlluminationClassification.h"
+
+#include "vtkArrayDispatch.h"
+#include "vtkColorTransferFunction.h"
+#include "vtkDataArray.h"
+#include "vtkDataArrayRange.h"
+#include "vtkPiecewiseFunction.h"
+#include "vtkSMPTools.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+
+namespace volillum
+{
+
+void GridGeometry::GetBounds(double bounds[6]) const
+{
+  for (int a = 0; a < 3; ++a)
+  {
+    const double lo = this->Origin[a];
+    const double hi = this->Origin[a] + (this->Dimensions[a] - 1) * this->Spacing[a];
+    bounds[2 * a] = std::min(lo, hi);
+    bounds[2 * a + 1] = std::max(lo, hi);
+  }
+}
+
+GridGeometry ScaledGeometry(const GridGeometry& data, double scale)
+{
+  GridGeometry g;
+  g.Origin = data.Origin;
+  for (int a = 0; a < 3; ++a)
+  {
+    const int n = data.Dimensions[a];
+    if (n <= 1)
+    {
+      g.Dimensions[a] = n;
+      g.Spacing[a] = data.Spacing[a];
+      continue;
+    }
+    const int m = std::max(2, static_cast<int>(std::lround((n - 1) * scale)) + 1);
+    g.Dimensions[a] = std::min(m, n);
+    g.Spacing[a] = data.Spacing[a] * (n - 1) / (g.Dimensions[a] - 1);
+  }
+  return g;
+}
+
+void ClassifiedVolume::Sample(const double p[3], float out[4]) const
+{
+  const auto& g = this->Geometry;
+  int i0[3];
+  double f[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    const int n = g.Dimensions[a];
+    double u = (p[a] - g.Origin[a]) / g.Spacing[a];
+    u = std::min(std::max(u, 0.0), static_cast<double>(n - 1));
+    int i = static_cast<int>(u);
+    if (i >= n - 1)
+    {
+      i = std::max(n - 2, 0);
+    }
+    i0[a] = i;
+    f[a] = n > 1 ? u - i : 0.0;
+  }
+  const long long sx = 4;
+  const long long sy = sx * g.Dimensions[0];
+  const long long sz = sy * g.Dimensions[1];
+  const long long dx = g.Dimensions[0] > 1 ? sx : 0;
+  const long long dy = g.Dimensions[1] > 1 ? sy : 0;
+  const long long dz = g.Dimensions[2] > 1 ? sz : 0;
+  const float* base = this->Properties.data() + i0[0] * sx + i0[1] * sy + i0[2] * sz;
+  const float fx = static_cast<float>(f[0]);
+  const float fy = static_cast<float>(f[1]);
+  const float fz = static_cast<float>(f[2]);
+  for (int c = 0; c < 4; ++c)
+  {
+    const float* q = base + c;
+    const float c00 = q[0] + fx * (q[dx] - q[0]);
+    const float c10 = q[dy] + fx * (q[dy + dx] - q[dy]);
+    const float c01 = q[dz] + fx * (q[dz + dx] - q[dz]);
+    const float c11 = q[dz + dy] + fx * (q[dz + dy + dx] - q[dz + dy]);
+    const float c0 = c00 + fy * (c10 - c00);
+    const float c1 = c01 + fy * (c11 - c01);
+    out[c] = c0 + fz * (c1 - c0);
+  }
+}
+
+float ClassifiedVolume::MaxExtinction() const
+{
+  float m = 0.0f;
+  for (size_t i = 0; i < this->Properties.size(); i += 4)
+  {
+    m = std::max(m, this->Properties[i]);
+  }
+  return m;
+}
+
+namespace
+{
+// Transfer functions sampled densely over the scalar range, looked up with linear
+// interpolation (as the GPU mapper does with its lookup textures).
+struct TransferTable
+{
+  static constexpr int Size = 4096;
+  double Min = 0.0;
+  double Max = 1.0;
+  std::vector<float> Sigma;  // Size entries
+  std::vector<float> Absorb; // 3 * Size entries
+
+  void Build(const ClassificationSettings& s, double lo, double hi)
+  {
+    this->Min = lo;
+    this->Max = hi > lo ? hi : lo + 1.0;
+    std::vector<double> opacity(Size), rgb(3 * Size);
+    if (s.Opacity)
+    {
+      s.Opacity->GetTable(this->Min, this->Max, Size, opacity.data());
+    }
+    else
+    {
+      for (int i = 0; i < Size; ++i)
+      {
+        opacity[i] = static_cast<double>(i) / (Size - 1);
+      }
+    }
+    if (s.Color)
+    {
+      s.Color->GetTable(this->Min, this->Max, Size, rgb.data());
+    }
+    else
+    {
+      for (int i = 0; i < Size; ++i)
+      {
+        rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = static_cast<double>(i) / (Size - 1);
+      }
+    }
+    this->Sigma.resize(Size);
+    this->Absorb.resize(3 * Size);
+    for (int i = 0; i < Size; ++i)
+    {
+      const double a = std::min(std::max(opacity[i], 0.0), MaximumOpacity);
+      this->Sigma[i] = static_cast<float>(-std::log1p(-a) / s.UnitDistance);
+      for (int c = 0; c < 3; ++c)
+      {
+        const double col = std::min(std::max(rgb[3 * i + c], 0.0), 1.0);
+        this->Absorb[3 * i + c] = s.Chromatic ? static_cast<float>(1.0 - col) : 1.0f;
+      }
+    }
+  }
+
+  void Lookup(double v, float* out) const
+  {
+    double u = (v - this->Min) / (this->Max - this->Min) * (Size - 1);
+    u = std::min(std::max(u, 0.0), static_cast<double>(Size - 1));
+    int i = std::min(static_cast<int>(u), Size - 2);
+    const float f = static_cast<float>(u - i);
+    out[0] = this->Sigma[i] + f * (this->Sigma[i + 1] - this->Sigma[i]);
+    for (int c = 0; c < 3; ++c)
+    {
+      const float a0 = this->Absorb[3 * i + c];
+      const float a1 = this->Absorb[3 * (i + 1) + c];
+      out[1 + c] = a0 + f * (a1 - a0);
+    }
+  }
+};
+
+struct ClassifyWorker
+{
+  template <typename ArrayT>
+  void operator()(ArrayT* array, int component, const TransferTable& table, float* out,
+    std::atomic<long long>& nans)
+  {
+    const auto values = vtk::DataArrayTupleRange(array);
+    vtkSMPTools::For(0, values.size(), [&](vtkIdType begin, vtkIdType end) {
+      long long localNans = 0;
+      for (vtkIdType t = begin; t < end; ++t)
+      {
+        const double v = static_cast<double>(values[t][component]);
+        float* o = out + 4 * t;
+        if (std::isnan(v))
+        {
+          ++localNans;
+          o[0] = 0.0f;
+          o[1] = o[2] = o[3] = 1.0f;
+          continue;
+        }
+        table.Lookup(v, o);
+      }
+      nans += localNans;
+    });
+  }
+};
+
+// Scalar range that ignores NaN (vtkDataArray::GetRange already does) and infinities.
+bool FiniteRange(vtkDataArray* scalars, int component, double range[2])
+{
+  scalars->GetRange(range, component);
+  return std::isfinite(range[0]) && std::isfinite(range[1]) && range[0] <= range[1];
+}
+}
+
+bool Classify(vtkDataArray* scalars, const GridGeometry& geometry,
+  const ClassificationSettings& settings, ClassifiedVolume& out, std::string& error,
+  long long* nanCount)
+{
+  if (!scalars)
+  {
+    error = "the input has no point scalars to illuminate";
+    return false;
+  }
+  if (scalars->GetNumberOfTuples() != geometry.NumberOfPoints())
+  {
+    error = "the scalars must be point data with one value per grid point";
+    return false;
+  }
+  if (settings.Component < 0 || settings.Component >= scalars->GetNumberOfComponents())
+  {
+    error = "the selected scalar component does not exist";
+    return false;
+  }
+  if (!(settings.UnitDistance > 0.0) || !std::isfinite(settings.UnitDistance))
+  {
+    error = "the scalar opacity unit distance must be a positive number";
+    return false;
+  }
+  double range[2];
+  if (!FiniteRange(scalars, settings.Component, range))
+  {
+    error = "the scalars have no finite values";
+    return false;
+  }
+  TransferTable table;
+  table.Build(settings, range[0], range[1]);
+
+  out.Geometry = geometry;
+  out.Properties.assign(4 * static_cast<size_t>(geometry.NumberOfPoints()), 0.0f);
+  std::atomic<long long> nans(0);
+  ClassifyWorker worker;
+  if (!vtkArrayDispatch::Dispatch::Execute(
+        scalars, worker, settings.Component, table, out.Properties.data(), nans))
+  {
+    worker(scalars, settings.Component, table, out.Properties.data(), nans);
+  }
+  if (nanCount)
+  {
+    *nanCount = nans.load();
+  }
+  return true;
+}
+
+double DistanceToBoxExit(const double p[3], const double d[3], const double bounds[6])
+{
+  double tExit = std::numeric_limits<double>::infinity();
+  for (int a = 0; a < 3; ++a)
+  {
+    if (d[a] > 0.0)
+    {
+      tExit = std::min(tExit, (bounds[2 * a + 1] - p[a]) / d[a]);
+    }
+    else if (d[a] < 0.0)
+    {
+      tExit = std::min(tExit, (bounds[2 * a] - p[a]) / d[a]);
+    }
+  }
+  return std::max(tExit, 0.0);
+}
+
+}

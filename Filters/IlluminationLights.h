@@ -1,0 +1,106 @@
+/**
+ * @file IlluminationLights.h
+ * @brief Plain C++ description of the lights every illumination filter uses.
+ *
+ * The filters accept VTK's own vtkLight (DESIGN.md): a non-positional light is
+ * directional (it shines from its position toward its focal point), a positional light
+ * with a cone angle of 90 degrees or more is a point light and one with a smaller cone
+ * angle a spot light. LightState is a value snapshot of one vtkLight so that a filter can
+ * compare what it last applied with what the user has now, parameter by parameter,
+ * instead of trusting modification times.
+ */
+#ifndef IlluminationLights_h
+#define IlluminationLights_h
+
+#include "VolIllumFiltersModule.h"
+
+#include <array>
+#include <vector>
+
+class vtkLight;
+
+namespace volillum
+{
+
+enum class LightKind
+{
+  Directional,
+  Point,
+  Spot
+};
+
+/// Number of values per light in the flat parameter list of the pvpython API:
+/// positional, position xyz, focal point xyz, colour rgb, intensity, cone angle,
+/// exponent, switch.
+constexpr int LightParameterCount = 14;
+
+struct VOLILLUMFILTERS_EXPORT LightState
+{
+  LightKind Kind = LightKind::Directional;
+  std::array<double, 3> Position{ { 0.0, 0.0, 1.0 } };
+  std::array<double, 3> FocalPoint{ { 0.0, 0.0, 0.0 } };
+  std::array<double, 3> Color{ { 1.0, 1.0, 1.0 } };
+  double Intensity = 1.0;
+  double ConeAngle = 30.0;
+  double Exponent = 1.0;
+  bool On = true;
+
+  /// Unit vector from the position toward the focal point (the direction light travels
+  /// for a directional light, the cone axis of a spot light).
+  std::array<double, 3> Direction() const;
+
+  /// Radiance this light contributes per channel when nothing occludes it.
+  std::array<double, 3> Radiance() const;
+
+  bool operator==(const LightState& other) const;
+  bool operator!=(const LightState& other) const { return !(*this == other); }
+};
+
+/// Snapshot of a vtkLight.
+VOLILLUMFILTERS_EXPORT LightState CaptureLight(vtkLight* light);
+
+/// Set a vtkLight from the 14 numbers of the flat parameter layout.
+VOLILLUMFILTERS_EXPORT void ApplyLightParameters(vtkLight* light, const double* parameters);
+
+/// Read the 14 numbers of the flat parameter layout from a vtkLight.
+VOLILLUMFILTERS_EXPORT void GetLightParameters(vtkLight* light, double* parameters);
+
+/// Light arriving at a point before any attenuation: the unit direction toward the
+/// light, how far light has to travel to reach the point (infinite for a directional
+/// light) and the spot-cone factor (1 outside spot lights, 0 outside the cone).
+struct Incidence
+{
+  std::array<double, 3> ToLight;
+  double Distance;
+  double ConeFactor;
+};
+
+VOLILLUMFILTERS_EXPORT Incidence ComputeIncidence(const LightState& light, const double point[3]);
+
+/// True when the light position lies inside the axis-aligned box bounds
+/// (xmin, xmax, ymin, ymax, zmin, zmax). Directional lights are never inside.
+VOLILLUMFILTERS_EXPORT bool IsLightInside(const LightState& light, const double bounds[6]);
+
+/**
+ * Remembers the light states a filter applied last and tells which lights changed
+ * since then. Lights are matched by their index in the list.
+ */
+class VOLILLUMFILTERS_EXPORT LightChangeTracker
+{
+public:
+  /// Indices whose state differs from the applied state, including lights that were
+  /// added or removed since (indices beyond the shorter list).
+  std::vector<int> ChangedLights(const std::vector<LightState>& current) const;
+
+  /// Remember the states as applied.
+  void Commit(const std::vector<LightState>& applied) { this->Applied = applied; }
+  void Reset() { this->Applied.clear(); }
+  const std::vector<LightState>& GetApplied() const { return this->Applied; }
+
+private:
+  std::vector<LightState> Applied;
+};
+
+}
+
+#endif

@@ -1,0 +1,53 @@
+/**
+ * @file RayMarchKernel.h
+ * @brief Brute-force single-scattering illumination: from every point march to every light.
+ *
+ * This is the reference the faster methods are tested against. From a point p the kernel
+ * marches toward each light (to the volume boundary for a directional light, to the light
+ * position or the boundary, whichever comes first, for point and spot lights) with the
+ * midpoint rule and multiplies the chromatic step transmittances
+ * (1 - a (1 - c)) of IlluminationClassification.h. The radiance of a light (colour x
+ * intensity, times the spot-cone factor) times that transmittance is summed over lights.
+ * Cost: points x lights x steps trilinear samples; marching stops early once every
+ * channel's transmittance is below MinimumTransmittance, which bounds the absolute error
+ * of that cut by MinimumTransmittance x radiance.
+ */
+#ifndef RayMarchKernel_h
+#define RayMarchKernel_h
+
+#include "IlluminationClassification.h"
+#include "IlluminationLights.h"
+#include "VolIllumFiltersModule.h"
+
+#include <array>
+#include <functional>
+#include <vector>
+
+namespace volillum
+{
+
+struct RayMarchSettings
+{
+  /// Step length as a fraction of the smallest data spacing.
+  double StepFraction = 0.5;
+  /// Transmittance below which a ray stops.
+  double MinimumTransmittance = 1e-5;
+};
+
+/// Called with the fraction done; returning false stops the computation.
+using ProgressCallback = std::function<bool(double)>;
+
+/// Per-channel transmittance from point p to the light (0 outside a spot cone).
+VOLILLUMFILTERS_EXPORT std::array<double, 3> RayMarchTransmittance(
+  const ClassifiedVolume& volume, const LightState& light, const double p[3],
+  const RayMarchSettings& settings);
+
+/// Fill rgb (3 floats per target point, x fastest) with the summed illumination of all
+/// lights. Returns false when progress asked to stop (rgb is then incomplete).
+VOLILLUMFILTERS_EXPORT bool RayMarchIllumination(const ClassifiedVolume& volume,
+  const std::vector<LightState>& lights, const GridGeometry& target,
+  const RayMarchSettings& settings, float* rgb, const ProgressCallback& progress);
+
+}
+
+#endif

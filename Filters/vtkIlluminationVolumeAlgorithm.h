@@ -1,0 +1,174 @@
+/**
+ * @class vtkIlluminationVolumeAlgorithm
+ * @brief Common base of the filters that compute an illumination volume for vtkImageData.
+ *
+ * Input: a 3D vtkImageData with a point scalar array (chosen with SetInputArrayToProcess;
+ * the active scalars by default). Output: a vtkImageData covering the input's bounds at
+ * ResolutionScale (1, 0.5 or 0.25 per axis) with the point array "Illumination"
+ * (3-component float, linear HDR: an unoccluded white light of intensity 1 gives (1,1,1)),
+ * and the field arrays UpdateMode (0 full, 1 selective), PropagationPasses (passes or sweeps
+ * the last update did) and UpdateSeconds (its wall time).
+ *
+ * Lights are vtkLight objects (see IlluminationLights.h for how they are read). The same
+ * lights can be given as a flat list of 14 numbers per light, which is how ParaView's
+ * "Lights" property sets them: [positional 0/1, position x y z, focal point x y z,
+ * colour r g b, intensity, cone angle, exponent, switch 0/1].
+ *
+ * Optical properties come from a vtkColorTransferFunction and a vtkPiecewiseFunction with
+ * the meaning they have in vtkVolumeProperty (see IlluminationClassification.h); without
+ * them a grey ramp over the scalar range applies.
+ *
+ * Bad input (no or non-numeric scalars, a 2D or empty image, non-finite light parameters,
+ * an unsupported resolution scale, an absurd output size) is reported with vtkErrorMacro
+ * and gives an empty output.
+ */
+#ifndef vtkIlluminationVolumeAlgorithm_h
+#define vtkIlluminationVolumeAlgorithm_h
+
+#include "IlluminationClassification.h"
+#include "IlluminationLights.h"
+#include "vtkImageAlgorithm.h"
+#include "vtkSmartPointer.h"
+#include "VolIllumFiltersModule.h"
+
+#include <vector>
+
+class vtkColorTransferFunction;
+class vtkLight;
+class vtkPiecewiseFunction;
+
+class VOLILLUMFILTERS_EXPORT vtkIlluminationVolumeAlgorithm : public vtkImageAlgorithm
+{
+public:
+  vtkTypeMacro(vtkIlluminationVolumeAlgorithm, vtkImageAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * The lights. The filter keeps references to the vtkLight objects, so changing a light
+   * after adding it changes the next update.
+   */
+  void AddLight(vtkLight* light);
+  void RemoveAllLights();
+  int GetNumberOfLights() const { return static_cast<int>(this->Lights.size()); }
+  vtkLight* GetLight(int index) const;
+  ///@}
+
+  ///@{
+  /**
+   * Flat light list, 14 numbers per light (see the class description). Setting the number
+   * of values creates or removes lights; setting a value edits the light it belongs to.
+   */
+  void SetNumberOfLightParameters(int count);
+  int GetNumberOfLightParameters() const;
+  void SetLightParameter(int index, double value);
+  double GetLightParameter(int index) const;
+  ///@}
+
+  ///@{
+  /**
+   * Resolution of the illumination volume relative to the input, per axis: 1, 0.5 or 0.25.
+   * Default 1.
+   */
+  vtkSetMacro(ResolutionScale, double);
+  vtkGetMacro(ResolutionScale, double);
+  ///@}
+
+  ///@{
+  /**
+   * Transfer functions. Without them a grey ramp over the scalar range is used.
+   */
+  void SetColorTransferFunction(vtkColorTransferFunction* ctf);
+  vtkGetObjectMacro(ColorTransferFunction, vtkColorTransferFunction);
+  void SetOpacityFunction(vtkPiecewiseFunction* otf);
+  vtkGetObjectMacro(OpacityFunction, vtkPiecewiseFunction);
+  ///@}
+
+  ///@{
+  /**
+   * Thickness a sample must have for the opacity function's value to be its opacity, as
+   * vtkVolumeProperty's ScalarOpacityUnitDistance. Default 1.
+   */
+  vtkSetMacro(ScalarOpacityUnitDistance, double);
+  vtkGetMacro(ScalarOpacityUnitDistance, double);
+  ///@}
+
+  ///@{
+  /**
+   * When on (default), light passing through coloured material takes on its colour: per
+   * channel the step opacity is weighted by (1 - colour). When off, every channel is
+   * attenuated by the opacity alone.
+   */
+  vtkSetMacro(ChromaticAttenuation, bool);
+  vtkGetMacro(ChromaticAttenuation, bool);
+  vtkBooleanMacro(ChromaticAttenuation, bool);
+  ///@}
+
+  /// Current states of the lights.
+  std::vector<volillum::LightState> GetLightStates() const;
+
+  vtkMTimeType GetMTime() override;
+
+  /// Upper bound on the number of illumination points (a bigger request is an error).
+  static constexpr long long MaximumOutputPoints = 1LL << 29;
+
+protected:
+  vtkIlluminationVolumeAlgorithm();
+  ~vtkIlluminationVolumeAlgorithm() override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  /// What one update did, reported in the output's field data.
+  struct UpdateReport
+  {
+    int Mode = 0;
+    int Passes = 0;
+  };
+
+  /**
+   * Compute the illumination of all lights on the illumination grid into rgb (3 floats a
+   * point, x fastest). inputModified tells whether the data or the classification changed
+   * since the last successful update. Return false when aborted.
+   */
+  virtual bool ComputeIllumination(const volillum::ClassifiedVolume& volume,
+    const std::vector<volillum::LightState>& lights, const volillum::GridGeometry& target,
+    bool inputModified, float* rgb, UpdateReport& report) = 0;
+
+  /// Report progress; returns false when the update should stop.
+  bool ReportProgress(double fraction);
+
+  std::vector<vtkSmartPointer<vtkLight>> Lights;
+  double ResolutionScale = 1.0;
+  vtkColorTransferFunction* ColorTransferFunction = nullptr;
+  vtkPiecewiseFunction* OpacityFunction = nullptr;
+  double ScalarOpacityUnitDistance = 1.0;
+  bool ChromaticAttenuation = true;
+
+private:
+  vtkIlluminationVolumeAlgorithm(const vtkIlluminationVolumeAlgorithm&) = delete;
+  void operator=(const vtkIlluminationVolumeAlgorithm&) = delete;
+
+  bool ValidGeometry(vtkImageData* input, volillum::GridGeometry& data,
+    volillum::GridGeometry& target);
+
+  // What the last successful classification was made from; equal keys mean the cached
+  // classification is still valid.
+  struct ClassificationKey
+  {
+    vtkMTimeType Scalars = 0;
+    vtkMTimeType Color = 0;
+    vtkMTimeType Opacity = 0;
+    double Scale = 0.0;
+    double UnitDistance = 0.0;
+    bool Chromatic = false;
+    bool operator==(const ClassificationKey& o) const;
+  };
+  ClassificationKey ClassifiedKey;
+  bool HasClassification = false;
+  volillum::ClassifiedVolume Classified;
+};
+
+#endif

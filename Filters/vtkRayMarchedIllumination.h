@@ -1,0 +1,46 @@
+/**
+ * @class vtkRayMarchedIllumination
+ * @brief Reference illumination volume: brute-force single scattering from many lights.
+ *
+ * From every point of the illumination grid the filter marches to every light that is on
+ * and sums colour x intensity x chromatic transmittance (see RayMarchKernel.h). It is the
+ * ground truth for the faster methods and the single-scattering baseline of the
+ * benchmarks. Cost: points x lights x (path length / StepFraction) samples, all threads
+ * through vtkSMPTools. PropagationPasses reports the number of lights marched.
+ */
+#ifndef vtkRayMarchedIllumination_h
+#define vtkRayMarchedIllumination_h
+
+#include "vtkIlluminationVolumeAlgorithm.h"
+
+class VOLILLUMFILTERS_EXPORT vtkRayMarchedIllumination : public vtkIlluminationVolumeAlgorithm
+{
+public:
+  static vtkRayMarchedIllumination* New();
+  vtkTypeMacro(vtkRayMarchedIllumination, vtkIlluminationVolumeAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * Step length of the marching as a fraction of the smallest input spacing. Default 0.5.
+   */
+  vtkSetClampMacro(StepFraction, double, 0.01, 4.0);
+  vtkGetMacro(StepFraction, double);
+  ///@}
+
+protected:
+  vtkRayMarchedIllumination() = default;
+  ~vtkRayMarchedIllumination() override = default;
+
+  bool ComputeIllumination(const volillum::ClassifiedVolume& volume,
+    const std::vector<volillum::LightState>& lights, const volillum::GridGeometry& target,
+    bool inputModified, float* rgb, UpdateReport& report) override;
+
+  double StepFraction = 0.5;
+
+private:
+  vtkRayMarchedIllumination(const vtkRayMarchedIllumination&) = delete;
+  void operator=(const vtkRayMarchedIllumination&) = delete;
+};
+
+#endif

@@ -1,0 +1,204 @@
+#include "vtkIlluminatedVolumeMapper.h"
+
+#include "vtkDataArray.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkObjectFactory.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkOpenGLShaderProperty.h"
+#include "vtkPointData.h"
+#include "vtkRenderer.h"
+#include "vtkTextureObject.h"
+#include "vtkUniforms.h"
+#include "vtkVolume.h"
+
+#include "IlluminatedShadingDec.h"
+#include "IlluminatedShadingImpl.h"
+
+vtkStandardNewMacro(vtkIlluminatedVolumeMapper);
+vtkCxxSetObjectMacro(vtkIlluminatedVolumeMapper, IlluminationData, vtkImageData);
+
+namespace
+{
+const char* const ShadingDecTag = "//VTK::Shading::Dec";
+const char* const ShadingImplTag = "//VTK::Shading::Impl";
+const char* const UniformNames[] = { "volillum_illumination", "volillum_illuminationScale",
+  "volillum_illuminationShift", "volillum_ambient", "volillum_diffuse",
+  "volillum_gradientShading", "volillum_phong" };
+
+vtkDataArray* IlluminationArray(vtkImageData* image)
+{
+  if (!image)
+  {
+    return nullptr;
+  }
+  vtkDataArray* a = image->GetPointData()->GetArray("Illumination");
+  if (!a || a->GetNumberOfComponents() != 3 || a->GetNumberOfTuples() == 0 ||
+    a->GetNumberOfTuples() != image->GetNumberOfPoints())
+  {
+    return nullptr;
+  }
+  return a;
+}
+}
+
+//------------------------------------------------------------------------------
+vtkIlluminatedVolumeMapper::vtkIlluminatedVolumeMapper() = default;
+
+//------------------------------------------------------------------------------
+vtkIlluminatedVolumeMapper::~vtkIlluminatedVolumeMapper()
+{
+  this->SetIlluminationData(nullptr);
+}
+
+//------------------------------------------------------------------------------
+void vtkIlluminatedVolumeMapper::ReleaseGraphicsResources(vtkWindow* window)
+{
+  this->IlluminationTexture->ReleaseGraphicsResources(window);
+  this->IlluminationUploadTime = vtkTimeStamp();
+  this->Superclass::ReleaseGraphicsResources(window);
+}
+
+//------------------------------------------------------------------------------
+bool vtkIlluminatedVolumeMapper::UpdateIlluminationTexture(vtkRenderer* ren)
+{
+  vtkDataArray* array = IlluminationArray(this->IlluminationData);
+  if (!array)
+  {
+    return false;
+  }
+  auto* window = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
+  if (!window)
+  {
+    return false;
+  }
+  if (this->IlluminationTexture->GetContext() != window)
+  {
+    this->IlluminationTexture->SetContext(window);
+    this->IlluminationUploadTime = vtkTimeStamp();
+  }
+  if (this->IlluminationUploadTime > this->IlluminationData->GetMTime() &&
+    this->IlluminationUploadTime > array->GetMTime() && this->IlluminationTexture->GetHandle())
+  {
+    return true;
+  }
+  int dims[3];
+  this->IlluminationData->GetDimensions(dims);
+  vtkSmartPointer<vtkFloatArray> values = vtkFloatArray::FastDownCast(array);
+  if (!values)
+  {
+    values = vtkSmartPointer<vtkFloatArray>::New();
+    values->DeepCopy(array);
+  }
+  auto* texture = this->IlluminationTexture.Get();
+  texture->SetWrapS(vtkTextureObject::ClampToEdge);
+  texture->SetWrapT(vtkTextureObject::ClampToEdge);
+  texture->SetWrapR(vtkTextureObject::ClampToEdge);
+  texture->SetMinificationFilter(vtkTextureObject::Linear);
+  texture->SetMagnificationFilter(vtkTextureObject::Linear);
+  if (!texture->Create3DFromRaw(dims[0], dims[1], dims[2], 3, VTK_FLOAT, values->GetPointer(0)))
+  {
+    vtkErrorMacro("Could not upload the illumination volume as a 3D texture.");
+    return false;
+  }
+  this->IlluminationUploadTime.Modified();
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkIlluminatedVolumeMapper::SetShaderReplacements(
+  vtkOpenGLShaderProperty* property, bool enable)
+{
+  vtkShader::ReplacementSpec spec;
+  spec.OriginalValue = ShadingImplTag;
+  spec.ShaderType = vtkShader::Fragment;
+  spec.ReplaceFirst = true;
+  const bool present = property->GetAllShaderReplacements().count(spec) > 0;
+  // Adding or clearing marks the property modified, which rebuilds the shader: only do it
+  // when the state changes.
+  if (enable && !present)
+  {
+    property->AddFragmentShaderReplacement(ShadingDecTag, true, IlluminatedShadingDec, false);
+    property->AddFragmentShaderReplacement(ShadingImplTag, true, IlluminatedShadingImpl, false);
+  }
+  else if (!enable && present)
+  {
+    property->ClearFragmentShaderReplacement(ShadingDecTag, true);
+    property->ClearFragmentShaderReplacement(ShadingImplTag, true);
+    for (const char* name : UniformNames)
+    {
+      property->GetFragmentCustomUniforms()->RemoveUniform(name);
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkIlluminatedVolumeMapper::SetShadingUniforms(vtkOpenGLShaderProperty* property)
+{
+  int dims[3];
+  double origin[3], spacing[3];
+  this->IlluminationData->GetDimensions(dims);
+  this->IlluminationData->GetOrigin(origin);
+  this->IlluminationData->GetSpacing(spacing);
+  const int* extent = this->IlluminationData->GetExtent();
+  // Texture coordinate of a dataset position p: point index (p - o) / s, texel centre at
+  // (index + 0.5) / n.
+  float scale[3], shift[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    const double o = origin[a] + extent[2 * a] * spacing[a];
+    const double s = 1.0 / (spacing[a] * dims[a]);
+    scale[a] = static_cast<float>(s);
+    shift[a] = static_cast<float>(-o * s + 0.5 / dims[a]);
+  }
+  vtkUniforms* u = property->GetFragmentCustomUniforms();
+  u->SetUniformi("volillum_illumination", this->IlluminationTexture->GetTextureUnit());
+  u->SetUniform3f("volillum_illuminationScale", scale);
+  u->SetUniform3f("volillum_illuminationShift", shift);
+  u->SetUniformf("volillum_ambient", static_cast<float>(this->Ambient));
+  u->SetUniformf("volillum_diffuse", static_cast<float>(this->Diffuse));
+  u->SetUniformi("volillum_gradientShading", this->GradientShading ? 1 : 0);
+  const float phong[4] = { static_cast<float>(this->PhongAmbient),
+    static_cast<float>(this->PhongDiffuse), static_cast<float>(this->PhongSpecular),
+    static_cast<float>(this->PhongSpecularPower) };
+  u->SetUniform4f("volillum_phong", phong);
+}
+
+//------------------------------------------------------------------------------
+void vtkIlluminatedVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
+{
+  auto* property = vtkOpenGLShaderProperty::SafeDownCast(vol->GetShaderProperty());
+  vtkDataArray* scalars = this->GetInput() && this->GetInput()->GetPointData()
+    ? this->GetInput()->GetPointData()->GetScalars()
+    : nullptr;
+  const bool supported = scalars && scalars->GetNumberOfComponents() == 1 &&
+    this->GetBlendMode() == vtkVolumeMapper::COMPOSITE_BLEND;
+  const bool lit = property && supported && this->UpdateIlluminationTexture(ren);
+  if (property)
+  {
+    this->SetShaderReplacements(property, lit);
+  }
+  if (!lit)
+  {
+    this->Superclass::GPURender(ren, vol);
+    return;
+  }
+  this->IlluminationTexture->Activate();
+  this->SetShadingUniforms(property);
+  this->Superclass::GPURender(ren, vol);
+  this->IlluminationTexture->Deactivate();
+}
+
+//------------------------------------------------------------------------------
+void vtkIlluminatedVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "IlluminationData: " << this->IlluminationData << "\n";
+  os << indent << "Ambient: " << this->Ambient << "\n";
+  os << indent << "Diffuse: " << this->Diffuse << "\n";
+  os << indent << "GradientShading: " << this->GradientShading << "\n";
+  os << indent << "PhongAmbient: " << this->PhongAmbient << "\n";
+  os << indent << "PhongDiffuse: " << this->PhongDiffuse << "\n";
+  os << indent << "PhongSpecular: " << this->PhongSpecular << "\n";
+  os << indent << "PhongSpecularPower: " << this->PhongSpecularPower << "\n";
+}

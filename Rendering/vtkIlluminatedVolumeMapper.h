@@ -1,0 +1,108 @@
+/**
+ * @class vtkIlluminatedVolumeMapper
+ * @brief GPU ray-cast volume mapper that shades every sample with an illumination volume.
+ *
+ * The illumination volume (a vtkImageData with the 3-component point array
+ * "Illumination", as the VolumetricIllumination filters produce) is uploaded as the
+ * mapper's own 3D texture at its own resolution and sampled trilinearly. Each sample's
+ * colour is the transfer-function colour x (Ambient + Diffuse x illumination), optionally
+ * times a gradient-based Phong factor for a headlight (eq. 3 of the unstructured-grid
+ * lighting paper), then composited front to back as usual.
+ *
+ * The shading code replaces the //VTK::Shading::Impl tag through the volume's shader
+ * property, and the texture is bound by this mapper around each render, so the very first
+ * frame is lit (no reliance on UpdateShaderEvent). Supported: one-component scalars and
+ * the composite blend mode; otherwise, or without illumination data, the mapper renders
+ * as its superclass. Leave the volume property's Shade off: the illumination volume
+ * replaces local lighting. The illumination bounds are given in the data's coordinates.
+ */
+#ifndef vtkIlluminatedVolumeMapper_h
+#define vtkIlluminatedVolumeMapper_h
+
+#include "vtkNew.h"
+#include "vtkOpenGLGPUVolumeRayCastMapper.h"
+#include "VolIllumRenderingModule.h"
+
+class vtkImageData;
+class vtkOpenGLShaderProperty;
+class vtkTextureObject;
+
+class VOLILLUMRENDERING_EXPORT vtkIlluminatedVolumeMapper
+  : public vtkOpenGLGPUVolumeRayCastMapper
+{
+public:
+  static vtkIlluminatedVolumeMapper* New();
+  vtkTypeMacro(vtkIlluminatedVolumeMapper, vtkOpenGLGPUVolumeRayCastMapper);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * The illumination volume: a vtkImageData with the point array "Illumination"
+   * (3 components). Its resolution may differ from the rendered data's.
+   */
+  void SetIlluminationData(vtkImageData* illumination);
+  vtkGetObjectMacro(IlluminationData, vtkImageData);
+  ///@}
+
+  ///@{
+  /** Light every sample receives regardless of the illumination volume. Default 0.1. */
+  vtkSetClampMacro(Ambient, double, 0.0, 10.0);
+  vtkGetMacro(Ambient, double);
+  ///@}
+
+  ///@{
+  /** Weight of the illumination volume. Default 1. */
+  vtkSetClampMacro(Diffuse, double, 0.0, 10.0);
+  vtkGetMacro(Diffuse, double);
+  ///@}
+
+  ///@{
+  /**
+   * Multiply the illumination by a gradient-based Phong factor for a headlight,
+   * PhongAmbient + PhongDiffuse |n.v| + PhongSpecular |n.v|^PhongSpecularPower, which shows
+   * surface shape. Default off.
+   */
+  vtkSetMacro(GradientShading, bool);
+  vtkGetMacro(GradientShading, bool);
+  vtkBooleanMacro(GradientShading, bool);
+  vtkSetClampMacro(PhongAmbient, double, 0.0, 10.0);
+  vtkGetMacro(PhongAmbient, double);
+  vtkSetClampMacro(PhongDiffuse, double, 0.0, 10.0);
+  vtkGetMacro(PhongDiffuse, double);
+  vtkSetClampMacro(PhongSpecular, double, 0.0, 10.0);
+  vtkGetMacro(PhongSpecular, double);
+  vtkSetClampMacro(PhongSpecularPower, double, 1.0, 256.0);
+  vtkGetMacro(PhongSpecularPower, double);
+  ///@}
+
+  void ReleaseGraphicsResources(vtkWindow* window) override;
+
+protected:
+  vtkIlluminatedVolumeMapper();
+  ~vtkIlluminatedVolumeMapper() override;
+
+  void GPURender(vtkRenderer* ren, vtkVolume* vol) override;
+
+  /// Upload the illumination texture when needed; false when there is nothing to shade with.
+  bool UpdateIlluminationTexture(vtkRenderer* ren);
+  void SetShaderReplacements(vtkOpenGLShaderProperty* property, bool enable);
+  void SetShadingUniforms(vtkOpenGLShaderProperty* property);
+
+  vtkImageData* IlluminationData = nullptr;
+  double Ambient = 0.1;
+  double Diffuse = 1.0;
+  bool GradientShading = false;
+  double PhongAmbient = 0.3;
+  double PhongDiffuse = 0.7;
+  double PhongSpecular = 0.2;
+  double PhongSpecularPower = 20.0;
+
+  vtkNew<vtkTextureObject> IlluminationTexture;
+  vtkTimeStamp IlluminationUploadTime;
+
+private:
+  vtkIlluminatedVolumeMapper(const vtkIlluminatedVolumeMapper&) = delete;
+  void operator=(const vtkIlluminatedVolumeMapper&) = delete;
+};
+
+#endif

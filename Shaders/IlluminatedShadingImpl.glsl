@@ -1,0 +1,19 @@
+    // VolumetricIllumination (vtkIlluminatedVolumeMapper): front-to-back compositing where
+    // each sample's transfer-function colour is scaled by ambient + diffuse x illumination.
+    if (!g_skip)
+    {
+      vec4 scalar = texture3D(in_volume[0], g_dataPos);
+      scalar.r = scalar.r * in_volume_scale[0].r + in_volume_bias[0].r;
+      scalar = vec4(scalar.r);
+      g_srcColor = vec4(0.0);
+      g_srcColor.a = computeOpacity(scalar);
+      if (g_srcColor.a > 0.0)
+      {
+        g_srcColor = computeColor(scalar, g_srcColor.a);
+        vec3 received = volillum_ambient +
+          volillum_diffuse * volillumIllumination(g_dataPos) * volillumPhong(g_dataPos, g_dirStep);
+        g_srcColor.rgb *= received;
+        g_srcColor.rgb *= g_srcColor.a;
+        g_fragColor = (1.0 - g_fragColor.a) * g_srcColor + g_fragColor;
+      }
+    }
