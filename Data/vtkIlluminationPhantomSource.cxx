@@ -121,12 +121,12 @@ int vtkIlluminationPhantomSource::RequestData(
         const double skin = Inside(EllipsoidDistance(p, c, head));
         const double inner = Inside(EllipsoidDistance(p, c, brain));
         // Skull between the brain and the skin, soft tissue inside.
-        double v = 0.9 * (skin - inner) + 0.35 * inner;
+        double v = 0.6 * (skin - inner) + 0.3 * inner;
         const double ventricle[3] = { 0.06 * size[0], 0.14 * size[1], 0.08 * size[2] };
         for (double side : { -1.0, 1.0 })
         {
           const double vc[3] = { c[0] + side * 0.09 * size[0], c[1] + 0.02 * size[1], c[2] };
-          v -= 0.3 * Inside(EllipsoidDistance(p, vc, ventricle));
+          v -= 0.2 * Inside(EllipsoidDistance(p, vc, ventricle));
         }
         const double blobs[3][4] = { { 0.40, 0.30, 0.62, 0.05 }, { 0.62, 0.66, 0.40, 0.04 },
           { 0.52, 0.42, 0.30, 0.035 } };
@@ -134,7 +134,7 @@ int vtkIlluminationPhantomSource::RequestData(
         {
           const double bc[3] = { b[0] * size[0], b[1] * size[1], b[2] * size[2] };
           const double br[3] = { b[3] * size[0], b[3] * size[1], b[3] * size[2] };
-          v = std::max(v, 0.75 * Inside(EllipsoidDistance(p, bc, br)));
+          v = std::max(v, Inside(EllipsoidDistance(p, bc, br)));
         }
         return std::min(1.0, std::max(0.0, v));
       }

@@ -22,6 +22,8 @@ namespace
 {
 const char* const ShadingDecTag = "//VTK::Shading::Dec";
 const char* const ShadingImplTag = "//VTK::Shading::Impl";
+const char* const SamplerIntDeclaration = "uniform int volillum_illumination;";
+const char* const SamplerDeclaration = "uniform sampler3D volillum_illumination;";
 const char* const UniformNames[] = { "volillum_illumination", "volillum_illuminationScale",
   "volillum_illuminationShift", "volillum_ambient", "volillum_diffuse",
   "volillum_gradientShading", "volillum_phong" };
@@ -120,11 +122,15 @@ void vtkIlluminatedVolumeMapper::SetShaderReplacements(
   {
     property->AddFragmentShaderReplacement(ShadingDecTag, true, IlluminatedShadingDec, false);
     property->AddFragmentShaderReplacement(ShadingImplTag, true, IlluminatedShadingImpl, false);
+    // Custom uniforms know no sampler type: the texture unit is set as an int uniform and
+    // its declaration turned into a sampler after VTK has written it.
+    property->AddFragmentShaderReplacement(SamplerIntDeclaration, false, SamplerDeclaration, false);
   }
   else if (!enable && present)
   {
     property->ClearFragmentShaderReplacement(ShadingDecTag, true);
     property->ClearFragmentShaderReplacement(ShadingImplTag, true);
+    property->ClearFragmentShaderReplacement(SamplerIntDeclaration, false);
     for (const char* name : UniformNames)
     {
       property->GetFragmentCustomUniforms()->RemoveUniform(name);

@@ -1,0 +1,583 @@
+// volillum-render: read a volume (or generate a phantom), compute its illumination volume
+// with a chosen method, render it with vtkIlluminatedVolumeMapper and write a PNG.
+//
+//   volillum-render [options] [volume file]
+//
+// Run with --help for the options and the JSON format. Any failure prints one line that
+// starts with "volillum-render: error:" and exits with status 1.
+#include "vtkIlluminatedVolumeMapper.h"
+#include "vtkIlluminationPhantomSource.h"
+#include "vtkRayMarchedIllumination.h"
+
+#include "vtkCamera.h"
+#include "vtkColorTransferFunction.h"
+#include "vtkDataArray.h"
+#include "vtkDataSetReader.h"
+#include "vtkFieldData.h"
+#include "vtkImageData.h"
+#include "vtkLight.h"
+#include "vtkMetaImageReader.h"
+#include "vtkNIFTIImageReader.h"
+#include "vtkNew.h"
+#include "vtkNrrdReader.h"
+#include "vtkOutputWindow.h"
+#include "vtkPNGWriter.h"
+#include "vtkPiecewiseFunction.h"
+#include "vtkPointData.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+#include "vtkSLCReader.h"
+#include "vtkSMPTools.h"
+#include "vtkSmartPointer.h"
+#include "vtkTimerLog.h"
+#include "vtkVolume.h"
+#include "vtkVolumeProperty.h"
+#include "vtkWindowToImageFilter.h"
+#include "vtkXMLImageDataReader.h"
+
+#include "vtk_nlohmannjson.h"
+#include VTK_NLOHMANN_JSON(json.hpp)
+
+#include <algorithm>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+using json = nlohmann::json;
+
+namespace
+{
+const char* const Usage = R"(usage: volillum-render [options] [volume]
+
+Reads a volume (.vti .vtk .mha .mhd .nrrd .nhdr .slc .nii .nii.gz), computes its
+illumination volume, renders it lit and writes a PNG. Without a volume, --phantom
+chooses a generated one.
+
+options:
+  --phantom NAME     ct (default), spheres or slab: generate the volume instead
+  --dims N           phantom size (points per axis, default 128)
+  --config FILE      JSON settings (see below); flags given after it override it
+  --output FILE      PNG to write (default volillum.png)
+  --method NAME      illumination method: reference (brute-force ray marching)
+  --scale S          illumination resolution scale 1, 0.5 or 0.25 (default 0.5)
+  --size W H         image size in pixels (default 512 512)
+  --help             this text
+
+JSON (every key optional):
+  {"method": "reference", "resolution_scale": 0.5, "image_size": [512, 512],
+   "output": "volillum.png", "ambient": 0.1, "diffuse": 1.0, "background": [0,0,0],
+   "lights": [{"type": "directional" | "point" | "spot",
+               "position": [x,y,z], "focal_point": [x,y,z], "relative": true,
+               "color": [r,g,b], "intensity": 1, "cone_angle": 30, "exponent": 1,
+               "on": true}],
+   "transfer_function": {"color": [[s,r,g,b], ...], "opacity": [[s,a], ...],
+                         "unit_distance": 1, "relative": true},
+   "camera": {"azimuth": 30, "elevation": 20, "zoom": 1.0}}
+"relative" positions are fractions of the volume's bounding box (0..1 inside, outside
+beyond); relative transfer-function scalars are fractions of the scalar range. Without
+lights, three coloured lights are used (a warm key, a cool fill and a white rim light).
+)";
+
+struct Options
+{
+  std::string Input;
+  std::string Phantom = "ct";
+  int PhantomDims = 128;
+  json Config = json::object();
+};
+
+[[noreturn]] void Fail(const std::string& message)
+{
+  std::cerr << "volillum-render: error: " << message << std::endl;
+  std::exit(1);
+}
+
+std::string Lower(std::string s)
+{
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+  return s;
+}
+
+bool EndsWith(const std::string& s, const std::string& suffix)
+{
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+Options ParseArguments(int argc, char* argv[])
+{
+  Options o;
+  auto next = [&](int& i) -> std::string {
+    if (i + 1 >= argc)
+    {
+      Fail(std::string("option ") + argv[i] + " needs a value");
+    }
+    return argv[++i];
+  };
+  auto number = [&](const std::string& text) -> double {
+    try
+    {
+      size_t used = 0;
+      const double v = std::stod(text, &used);
+      if (used != text.size())
+      {
+        throw std::invalid_argument(text);
+      }
+      return v;
+    }
+    catch (const std::exception&)
+    {
+      Fail("'" + text + "' is not a number");
+    }
+  };
+  for (int i = 1; i < argc; ++i)
+  {
+    const std::string a = argv[i];
+    if (a == "--help" || a == "-h")
+    {
+      std::cout << Usage;
+      std::exit(0);
+    }
+    else if (a == "--config")
+    {
+      const std::string path = next(i);
+      std::ifstream in(path);
+      if (!in)
+      {
+        Fail("cannot open the settings file " + path);
+      }
+      try
+      {
+        json parsed = json::parse(in);
+        if (!parsed.is_object())
+        {
+          Fail("the settings file " + path + " must hold a JSON object");
+        }
+        o.Config.update(parsed);
+      }
+      catch (const json::exception& e)
+      {
+        Fail("the settings file " + path + " is not valid JSON: " + e.what());
+      }
+    }
+    else if (a == "--output")
+    {
+      o.Config["output"] = next(i);
+    }
+    else if (a == "--method")
+    {
+      o.Config["method"] = next(i);
+    }
+    else if (a == "--scale")
+    {
+      o.Config["resolution_scale"] = number(next(i));
+    }
+    else if (a == "--size")
+    {
+      const double w = number(next(i));
+      const double h = number(next(i));
+      o.Config["image_size"] = { w, h };
+    }
+    else if (a == "--phantom")
+    {
+      o.Phantom = next(i);
+    }
+    else if (a == "--dims")
+    {
+      o.PhantomDims = static_cast<int>(number(next(i)));
+    }
+    else if (!a.empty() && a[0] == '-')
+    {
+      Fail("unknown option " + a + " (see --help)");
+    }
+    else if (o.Input.empty())
+    {
+      o.Input = a;
+    }
+    else
+    {
+      Fail("more than one volume given (" + o.Input + ", " + a + ")");
+    }
+  }
+  return o;
+}
+
+// Reads the volume (or generates the phantom); fails with one line on any problem.
+vtkSmartPointer<vtkImageData> LoadVolume(const Options& o)
+{
+  vtkSmartPointer<vtkAlgorithm> reader;
+  if (o.Input.empty())
+  {
+    auto source = vtkSmartPointer<vtkIlluminationPhantomSource>::New();
+    const std::string name = Lower(o.Phantom);
+    if (name == "ct")
+    {
+      source->SetScene(vtkIlluminationPhantomSource::CTPhantom);
+    }
+    else if (name == "spheres")
+    {
+      source->SetScene(vtkIlluminationPhantomSource::ThreeSpheres);
+    }
+    else if (name == "slab")
+    {
+      source->SetScene(vtkIlluminationPhantomSource::Slab);
+      source->SetSlabBegin(o.PhantomDims / 4);
+      source->SetSlabEnd(3 * o.PhantomDims / 4);
+    }
+    else
+    {
+      Fail("unknown phantom '" + o.Phantom + "' (ct, spheres or slab)");
+    }
+    if (o.PhantomDims < 2 || o.PhantomDims > 1024)
+    {
+      Fail("--dims must be between 2 and 1024");
+    }
+    source->SetDimensions(o.PhantomDims, o.PhantomDims, o.PhantomDims);
+    reader = source;
+  }
+  else
+  {
+    std::ifstream probe(o.Input, std::ios::binary);
+    if (!probe)
+    {
+      Fail("cannot read " + o.Input);
+    }
+    const std::string name = Lower(o.Input);
+    if (EndsWith(name, ".vti"))
+    {
+      auto r = vtkSmartPointer<vtkXMLImageDataReader>::New();
+      r->SetFileName(o.Input.c_str());
+      reader = r;
+    }
+    else if (EndsWith(name, ".vtk"))
+    {
+      auto r = vtkSmartPointer<vtkDataSetReader>::New();
+      r->SetFileName(o.Input.c_str());
+      reader = r;
+    }
+    else if (EndsWith(name, ".mha") || EndsWith(name, ".mhd"))
+    {
+      auto r = vtkSmartPointer<vtkMetaImageReader>::New();
+      r->SetFileName(o.Input.c_str());
+      reader = r;
+    }
+    else if (EndsWith(name, ".nrrd") || EndsWith(name, ".nhdr"))
+    {
+      auto r = vtkSmartPointer<vtkNrrdReader>::New();
+      r->SetFileName(o.Input.c_str());
+      reader = r;
+    }
+    else if (EndsWith(name, ".slc"))
+    {
+      auto r = vtkSmartPointer<vtkSLCReader>::New();
+      r->SetFileName(o.Input.c_str());
+      reader = r;
+    }
+    else if (EndsWith(name, ".nii") || EndsWith(name, ".nii.gz"))
+    {
+      auto r = vtkSmartPointer<vtkNIFTIImageReader>::New();
+      r->SetFileName(o.Input.c_str());
+      reader = r;
+    }
+    else
+    {
+      Fail("unsupported file type: " + o.Input +
+        " (.vti .vtk .mha .mhd .nrrd .nhdr .slc .nii .nii.gz)");
+    }
+  }
+  reader->Update();
+  auto image = vtkImageData::SafeDownCast(reader->GetOutputDataObject(0));
+  if (!image || image->GetNumberOfPoints() == 0)
+  {
+    Fail("no image data could be read from " + (o.Input.empty() ? o.Phantom : o.Input));
+  }
+  if (!image->GetPointData()->GetScalars())
+  {
+    // Take the first numeric single-component point array, as ParaView would offer it.
+    for (int i = 0; i < image->GetPointData()->GetNumberOfArrays(); ++i)
+    {
+      vtkDataArray* a = image->GetPointData()->GetArray(i);
+      if (a && a->GetNumberOfComponents() == 1)
+      {
+        image->GetPointData()->SetActiveScalars(a->GetName());
+        break;
+      }
+    }
+  }
+  vtkDataArray* scalars = image->GetPointData()->GetScalars();
+  if (!scalars)
+  {
+    Fail((o.Input.empty() ? o.Phantom : o.Input) + " has no point scalars to render");
+  }
+  if (scalars->GetNumberOfComponents() != 1)
+  {
+    Fail("the scalars of " + o.Input + " have " +
+      std::to_string(scalars->GetNumberOfComponents()) + " components; one is needed");
+  }
+  return image;
+}
+
+std::vector<double> Numbers(const json& value, size_t count, const std::string& what)
+{
+  if (!value.is_array() || value.size() != count)
+  {
+    Fail(what + " must be a list of " + std::to_string(count) + " numbers");
+  }
+  std::vector<double> out;
+  for (const auto& v : value)
+  {
+    if (!v.is_number())
+    {
+      Fail(what + " must be a list of " + std::to_string(count) + " numbers");
+    }
+    out.push_back(v.get<double>());
+  }
+  return out;
+}
+
+double Number(const json& object, const char* key, double fallback)
+{
+  if (!object.contains(key))
+  {
+    return fallback;
+  }
+  if (!object[key].is_number())
+  {
+    Fail(std::string("'") + key + "' must be a number");
+  }
+  return object[key].get<double>();
+}
+
+// The default lights: a warm key light above-left-front, a cool fill light from the
+// right and a white rim light from behind, all outside the volume.
+json DefaultLights()
+{
+  return json::parse(R"([
+    {"type": "point", "position": [-0.6, 1.4, 1.5], "relative": true,
+     "color": [1.0, 0.85, 0.6], "intensity": 0.9},
+    {"type": "directional", "position": [1.5, 0.4, 0.7], "focal_point": [0.5, 0.5, 0.5],
+     "relative": true, "color": [0.45, 0.6, 1.0], "intensity": 0.5},
+    {"type": "directional", "position": [0.5, -0.5, -1.0], "focal_point": [0.5, 0.5, 0.5],
+     "relative": true, "color": [1.0, 1.0, 1.0], "intensity": 0.3}
+  ])");
+}
+
+std::vector<vtkSmartPointer<vtkLight>> BuildLights(const json& config, const double bounds[6])
+{
+  const json lights = config.contains("lights") ? config["lights"] : DefaultLights();
+  if (!lights.is_array())
+  {
+    Fail("'lights' must be a list");
+  }
+  std::vector<vtkSmartPointer<vtkLight>> out;
+  for (const auto& l : lights)
+  {
+    if (!l.is_object())
+    {
+      Fail("each light must be a JSON object");
+    }
+    const std::string type = l.value("type", std::string("directional"));
+    const bool relative = l.value("relative", false);
+    auto place = [&](const char* key, std::vector<double> fallback) {
+      std::vector<double> p = l.contains(key) ? Numbers(l[key], 3, key) : fallback;
+      if (relative || !l.contains(key))
+      {
+        for (int a = 0; a < 3; ++a)
+        {
+          p[a] = bounds[2 * a] + p[a] * (bounds[2 * a + 1] - bounds[2 * a]);
+        }
+      }
+      return p;
+    };
+    auto light = vtkSmartPointer<vtkLight>::New();
+    const auto position = place("position", { 0.5, 0.5, 2.0 });
+    const auto focal = place("focal_point", { 0.5, 0.5, 0.5 });
+    light->SetPosition(position.data());
+    light->SetFocalPoint(focal.data());
+    if (type == "directional")
+    {
+      light->SetPositional(false);
+    }
+    else if (type == "point" || type == "spot")
+    {
+      light->SetPositional(true);
+      light->SetConeAngle(type == "point" ? 180.0 : Number(l, "cone_angle", 30.0));
+      light->SetExponent(Number(l, "exponent", 1.0));
+    }
+    else
+    {
+      Fail("unknown light type '" + type + "' (directional, point or spot)");
+    }
+    const auto color = l.contains("color") ? Numbers(l["color"], 3, "color")
+                                           : std::vector<double>{ 1.0, 1.0, 1.0 };
+    light->SetDiffuseColor(color.data());
+    light->SetIntensity(Number(l, "intensity", 1.0));
+    light->SetSwitch(l.value("on", true));
+    out.push_back(light);
+  }
+  return out;
+}
+
+void BuildTransferFunctions(const json& config, const double range[2],
+  vtkColorTransferFunction* ctf, vtkPiecewiseFunction* otf, double& unitDistance,
+  double minSpacing)
+{
+  const json tf = config.contains("transfer_function") ? config["transfer_function"] : json::object();
+  if (!tf.is_object())
+  {
+    Fail("'transfer_function' must be a JSON object");
+  }
+  const bool relative = tf.value("relative", true);
+  const double width = range[1] > range[0] ? range[1] - range[0] : 1.0;
+  auto scalar = [&](double s) { return relative ? range[0] + s * width : s; };
+  const json color = tf.contains("color") ? tf["color"]
+                                          : json::parse("[[0,0,0,0],[0.3,0.8,0.4,0.3],"
+                                                        "[0.6,0.95,0.9,0.75],[1,1,0.95,0.6]]");
+  const json opacity =
+    tf.contains("opacity") ? tf["opacity"] : json::parse("[[0,0],[0.2,0],[0.3,0.01],[0.5,0.02],[0.6,0.06],"
+                                "[0.8,0.08],[0.9,0.6],[1,0.7]]");
+  if (!color.is_array() || !opacity.is_array() || color.empty() || opacity.empty())
+  {
+    Fail("the transfer function needs non-empty 'color' and 'opacity' lists");
+  }
+  for (const auto& p : color)
+  {
+    const auto v = Numbers(p, 4, "a colour point [s,r,g,b]");
+    ctf->AddRGBPoint(scalar(v[0]), v[1], v[2], v[3]);
+  }
+  for (const auto& p : opacity)
+  {
+    const auto v = Numbers(p, 2, "an opacity point [s,a]");
+    otf->AddPoint(scalar(v[0]), v[1]);
+  }
+  unitDistance = Number(tf, "unit_distance", 2.0 * minSpacing);
+  if (!(unitDistance > 0.0))
+  {
+    Fail("'unit_distance' must be positive");
+  }
+}
+}
+
+int main(int argc, char* argv[])
+{
+  vtkSMPTools::SetBackend("STDThread");
+  const Options options = ParseArguments(argc, argv);
+  const json& config = options.Config;
+
+  // VTK's own warnings still reach stderr; its error pop-ups do not exist here.
+  vtkSmartPointer<vtkImageData> image = LoadVolume(options);
+  double bounds[6], range[2], spacing[3];
+  image->GetBounds(bounds);
+  image->GetSpacing(spacing);
+  image->GetPointData()->GetScalars()->GetRange(range);
+  const double minSpacing = std::min(spacing[0], std::min(spacing[1], spacing[2]));
+
+  vtkNew<vtkColorTransferFunction> ctf;
+  vtkNew<vtkPiecewiseFunction> otf;
+  double unitDistance = 1.0;
+  BuildTransferFunctions(config, range, ctf, otf, unitDistance, minSpacing);
+  const auto lights = BuildLights(config, bounds);
+
+  const std::string method = config.value("method", std::string("reference"));
+  if (method != "reference")
+  {
+    Fail("unknown method '" + method + "' (available: reference)");
+  }
+  vtkNew<vtkRayMarchedIllumination> illumination;
+  illumination->SetInputData(image);
+  for (const auto& l : lights)
+  {
+    illumination->AddLight(l);
+  }
+  illumination->SetColorTransferFunction(ctf);
+  illumination->SetOpacityFunction(otf);
+  illumination->SetScalarOpacityUnitDistance(unitDistance);
+  illumination->SetResolutionScale(Number(config, "resolution_scale", 0.5));
+  vtkNew<vtkTimerLog> timer;
+  timer->StartTimer();
+  illumination->Update();
+  timer->StopTimer();
+  const double illuminationSeconds = timer->GetElapsedTime();
+  vtkImageData* lit = illumination->GetOutput();
+  if (!lit || !lit->GetPointData()->GetArray("Illumination"))
+  {
+    Fail("the illumination could not be computed (see the message above)");
+  }
+
+  const json size = config.contains("image_size") ? config["image_size"] : json::array({ 512, 512 });
+  const auto wh = Numbers(size, 2, "image_size");
+  if (wh[0] < 16 || wh[1] < 16 || wh[0] > 8192 || wh[1] > 8192)
+  {
+    Fail("image_size must be between 16 and 8192 pixels per side");
+  }
+
+  vtkNew<vtkIlluminatedVolumeMapper> mapper;
+  mapper->SetInputData(image);
+  mapper->SetIlluminationData(lit);
+  mapper->SetAmbient(Number(config, "ambient", 0.1));
+  mapper->SetDiffuse(Number(config, "diffuse", 1.0));
+  mapper->SetGradientShading(config.value("gradient_shading", false));
+  vtkNew<vtkVolumeProperty> property;
+  property->SetColor(ctf);
+  property->SetScalarOpacity(otf);
+  property->SetScalarOpacityUnitDistance(unitDistance);
+  property->SetInterpolationTypeToLinear();
+  property->ShadeOff();
+  vtkNew<vtkVolume> volume;
+  volume->SetMapper(mapper);
+  volume->SetProperty(property);
+
+  vtkNew<vtkRenderer> renderer;
+  renderer->AddVolume(volume);
+  const json background =
+    config.contains("background") ? config["background"] : json::array({ 0.0, 0.0, 0.0 });
+  const auto bg = Numbers(background, 3, "background");
+  renderer->SetBackground(bg.data());
+  renderer->ResetCamera();
+  const json camera = config.contains("camera") ? config["camera"] : json::object();
+  if (!camera.is_object())
+  {
+    Fail("'camera' must be a JSON object");
+  }
+  renderer->GetActiveCamera()->Azimuth(Number(camera, "azimuth", 30.0));
+  renderer->GetActiveCamera()->Elevation(Number(camera, "elevation", 20.0));
+  renderer->GetActiveCamera()->OrthogonalizeViewUp();
+  renderer->ResetCamera();
+  renderer->GetActiveCamera()->Zoom(Number(camera, "zoom", 1.0));
+  renderer->ResetCameraClippingRange();
+
+  vtkNew<vtkRenderWindow> window;
+  window->SetOffScreenRendering(1);
+  window->SetSize(static_cast<int>(wh[0]), static_cast<int>(wh[1]));
+  window->AddRenderer(renderer);
+  timer->StartTimer();
+  window->Render();
+  timer->StopTimer();
+  const double firstFrameSeconds = timer->GetElapsedTime();
+  timer->StartTimer();
+  window->Render();
+  timer->StopTimer();
+  const double frameSeconds = timer->GetElapsedTime();
+
+  vtkNew<vtkWindowToImageFilter> grab;
+  grab->SetInput(window);
+  grab->ReadFrontBufferOff();
+  grab->Update();
+  const std::string output = config.value("output", std::string("volillum.png"));
+  vtkNew<vtkPNGWriter> writer;
+  writer->SetFileName(output.c_str());
+  writer->SetInputConnection(grab->GetOutputPort());
+  writer->Write();
+  if (writer->GetErrorCode() != 0)
+  {
+    Fail("cannot write " + output);
+  }
+  std::cout << "illumination (" << method << ", " << lights.size()
+            << " lights): " << illuminationSeconds << " s\n"
+            << "first frame: " << firstFrameSeconds << " s\n"
+            << "frame: " << frameSeconds << " s\n"
+            << "wrote " << output << std::endl;
+  return 0;
+}

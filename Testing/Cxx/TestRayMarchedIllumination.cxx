@@ -1,0 +1,461 @@
+// Tests of the reference filter vtkRayMarchedIllumination against analytic transmittance,
+// linearity in the lights, spot-cone geometry, resolution scales and bad input.
+#include "IlluminationTestUtilities.h"
+#include "vtkIlluminationPhantomSource.h"
+#include "vtkRayMarchedIllumination.h"
+
+#include "vtkDoubleArray.h"
+#include "vtkExecutive.h"
+#include "vtkFieldData.h"
+#include "vtkFloatArray.h"
+#include "vtkIntArray.h"
+#include "vtkMath.h"
+#include "vtkPiecewiseFunction.h"
+#include "vtkPointData.h"
+#include "vtkSMPTools.h"
+#include "vtkStringArray.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+using volillumtest::DirectionalLight;
+using volillumtest::ErrorCounter;
+using volillumtest::PointLight;
+
+namespace
+{
+constexpr int N = 64;
+constexpr int SlabBegin = 16;
+constexpr int SlabEnd = 47;
+constexpr double SlabOpacity = 0.05; // opacity per unit distance inside the slab
+
+vtkSmartPointer<vtkImageData> MakeScene(int scene)
+{
+  vtkNew<vtkIlluminationPhantomSource> source;
+  source->SetScene(scene);
+  source->SetDimensions(N, N, N);
+  source->SetSlabBegin(SlabBegin);
+  source->SetSlabEnd(SlabEnd);
+  source->Update();
+  return source->GetOutput();
+}
+
+// Opacity 0 outside, SlabOpacity inside; grey attenuation.
+vtkSmartPointer<vtkRayMarchedIllumination> MakeSlabFilter(vtkImageData* slab)
+{
+  auto otf = vtkSmartPointer<vtkPiecewiseFunction>::New();
+  otf->AddPoint(0.0, 0.0);
+  otf->AddPoint(1.0, SlabOpacity);
+  auto filter = vtkSmartPointer<vtkRayMarchedIllumination>::New();
+  filter->SetInputData(slab);
+  filter->SetOpacityFunction(otf);
+  filter->ChromaticAttenuationOff();
+  filter->SetStepFraction(0.1);
+  return filter;
+}
+
+// Integral of the linearly interpolated slab indicator over z in [a, b] (a <= b): the
+// indicator is 1 on [SlabBegin, SlabEnd], 0 beyond one voxel outside, linear between.
+double SlabIntegral(double a, double b)
+{
+  auto cumulative = [](double z) {
+    // Antiderivative of the trapezoid profile from -infinity.
+    const double z0 = SlabBegin - 1.0, z1 = SlabBegin, z2 = SlabEnd, z3 = SlabEnd + 1.0;
+    if (z <= z0)
+      return 0.0;
+    if (z <= z1)
+      return 0.5 * (z - z0) * (z - z0);
+    if (z <= z2)
+      return 0.5 + (z - z1);
+    if (z <= z3)
+      return 0.5 + (z2 - z1) + (z - z2) - 0.5 * (z - z2) * (z - z2);
+    return 1.0 + (z2 - z1);
+  };
+  return cumulative(b) - cumulative(a);
+}
+
+// Analytic transmittance from point p along unit direction d over length tMax.
+double AnalyticTransmittance(const double p[3], const double d[3], double tMax)
+{
+  const double sigma = -std::log(1.0 - SlabOpacity);
+  if (std::abs(d[2]) < 1e-12)
+  {
+    const double inside = (p[2] >= SlabBegin && p[2] <= SlabEnd) ? 1.0 : 0.0;
+    return std::exp(-sigma * inside * tMax);
+  }
+  const double zEnd = p[2] + tMax * d[2];
+  const double integral = SlabIntegral(std::min(p[2], zEnd), std::max(p[2], zEnd));
+  return std::exp(-sigma * integral / std::abs(d[2]));
+}
+
+double BoxExit(const double p[3], const double d[3])
+{
+  double t = std::numeric_limits<double>::infinity();
+  for (int a = 0; a < 3; ++a)
+  {
+    if (d[a] > 0)
+      t = std::min(t, (N - 1 - p[a]) / d[a]);
+    else if (d[a] < 0)
+      t = std::min(t, -p[a] / d[a]);
+  }
+  return t;
+}
+
+vtkFloatArray* Illumination(vtkRayMarchedIllumination* filter)
+{
+  return vtkFloatArray::SafeDownCast(filter->GetOutput()->GetPointData()->GetArray("Illumination"));
+}
+
+// Largest relative difference between the red channel and the analytic transmittance
+// toward a light, over every point.
+template <typename Direction>
+double MaxRelativeError(vtkRayMarchedIllumination* filter, Direction towardLight)
+{
+  vtkFloatArray* result = Illumination(filter);
+  double worst = 0.0;
+  for (int k = 0; k < N; ++k)
+    for (int j = 0; j < N; ++j)
+      for (int i = 0; i < N; ++i)
+      {
+        const double p[3] = { double(i), double(j), double(k) };
+        double d[3], tMax;
+        towardLight(p, d, tMax);
+        const double expected = AnalyticTransmittance(p, d, tMax);
+        const double got = result->GetTypedComponent(i + N * (j + N * k), 0);
+        worst = std::max(worst, std::abs(got - expected) / expected);
+      }
+  return worst;
+}
+}
+
+TEST(RayMarchedIllumination, SlabDirectionalLightMatchesAnalyticTransmittance)
+{
+  auto slab = MakeScene(vtkIlluminationPhantomSource::Slab);
+  for (const auto& travel : { std::array<double, 3>{ 0, 0, -1 }, std::array<double, 3>{ 0.3, -0.2, -1 } })
+  {
+    auto filter = MakeSlabFilter(slab);
+    filter->AddLight(DirectionalLight(travel[0], travel[1], travel[2]));
+    filter->Update();
+    double toLight[3] = { -travel[0], -travel[1], -travel[2] };
+    vtkMath::Normalize(toLight);
+    const double error = MaxRelativeError(filter, [&](const double p[3], double d[3], double& t) {
+      std::copy(toLight, toLight + 3, d);
+      t = BoxExit(p, d);
+    });
+    std::cout << "directional (" << travel[0] << "," << travel[1] << "," << travel[2]
+              << ") max relative error " << error << std::endl;
+    EXPECT_LE(error, 1e-3);
+  }
+}
+
+TEST(RayMarchedIllumination, SlabPointLightMatchesAnalyticTransmittance)
+{
+  auto slab = MakeScene(vtkIlluminationPhantomSource::Slab);
+  auto filter = MakeSlabFilter(slab);
+  const double light[3] = { 20.0, 40.0, 110.0 };
+  filter->AddLight(PointLight(light[0], light[1], light[2]));
+  filter->Update();
+  const double error = MaxRelativeError(filter, [&](const double p[3], double d[3], double& t) {
+    for (int a = 0; a < 3; ++a)
+      d[a] = light[a] - p[a];
+    const double distance = vtkMath::Normalize(d);
+    t = std::min(distance, BoxExit(p, d));
+  });
+  std::cout << "point light max relative error " << error << std::endl;
+  EXPECT_LE(error, 1e-3);
+}
+
+TEST(RayMarchedIllumination, TwoLightsEqualTheSumOfEachAlone)
+{
+  auto spheres = MakeScene(vtkIlluminationPhantomSource::ThreeSpheres);
+  auto yellow = PointLight(-20, 32, 32, 1, 1, 0);
+  auto blue = PointLight(90, 40, 30, 0, 0, 1);
+  blue->SetIntensity(2.0);
+  auto run = [&](std::initializer_list<vtkLight*> lights) {
+    vtkNew<vtkRayMarchedIllumination> filter;
+    filter->SetInputData(spheres);
+    for (auto* l : lights)
+      filter->AddLight(l);
+    filter->Update();
+    auto out = vtkSmartPointer<vtkFloatArray>::New();
+    out->DeepCopy(Illumination(filter));
+    return out;
+  };
+  auto both = run({ yellow, blue });
+  auto a = run({ yellow });
+  auto b = run({ blue });
+  double worst = 0.0, largest = 0.0;
+  for (vtkIdType t = 0; t < both->GetNumberOfTuples(); ++t)
+    for (int c = 0; c < 3; ++c)
+    {
+      const double sum = a->GetTypedComponent(t, c) + b->GetTypedComponent(t, c);
+      worst = std::max(worst, std::abs(both->GetTypedComponent(t, c) - sum));
+      largest = std::max(largest, sum);
+    }
+  EXPECT_GT(largest, 1.0); // both lights do reach the volume
+  EXPECT_LE(worst / largest, 1e-5);
+}
+
+TEST(RayMarchedIllumination, SpotConeMasksPointsOutsideTheCone)
+{
+  auto slab = MakeScene(vtkIlluminationPhantomSource::Slab);
+  const double position[3] = { 31.5, 31.5, 100.0 };
+  const double coneAngle = 15.0, exponent = 2.0;
+  auto spot = PointLight(position[0], position[1], position[2]);
+  spot->SetFocalPoint(31.5, 31.5, 0.0);
+  spot->SetConeAngle(coneAngle);
+  spot->SetExponent(exponent);
+  auto point = PointLight(position[0], position[1], position[2]);
+
+  auto spotFilter = MakeSlabFilter(slab);
+  spotFilter->AddLight(spot);
+  spotFilter->Update();
+  auto pointFilter = MakeSlabFilter(slab);
+  pointFilter->AddLight(point);
+  pointFilter->Update();
+  vtkFloatArray* s = Illumination(spotFilter);
+  vtkFloatArray* p = Illumination(pointFilter);
+  int inside = 0, outside = 0;
+  for (int k = 0; k < N; ++k)
+    for (int j = 0; j < N; ++j)
+      for (int i = 0; i < N; ++i)
+      {
+        const vtkIdType id = i + N * (j + N * k);
+        double v[3] = { i - position[0], j - position[1], k - position[2] };
+        vtkMath::Normalize(v);
+        const double cosine = -v[2]; // the cone axis points down -z
+        const double angle = vtkMath::DegreesFromRadians(std::acos(cosine));
+        if (std::abs(angle - coneAngle) < 0.01)
+          continue; // on the cone boundary either answer is right
+        const double expected =
+          angle < coneAngle ? std::pow(cosine, exponent) * p->GetTypedComponent(id, 0) : 0.0;
+        (angle < coneAngle ? inside : outside)++;
+        EXPECT_NEAR(s->GetTypedComponent(id, 0), expected, 1e-6) << "point " << i << " " << j << " " << k;
+      }
+  EXPECT_GT(inside, 1000);
+  EXPECT_GT(outside, 1000);
+}
+
+TEST(RayMarchedIllumination, ResolutionScalesCoverTheSameBounds)
+{
+  auto spheres = MakeScene(vtkIlluminationPhantomSource::ThreeSpheres);
+  auto light = PointLight(-20, 32, 32);
+  vtkNew<vtkRayMarchedIllumination> full;
+  full->SetInputData(spheres);
+  full->AddLight(light);
+  full->Update();
+  for (double scale : { 0.5, 0.25 })
+  {
+    vtkNew<vtkRayMarchedIllumination> coarse;
+    coarse->SetInputData(spheres);
+    coarse->AddLight(light);
+    coarse->SetResolutionScale(scale);
+    coarse->Update();
+    vtkImageData* out = coarse->GetOutput();
+    double inBounds[6], outBounds[6];
+    spheres->GetBounds(inBounds);
+    out->GetBounds(outBounds);
+    for (int a = 0; a < 6; ++a)
+      EXPECT_NEAR(outBounds[a], inBounds[a], 1e-9) << "scale " << scale;
+    int dims[3];
+    out->GetDimensions(dims);
+    const int expected = static_cast<int>(std::lround((N - 1) * scale)) + 1;
+    EXPECT_EQ(dims[0], expected);
+    // Every coarse point that coincides with a full-resolution point has its value.
+    const int stride = static_cast<int>(std::lround(1.0 / scale));
+    if ((N - 1) % stride == 0)
+    {
+      vtkFloatArray* c = vtkFloatArray::SafeDownCast(out->GetPointData()->GetArray("Illumination"));
+      vtkFloatArray* f = Illumination(full);
+      for (int k = 0; k < dims[2]; k += 3)
+        for (int j = 0; j < dims[1]; j += 3)
+          for (int i = 0; i < dims[0]; ++i)
+          {
+            const vtkIdType fine = stride * i + N * (stride * j + N * stride * k);
+            EXPECT_NEAR(c->GetTypedComponent(i + dims[0] * (j + dims[1] * k), 0),
+              f->GetTypedComponent(fine, 0), 1e-5);
+          }
+    }
+  }
+}
+
+TEST(RayMarchedIllumination, ReportsUpdateFieldData)
+{
+  auto spheres = MakeScene(vtkIlluminationPhantomSource::ThreeSpheres);
+  vtkNew<vtkRayMarchedIllumination> filter;
+  filter->SetInputData(spheres);
+  filter->AddLight(PointLight(-20, 32, 32));
+  auto off = PointLight(90, 32, 32);
+  off->SwitchOff();
+  filter->AddLight(off);
+  filter->AddLight(DirectionalLight(0, 0, -1));
+  filter->Update();
+  vtkFieldData* fd = filter->GetOutput()->GetFieldData();
+  ASSERT_NE(fd->GetArray("UpdateMode"), nullptr);
+  EXPECT_EQ(fd->GetArray("UpdateMode")->GetTuple1(0), 0);
+  EXPECT_EQ(fd->GetArray("PropagationPasses")->GetTuple1(0), 2); // two lights are on
+  EXPECT_GT(fd->GetArray("UpdateSeconds")->GetTuple1(0), 0.0);
+}
+
+// ---------------------------------------------------------------------------- bad input
+namespace
+{
+// Runs the filter on input and returns the number of errors it reported.
+int RunAndCountErrors(vtkRayMarchedIllumination* filter, vtkDataObject* input)
+{
+  vtkNew<ErrorCounter> errors;
+  filter->AddObserver(vtkCommand::ErrorEvent, errors);
+  filter->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, errors);
+  filter->SetInputData(input);
+  filter->Update();
+  return errors->Count;
+}
+}
+
+TEST(RayMarchedIllumination, BadInputGivesAnErrorAndAnEmptyOutput)
+{
+  {
+    vtkNew<vtkImageData> noScalars;
+    noScalars->SetDimensions(8, 8, 8);
+    vtkNew<vtkRayMarchedIllumination> filter;
+    filter->AddLight(DirectionalLight(0, 0, -1));
+    EXPECT_EQ(RunAndCountErrors(filter, noScalars), 1);
+    EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0);
+  }
+  {
+    vtkNew<vtkImageData> flat;
+    flat->SetDimensions(8, 8, 1);
+    flat->AllocateScalars(VTK_FLOAT, 1);
+    vtkNew<vtkRayMarchedIllumination> filter;
+    filter->AddLight(DirectionalLight(0, 0, -1));
+    EXPECT_EQ(RunAndCountErrors(filter, flat), 1);
+    EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0);
+  }
+  {
+    vtkNew<vtkImageData> empty;
+    vtkNew<vtkRayMarchedIllumination> filter;
+    filter->AddLight(DirectionalLight(0, 0, -1));
+    EXPECT_GE(RunAndCountErrors(filter, empty), 1);
+    EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0);
+  }
+  {
+    vtkNew<vtkImageData> strings;
+    strings->SetDimensions(4, 4, 4);
+    vtkNew<vtkStringArray> names;
+    names->SetName("labels");
+    names->SetNumberOfValues(64);
+    strings->GetPointData()->AddArray(names);
+    vtkNew<vtkRayMarchedIllumination> filter;
+    filter->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, "labels");
+    filter->AddLight(DirectionalLight(0, 0, -1));
+    EXPECT_EQ(RunAndCountErrors(filter, strings), 1);
+    EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0);
+  }
+  auto spheres = MakeScene(vtkIlluminationPhantomSource::ThreeSpheres);
+  {
+    vtkNew<vtkRayMarchedIllumination> filter;
+    filter->AddLight(DirectionalLight(0, 0, -1));
+    filter->SetResolutionScale(0.3);
+    EXPECT_EQ(RunAndCountErrors(filter, spheres), 1);
+    EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0);
+  }
+  {
+    vtkNew<vtkRayMarchedIllumination> filter;
+    auto light = PointLight(std::nan(""), 0, 0);
+    filter->AddLight(light);
+    EXPECT_EQ(RunAndCountErrors(filter, spheres), 1);
+    EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0);
+  }
+  {
+    vtkNew<vtkRayMarchedIllumination> filter;
+    filter->SetNumberOfLightParameters(13);
+    vtkNew<ErrorCounter> errors;
+    filter->AddObserver(vtkCommand::ErrorEvent, errors);
+    filter->SetNumberOfLightParameters(13);
+    EXPECT_EQ(errors->Count, 1);
+    EXPECT_EQ(filter->GetNumberOfLights(), 0);
+  }
+}
+
+TEST(RayMarchedIllumination, ZeroLightsGiveDarkness)
+{
+  auto spheres = MakeScene(vtkIlluminationPhantomSource::ThreeSpheres);
+  vtkNew<vtkRayMarchedIllumination> filter;
+  EXPECT_EQ(RunAndCountErrors(filter, spheres), 0);
+  double range[2];
+  Illumination(filter)->GetRange(range, -1);
+  EXPECT_EQ(range[0], 0.0);
+  EXPECT_EQ(range[1], 0.0);
+}
+
+TEST(RayMarchedIllumination, NaNScalarsAreEmptySpace)
+{
+  auto spheres = MakeScene(vtkIlluminationPhantomSource::ThreeSpheres);
+  // The same scene as floats, once with NaN and once with 0 where the first sphere's
+  // centre region is.
+  vtkNew<vtkImageData> withNaN, withZero;
+  for (vtkImageData* image : { withNaN.Get(), withZero.Get() })
+  {
+    image->CopyStructure(spheres);
+    vtkNew<vtkFloatArray> values;
+    values->SetName("Density");
+    values->SetNumberOfTuples(spheres->GetNumberOfPoints());
+    for (vtkIdType t = 0; t < values->GetNumberOfTuples(); ++t)
+      values->SetValue(t, spheres->GetPointData()->GetScalars()->GetTuple1(t));
+    image->GetPointData()->SetScalars(values);
+  }
+  for (int k = 28; k < 36; ++k)
+    for (int j = 28; j < 36; ++j)
+      for (int i = 16; i < 24; ++i)
+      {
+        const vtkIdType id = i + N * (j + N * k);
+        vtkFloatArray::SafeDownCast(withNaN->GetPointData()->GetScalars())
+          ->SetValue(id, std::nanf(""));
+        vtkFloatArray::SafeDownCast(withZero->GetPointData()->GetScalars())->SetValue(id, 0.0f);
+      }
+  auto otf = vtkSmartPointer<vtkPiecewiseFunction>::New();
+  otf->AddPoint(0, 0);
+  otf->AddPoint(200, 0.3);
+  auto run = [&](vtkImageData* image) {
+    vtkNew<vtkRayMarchedIllumination> filter;
+    filter->SetOpacityFunction(otf);
+    filter->AddLight(PointLight(-20, 32, 32));
+    EXPECT_EQ(RunAndCountErrors(filter, image), 0);
+    auto out = vtkSmartPointer<vtkFloatArray>::New();
+    out->DeepCopy(Illumination(filter));
+    return out;
+  };
+  auto a = run(withNaN);
+  auto b = run(withZero);
+  for (vtkIdType t = 0; t < a->GetNumberOfValues(); ++t)
+  {
+    ASSERT_TRUE(std::isfinite(a->GetValue(t)));
+    ASSERT_NEAR(a->GetValue(t), b->GetValue(t), 1e-6);
+  }
+}
+
+TEST(RayMarchedIllumination, PointLightInsideTheVolume)
+{
+  auto slab = MakeScene(vtkIlluminationPhantomSource::Slab);
+  auto filter = MakeSlabFilter(slab);
+  const double light[3] = { 31.5, 30.5, 33.5 };
+  filter->AddLight(PointLight(light[0], light[1], light[2]));
+  EXPECT_EQ(RunAndCountErrors(filter, slab), 0);
+  const double error = MaxRelativeError(filter, [&](const double p[3], double d[3], double& t) {
+    for (int a = 0; a < 3; ++a)
+      d[a] = light[a] - p[a];
+    t = vtkMath::Normalize(d);
+  });
+  std::cout << "point light inside: max relative error " << error << std::endl;
+  EXPECT_LE(error, 1e-3);
+}
+
+int main(int argc, char** argv)
+{
+  vtkSMPTools::SetBackend("STDThread");
+  ::testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}
