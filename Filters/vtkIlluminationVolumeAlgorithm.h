@@ -95,9 +95,9 @@ public:
 
   ///@{
   /**
-   * When on (default), light passing through coloured material takes on its colour: per
+   * When on, light passing through coloured material takes on its colour: per
    * channel the step opacity is weighted by (1 - colour). When off, every channel is
-   * attenuated by the opacity alone.
+   * attenuated by the opacity alone (default: white material then casts shadows too).
    */
   vtkSetMacro(ChromaticAttenuation, bool);
   vtkGetMacro(ChromaticAttenuation, bool);
@@ -145,7 +145,7 @@ protected:
   vtkColorTransferFunction* ColorTransferFunction = nullptr;
   vtkPiecewiseFunction* OpacityFunction = nullptr;
   double ScalarOpacityUnitDistance = 1.0;
-  bool ChromaticAttenuation = true;
+  bool ChromaticAttenuation = false;
 
 private:
   vtkIlluminationVolumeAlgorithm(const vtkIlluminationVolumeAlgorithm&) = delete;

@@ -69,6 +69,7 @@ options:
 JSON (every key optional):
   {"method": "reference", "resolution_scale": 0.5, "image_size": [512, 512],
    "output": "volillum.png", "ambient": 0.1, "diffuse": 1.0, "background": [0,0,0],
+   "gradient_shading": false, "chromatic_attenuation": false,
    "lights": [{"type": "directional" | "point" | "spot",
                "position": [x,y,z], "focal_point": [x,y,z], "relative": true,
                "color": [r,g,b], "intensity": 1, "cone_angle": 30, "exponent": 1,
@@ -356,11 +357,11 @@ json DefaultLights()
 {
   return json::parse(R"([
     {"type": "point", "position": [-0.6, 1.4, 1.5], "relative": true,
-     "color": [1.0, 0.85, 0.6], "intensity": 0.9},
+     "color": [1.0, 0.85, 0.6], "intensity": 1.3},
     {"type": "directional", "position": [1.5, 0.4, 0.7], "focal_point": [0.5, 0.5, 0.5],
-     "relative": true, "color": [0.45, 0.6, 1.0], "intensity": 0.5},
+     "relative": true, "color": [0.45, 0.6, 1.0], "intensity": 0.7},
     {"type": "directional", "position": [0.5, -0.5, -1.0], "focal_point": [0.5, 0.5, 0.5],
-     "relative": true, "color": [1.0, 1.0, 1.0], "intensity": 0.3}
+     "relative": true, "color": [1.0, 1.0, 1.0], "intensity": 0.4}
   ])");
 }
 
@@ -495,6 +496,7 @@ int main(int argc, char* argv[])
   illumination->SetOpacityFunction(otf);
   illumination->SetScalarOpacityUnitDistance(unitDistance);
   illumination->SetResolutionScale(Number(config, "resolution_scale", 0.5));
+  illumination->SetChromaticAttenuation(config.value("chromatic_attenuation", false));
   vtkNew<vtkTimerLog> timer;
   timer->StartTimer();
   illumination->Update();
