@@ -59,8 +59,9 @@ vtkIlluminationPhantomSource::vtkIlluminationPhantomSource()
 }
 
 //------------------------------------------------------------------------------
-int vtkIlluminationPhantomSource::RequestInformation(
-  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+int vtkIlluminationPhantomSource::RequestInformation(vtkInformation*,
+  vtkInformationVector**,
+  vtkInformationVector* outputVector)
 {
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   const int* d = this->Dimensions;
@@ -74,8 +75,9 @@ int vtkIlluminationPhantomSource::RequestInformation(
 }
 
 //------------------------------------------------------------------------------
-int vtkIlluminationPhantomSource::RequestData(
-  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+int vtkIlluminationPhantomSource::RequestData(vtkInformation*,
+  vtkInformationVector**,
+  vtkInformationVector* outputVector)
 {
   vtkImageData* output = vtkImageData::GetData(outputVector);
   output->Initialize();
@@ -94,13 +96,15 @@ int vtkIlluminationPhantomSource::RequestData(
   const double size[3] = { nx - 1.0, ny - 1.0, nz - 1.0 };
 
   // Evaluates the scene at a point as a value in [0, 1] of the scene's full scale.
-  auto evaluate = [&](const double p[3]) -> double {
+  auto evaluate = [&](const double p[3]) -> double
+  {
     switch (this->Scene)
     {
       case ThreeSpheres:
       {
-        static const double centres[3][3] = { { 0.32, 0.50, 0.50 }, { 0.62, 0.32, 0.46 },
-          { 0.62, 0.68, 0.56 } };
+        static const double centres[3][3] = {
+          { 0.32, 0.50, 0.50 }, { 0.62, 0.32, 0.46 }, { 0.62, 0.68, 0.56 }
+        };
         double v = 0.0;
         for (const auto& c : centres)
         {
@@ -128,8 +132,9 @@ int vtkIlluminationPhantomSource::RequestData(
           const double vc[3] = { c[0] + side * 0.09 * size[0], c[1] + 0.02 * size[1], c[2] };
           v -= 0.2 * Inside(EllipsoidDistance(p, vc, ventricle));
         }
-        const double blobs[3][4] = { { 0.40, 0.30, 0.62, 0.05 }, { 0.62, 0.66, 0.40, 0.04 },
-          { 0.52, 0.42, 0.30, 0.035 } };
+        const double blobs[3][4] = {
+          { 0.40, 0.30, 0.62, 0.05 }, { 0.62, 0.66, 0.40, 0.04 }, { 0.52, 0.42, 0.30, 0.035 }
+        };
         for (const auto& b : blobs)
         {
           const double bc[3] = { b[0] * size[0], b[1] * size[1], b[2] * size[2] };
@@ -141,17 +146,23 @@ int vtkIlluminationPhantomSource::RequestData(
     }
   };
 
-  auto fill = [&](auto* values, double fullScale) {
-    vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
-      for (vtkIdType id = begin; id < end; ++id)
+  auto fill = [&](auto* values, double fullScale)
+  {
+    vtkSMPTools::For(0,
+      n,
+      [&](vtkIdType begin, vtkIdType end)
       {
-        const double p[3] = { static_cast<double>(id % nx),
-          static_cast<double>((id / nx) % ny), static_cast<double>(id / (static_cast<vtkIdType>(nx) * ny)) };
-        using ValueType = std::remove_pointer_t<decltype(values)>;
-        const double v = evaluate(p) * fullScale;
-        values[id] = static_cast<ValueType>(std::is_integral<ValueType>::value ? std::round(v) : v);
-      }
-    });
+        for (vtkIdType id = begin; id < end; ++id)
+        {
+          const double p[3] = { static_cast<double>(id % nx),
+            static_cast<double>((id / nx) % ny),
+            static_cast<double>(id / (static_cast<vtkIdType>(nx) * ny)) };
+          using ValueType = std::remove_pointer_t<decltype(values)>;
+          const double v = evaluate(p) * fullScale;
+          values[id] =
+            static_cast<ValueType>(std::is_integral<ValueType>::value ? std::round(v) : v);
+        }
+      });
   };
 
   vtkSmartPointer<vtkDataArray> scalars;

@@ -7,15 +7,16 @@
  *   the selective-light-updates paper (unsigned char).
  * - Slab: a homogeneous slab of value 1 over the whole x-y extent between the z indices
  *   SlabBegin and SlabEnd (inclusive), 0 elsewhere (float), for analytic tests.
- * - CTPhantom: a CT-like head: a skull shell, soft tissue, two low-density ventricles and a
- *   few dense inclusions (unsigned short, 0..1000).
+ * - CTPhantom: a CT-like head: a skull shell (600), soft tissue (300), two low-density
+ *   ventricles (100) and a
+ *   few dense inclusions (1000) (unsigned short).
  * Cost: one pass over the points.
  */
 #ifndef vtkIlluminationPhantomSource_h
 #define vtkIlluminationPhantomSource_h
 
-#include "vtkImageAlgorithm.h"
 #include "VolIllumDataModule.h"
+#include "vtkImageAlgorithm.h"
 
 class VOLILLUMDATA_EXPORT vtkIlluminationPhantomSource : public vtkImageAlgorithm
 {

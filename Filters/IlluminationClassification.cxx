@@ -168,28 +168,34 @@ struct TransferTable
 
 struct ClassifyWorker
 {
-  template <typename ArrayT>
-  void operator()(ArrayT* array, int component, const TransferTable& table, float* out,
+  template<typename ArrayT>
+  void operator()(ArrayT* array,
+    int component,
+    const TransferTable& table,
+    float* out,
     std::atomic<long long>& nans)
   {
     const auto values = vtk::DataArrayTupleRange(array);
-    vtkSMPTools::For(0, values.size(), [&](vtkIdType begin, vtkIdType end) {
-      long long localNans = 0;
-      for (vtkIdType t = begin; t < end; ++t)
+    vtkSMPTools::For(0,
+      values.size(),
+      [&](vtkIdType begin, vtkIdType end)
       {
-        const double v = static_cast<double>(values[t][component]);
-        float* o = out + 4 * t;
-        if (std::isnan(v))
+        long long localNans = 0;
+        for (vtkIdType t = begin; t < end; ++t)
         {
-          ++localNans;
-          o[0] = 0.0f;
-          o[1] = o[2] = o[3] = 1.0f;
-          continue;
+          const double v = static_cast<double>(values[t][component]);
+          float* o = out + 4 * t;
+          if (std::isnan(v))
+          {
+            ++localNans;
+            o[0] = 0.0f;
+            o[1] = o[2] = o[3] = 1.0f;
+            continue;
+          }
+          table.Lookup(v, o);
         }
-        table.Lookup(v, o);
-      }
-      nans += localNans;
-    });
+        nans += localNans;
+      });
   }
 };
 
@@ -201,8 +207,11 @@ bool FiniteRange(vtkDataArray* scalars, int component, double range[2])
 }
 }
 
-bool Classify(vtkDataArray* scalars, const GridGeometry& geometry,
-  const ClassificationSettings& settings, ClassifiedVolume& out, std::string& error,
+bool Classify(vtkDataArray* scalars,
+  const GridGeometry& geometry,
+  const ClassificationSettings& settings,
+  ClassifiedVolume& out,
+  std::string& error,
   long long* nanCount)
 {
   if (!scalars)

@@ -18,12 +18,13 @@
 #include <cmath>
 #include <sstream>
 
-vtkCxxSetObjectMacro(vtkIlluminationVolumeAlgorithm, ColorTransferFunction, vtkColorTransferFunction);
+vtkCxxSetObjectMacro(vtkIlluminationVolumeAlgorithm,
+  ColorTransferFunction,
+  vtkColorTransferFunction);
 vtkCxxSetObjectMacro(vtkIlluminationVolumeAlgorithm, OpacityFunction, vtkPiecewiseFunction);
 
 //------------------------------------------------------------------------------
-bool vtkIlluminationVolumeAlgorithm::ClassificationKey::operator==(
-  const ClassificationKey& o) const
+bool vtkIlluminationVolumeAlgorithm::ClassificationKey::operator==(const ClassificationKey& o) const
 {
   return this->Scalars == o.Scalars && this->Color == o.Color && this->Opacity == o.Opacity &&
     this->Scale == o.Scale && this->UnitDistance == o.UnitDistance &&
@@ -166,8 +167,9 @@ int vtkIlluminationVolumeAlgorithm::FillInputPortInformation(int, vtkInformation
 }
 
 //------------------------------------------------------------------------------
-bool vtkIlluminationVolumeAlgorithm::ValidGeometry(
-  vtkImageData* input, volillum::GridGeometry& data, volillum::GridGeometry& target)
+bool vtkIlluminationVolumeAlgorithm::ValidGeometry(vtkImageData* input,
+  volillum::GridGeometry& data,
+  volillum::GridGeometry& target)
 {
   int dims[3];
   input->GetDimensions(dims);
@@ -183,11 +185,9 @@ bool vtkIlluminationVolumeAlgorithm::ValidGeometry(
       << dims[0] << " x " << dims[1] << " x " << dims[2] << ".");
     return false;
   }
-  if (this->ResolutionScale != 1.0 && this->ResolutionScale != 0.5 &&
-    this->ResolutionScale != 0.25)
+  if (this->ResolutionScale != 1.0 && this->ResolutionScale != 0.5 && this->ResolutionScale != 0.25)
   {
-    vtkErrorMacro(
-      "ResolutionScale must be 1, 0.5 or 0.25; it is " << this->ResolutionScale << ".");
+    vtkErrorMacro("ResolutionScale must be 1, 0.5 or 0.25; it is " << this->ResolutionScale << ".");
     return false;
   }
   double spacing[3];
@@ -213,18 +213,18 @@ bool vtkIlluminationVolumeAlgorithm::ValidGeometry(
   target = volillum::ScaledGeometry(data, this->ResolutionScale);
   if (target.NumberOfPoints() > MaximumOutputPoints)
   {
-    vtkErrorMacro("The illumination volume would have " << target.NumberOfPoints()
-                                                        << " points, more than the limit of "
-                                                        << MaximumOutputPoints
-                                                        << "; lower ResolutionScale.");
+    vtkErrorMacro("The illumination volume would have "
+      << target.NumberOfPoints() << " points, more than the limit of " << MaximumOutputPoints
+      << "; lower ResolutionScale.");
     return false;
   }
   return true;
 }
 
 //------------------------------------------------------------------------------
-int vtkIlluminationVolumeAlgorithm::RequestInformation(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+int vtkIlluminationVolumeAlgorithm::RequestInformation(vtkInformation*,
+  vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector)
 {
   vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
@@ -257,13 +257,15 @@ int vtkIlluminationVolumeAlgorithm::RequestInformation(
 }
 
 //------------------------------------------------------------------------------
-int vtkIlluminationVolumeAlgorithm::RequestUpdateExtent(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+int vtkIlluminationVolumeAlgorithm::RequestUpdateExtent(vtkInformation*,
+  vtkInformationVector** inputVector,
+  vtkInformationVector*)
 {
   // Light crosses the whole volume: always ask for all of the input.
   vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
   inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(),
-    inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()), 6);
+    inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()),
+    6);
   return 1;
 }
 
@@ -275,8 +277,9 @@ bool vtkIlluminationVolumeAlgorithm::ReportProgress(double fraction)
 }
 
 //------------------------------------------------------------------------------
-int vtkIlluminationVolumeAlgorithm::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+int vtkIlluminationVolumeAlgorithm::RequestData(vtkInformation*,
+  vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector)
 {
   const auto start = std::chrono::steady_clock::now();
   vtkImageData* input = vtkImageData::GetData(inputVector[0]);
@@ -294,8 +297,9 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
   }
   vtkDataArray* scalars = this->GetInputArrayToProcess(0, inputVector);
   vtkInformation* arrayInfo = this->GetInputArrayInformation(0);
-  const char* requested =
-    arrayInfo->Has(vtkDataObject::FIELD_NAME()) ? arrayInfo->Get(vtkDataObject::FIELD_NAME()) : nullptr;
+  const char* requested = arrayInfo->Has(vtkDataObject::FIELD_NAME())
+    ? arrayInfo->Get(vtkDataObject::FIELD_NAME())
+    : nullptr;
   if (!scalars && (!requested || !*requested))
   {
     // No array chosen (ParaView leaves the name empty when the input was not updated yet):
@@ -384,8 +388,8 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
   illumination->SetNumberOfComponents(3);
   illumination->SetNumberOfTuples(target.NumberOfPoints());
   UpdateReport report;
-  if (!this->ComputeIllumination(this->Classified, lights, target, inputModified,
-        illumination->GetPointer(0), report))
+  if (!this->ComputeIllumination(
+        this->Classified, lights, target, inputModified, illumination->GetPointer(0), report))
   {
     // Aborted: the output stays empty and nothing of this update is kept.
     return 1;

@@ -27,9 +27,9 @@
 
 #include "IlluminationClassification.h"
 #include "IlluminationLights.h"
+#include "VolIllumFiltersModule.h"
 #include "vtkImageAlgorithm.h"
 #include "vtkSmartPointer.h"
-#include "VolIllumFiltersModule.h"
 
 #include <vector>
 
@@ -134,8 +134,11 @@ protected:
    * since the last successful update. Return false when aborted.
    */
   virtual bool ComputeIllumination(const volillum::ClassifiedVolume& volume,
-    const std::vector<volillum::LightState>& lights, const volillum::GridGeometry& target,
-    bool inputModified, float* rgb, UpdateReport& report) = 0;
+    const std::vector<volillum::LightState>& lights,
+    const volillum::GridGeometry& target,
+    bool inputModified,
+    float* rgb,
+    UpdateReport& report) = 0;
 
   /// Report progress; returns false when the update should stop.
   bool ReportProgress(double fraction);
@@ -151,7 +154,8 @@ private:
   vtkIlluminationVolumeAlgorithm(const vtkIlluminationVolumeAlgorithm&) = delete;
   void operator=(const vtkIlluminationVolumeAlgorithm&) = delete;
 
-  bool ValidGeometry(vtkImageData* input, volillum::GridGeometry& data,
+  bool ValidGeometry(vtkImageData* input,
+    volillum::GridGeometry& data,
     volillum::GridGeometry& target);
 
   // What the last successful classification was made from; equal keys mean the cached

@@ -19,16 +19,15 @@
 #ifndef vtkIlluminatedVolumeMapper_h
 #define vtkIlluminatedVolumeMapper_h
 
+#include "VolIllumRenderingModule.h"
 #include "vtkNew.h"
 #include "vtkOpenGLGPUVolumeRayCastMapper.h"
-#include "VolIllumRenderingModule.h"
 
 class vtkImageData;
 class vtkOpenGLShaderProperty;
 class vtkTextureObject;
 
-class VOLILLUMRENDERING_EXPORT vtkIlluminatedVolumeMapper
-  : public vtkOpenGLGPUVolumeRayCastMapper
+class VOLILLUMRENDERING_EXPORT vtkIlluminatedVolumeMapper : public vtkOpenGLGPUVolumeRayCastMapper
 {
 public:
   static vtkIlluminatedVolumeMapper* New();

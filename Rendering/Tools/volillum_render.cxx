@@ -104,20 +104,23 @@ std::string Lower(std::string s)
 
 bool EndsWith(const std::string& s, const std::string& suffix)
 {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+  return s.size() >= suffix.size() &&
+    s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 Options ParseArguments(int argc, char* argv[])
 {
   Options o;
-  auto next = [&](int& i) -> std::string {
+  auto next = [&](int& i) -> std::string
+  {
     if (i + 1 >= argc)
     {
       Fail(std::string("option ") + argv[i] + " needs a value");
     }
     return argv[++i];
   };
-  auto number = [&](const std::string& text) -> double {
+  auto number = [&](const std::string& text) -> double
+  {
     try
     {
       size_t used = 0;
@@ -314,8 +317,8 @@ vtkSmartPointer<vtkImageData> LoadVolume(const Options& o)
   }
   if (scalars->GetNumberOfComponents() != 1)
   {
-    Fail("the scalars of " + o.Input + " have " +
-      std::to_string(scalars->GetNumberOfComponents()) + " components; one is needed");
+    Fail("the scalars of " + o.Input + " have " + std::to_string(scalars->GetNumberOfComponents()) +
+      " components; one is needed");
   }
   return image;
 }
@@ -381,7 +384,8 @@ std::vector<vtkSmartPointer<vtkLight>> BuildLights(const json& config, const dou
     }
     const std::string type = l.value("type", std::string("directional"));
     const bool relative = l.value("relative", false);
-    auto place = [&](const char* key, std::vector<double> fallback) {
+    auto place = [&](const char* key, std::vector<double> fallback)
+    {
       std::vector<double> p = l.contains(key) ? Numbers(l[key], 3, key) : fallback;
       if (relative || !l.contains(key))
       {
@@ -411,8 +415,8 @@ std::vector<vtkSmartPointer<vtkLight>> BuildLights(const json& config, const dou
     {
       Fail("unknown light type '" + type + "' (directional, point or spot)");
     }
-    const auto color = l.contains("color") ? Numbers(l["color"], 3, "color")
-                                           : std::vector<double>{ 1.0, 1.0, 1.0 };
+    const auto color =
+      l.contains("color") ? Numbers(l["color"], 3, "color") : std::vector<double>{ 1.0, 1.0, 1.0 };
     light->SetDiffuseColor(color.data());
     light->SetIntensity(Number(l, "intensity", 1.0));
     light->SetSwitch(l.value("on", true));
@@ -421,11 +425,15 @@ std::vector<vtkSmartPointer<vtkLight>> BuildLights(const json& config, const dou
   return out;
 }
 
-void BuildTransferFunctions(const json& config, const double range[2],
-  vtkColorTransferFunction* ctf, vtkPiecewiseFunction* otf, double& unitDistance,
+void BuildTransferFunctions(const json& config,
+  const double range[2],
+  vtkColorTransferFunction* ctf,
+  vtkPiecewiseFunction* otf,
+  double& unitDistance,
   double minSpacing)
 {
-  const json tf = config.contains("transfer_function") ? config["transfer_function"] : json::object();
+  const json tf =
+    config.contains("transfer_function") ? config["transfer_function"] : json::object();
   if (!tf.is_object())
   {
     Fail("'transfer_function' must be a JSON object");
@@ -436,9 +444,10 @@ void BuildTransferFunctions(const json& config, const double range[2],
   const json color = tf.contains("color") ? tf["color"]
                                           : json::parse("[[0,0,0,0],[0.3,0.8,0.4,0.3],"
                                                         "[0.6,0.95,0.9,0.75],[1,1,0.95,0.6]]");
-  const json opacity =
-    tf.contains("opacity") ? tf["opacity"] : json::parse("[[0,0],[0.2,0],[0.3,0.01],[0.5,0.02],[0.6,0.06],"
-                                "[0.8,0.08],[0.9,0.6],[1,0.7]]");
+  const json opacity = tf.contains("opacity")
+    ? tf["opacity"]
+    : json::parse("[[0,0],[0.2,0],[0.3,0.01],[0.5,0.02],[0.6,0.06],"
+                  "[0.8,0.08],[0.9,0.6],[1,0.7]]");
   if (!color.is_array() || !opacity.is_array() || color.empty() || opacity.empty())
   {
     Fail("the transfer function needs non-empty 'color' and 'opacity' lists");
@@ -508,7 +517,8 @@ int main(int argc, char* argv[])
     Fail("the illumination could not be computed (see the message above)");
   }
 
-  const json size = config.contains("image_size") ? config["image_size"] : json::array({ 512, 512 });
+  const json size =
+    config.contains("image_size") ? config["image_size"] : json::array({ 512, 512 });
   const auto wh = Numbers(size, 2, "image_size");
   if (wh[0] < 16 || wh[1] < 16 || wh[0] > 8192 || wh[1] > 8192)
   {

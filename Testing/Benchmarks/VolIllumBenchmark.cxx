@@ -125,7 +125,8 @@ Result Run(const Case& c, bool smoke)
 
   const int size = smoke ? 64 : 512;
   const int frames = smoke ? 1 : 3;
-  auto frame = [&](vtkOpenGLGPUVolumeRayCastMapper* mapper, bool shade) {
+  auto frame = [&](vtkOpenGLGPUVolumeRayCastMapper* mapper, bool shade)
+  {
     vtkNew<vtkVolumeProperty> property;
     property->SetColor(ctf);
     property->SetScalarOpacity(otf);
@@ -219,7 +220,8 @@ int main(int argc, char* argv[])
   std::cout << "\n"
             << std::left << std::setw(18) << "volume" << std::setw(14) << "dims" << std::right
             << std::setw(16) << "reference [s]" << std::setw(14) << "lit/plain" << std::setw(16)
-            << "shadows/plain" << std::setw(14) << "shadows/lit" << "\n";
+            << "shadows/plain" << std::setw(14) << "shadows/lit"
+            << "\n";
   std::ostringstream json;
   json << "{\n  \"smoke\": " << (smoke ? "true" : "false") << ",\n  \"cases\": [\n";
   for (size_t i = 0; i < results.size(); ++i)

@@ -27,8 +27,12 @@ public:
   std::string LastMessage;
 };
 
-inline vtkSmartPointer<vtkLight> DirectionalLight(
-  double dx, double dy, double dz, double r = 1, double g = 1, double b = 1)
+inline vtkSmartPointer<vtkLight> DirectionalLight(double dx,
+  double dy,
+  double dz,
+  double r = 1,
+  double g = 1,
+  double b = 1)
 {
   auto light = vtkSmartPointer<vtkLight>::New();
   light->SetPositional(false);
@@ -38,8 +42,12 @@ inline vtkSmartPointer<vtkLight> DirectionalLight(
   return light;
 }
 
-inline vtkSmartPointer<vtkLight> PointLight(
-  double x, double y, double z, double r = 1, double g = 1, double b = 1)
+inline vtkSmartPointer<vtkLight> PointLight(double x,
+  double y,
+  double z,
+  double r = 1,
+  double g = 1,
+  double b = 1)
 {
   auto light = vtkSmartPointer<vtkLight>::New();
   light->SetPositional(true);

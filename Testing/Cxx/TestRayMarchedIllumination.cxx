@@ -61,7 +61,8 @@ vtkSmartPointer<vtkRayMarchedIllumination> MakeSlabFilter(vtkImageData* slab)
 // indicator is 1 on [SlabBegin, SlabEnd], 0 beyond one voxel outside, linear between.
 double SlabIntegral(double a, double b)
 {
-  auto cumulative = [](double z) {
+  auto cumulative = [](double z)
+  {
     // Antiderivative of the trapezoid profile from -infinity.
     const double z0 = SlabBegin - 1.0, z1 = SlabBegin, z2 = SlabEnd, z3 = SlabEnd + 1.0;
     if (z <= z0)
@@ -111,7 +112,7 @@ vtkFloatArray* Illumination(vtkRayMarchedIllumination* filter)
 
 // Largest relative difference between the red channel and the analytic transmittance
 // toward a light, over every point.
-template <typename Direction>
+template<typename Direction>
 double MaxRelativeError(vtkRayMarchedIllumination* filter, Direction towardLight)
 {
   vtkFloatArray* result = Illumination(filter);
@@ -134,17 +135,20 @@ double MaxRelativeError(vtkRayMarchedIllumination* filter, Direction towardLight
 TEST(RayMarchedIllumination, SlabDirectionalLightMatchesAnalyticTransmittance)
 {
   auto slab = MakeScene(vtkIlluminationPhantomSource::Slab);
-  for (const auto& travel : { std::array<double, 3>{ 0, 0, -1 }, std::array<double, 3>{ 0.3, -0.2, -1 } })
+  for (const auto& travel :
+    { std::array<double, 3>{ 0, 0, -1 }, std::array<double, 3>{ 0.3, -0.2, -1 } })
   {
     auto filter = MakeSlabFilter(slab);
     filter->AddLight(DirectionalLight(travel[0], travel[1], travel[2]));
     filter->Update();
     double toLight[3] = { -travel[0], -travel[1], -travel[2] };
     vtkMath::Normalize(toLight);
-    const double error = MaxRelativeError(filter, [&](const double p[3], double d[3], double& t) {
-      std::copy(toLight, toLight + 3, d);
-      t = BoxExit(p, d);
-    });
+    const double error = MaxRelativeError(filter,
+      [&](const double p[3], double d[3], double& t)
+      {
+        std::copy(toLight, toLight + 3, d);
+        t = BoxExit(p, d);
+      });
     std::cout << "directional (" << travel[0] << "," << travel[1] << "," << travel[2]
               << ") max relative error " << error << std::endl;
     EXPECT_LE(error, 1e-3);
@@ -158,12 +162,14 @@ TEST(RayMarchedIllumination, SlabPointLightMatchesAnalyticTransmittance)
   const double light[3] = { 20.0, 40.0, 110.0 };
   filter->AddLight(PointLight(light[0], light[1], light[2]));
   filter->Update();
-  const double error = MaxRelativeError(filter, [&](const double p[3], double d[3], double& t) {
-    for (int a = 0; a < 3; ++a)
-      d[a] = light[a] - p[a];
-    const double distance = vtkMath::Normalize(d);
-    t = std::min(distance, BoxExit(p, d));
-  });
+  const double error = MaxRelativeError(filter,
+    [&](const double p[3], double d[3], double& t)
+    {
+      for (int a = 0; a < 3; ++a)
+        d[a] = light[a] - p[a];
+      const double distance = vtkMath::Normalize(d);
+      t = std::min(distance, BoxExit(p, d));
+    });
   std::cout << "point light max relative error " << error << std::endl;
   EXPECT_LE(error, 1e-3);
 }
@@ -174,7 +180,8 @@ TEST(RayMarchedIllumination, TwoLightsEqualTheSumOfEachAlone)
   auto yellow = PointLight(-20, 32, 32, 1, 1, 0);
   auto blue = PointLight(90, 40, 30, 0, 0, 1);
   blue->SetIntensity(2.0);
-  auto run = [&](std::initializer_list<vtkLight*> lights) {
+  auto run = [&](std::initializer_list<vtkLight*> lights)
+  {
     vtkNew<vtkRayMarchedIllumination> filter;
     filter->SetInputData(spheres);
     for (auto* l : lights)
@@ -233,7 +240,8 @@ TEST(RayMarchedIllumination, SpotConeMasksPointsOutsideTheCone)
         const double expected =
           angle < coneAngle ? std::pow(cosine, exponent) * p->GetTypedComponent(id, 0) : 0.0;
         (angle < coneAngle ? inside : outside)++;
-        EXPECT_NEAR(s->GetTypedComponent(id, 0), expected, 1e-6) << "point " << i << " " << j << " " << k;
+        EXPECT_NEAR(s->GetTypedComponent(id, 0), expected, 1e-6)
+          << "point " << i << " " << j << " " << k;
       }
   EXPECT_GT(inside, 1000);
   EXPECT_GT(outside, 1000);
@@ -276,7 +284,8 @@ TEST(RayMarchedIllumination, ResolutionScalesCoverTheSameBounds)
           {
             const vtkIdType fine = stride * i + N * (stride * j + N * stride * k);
             EXPECT_NEAR(c->GetTypedComponent(i + dims[0] * (j + dims[1] * k), 0),
-              f->GetTypedComponent(fine, 0), 1e-5);
+              f->GetTypedComponent(fine, 0),
+              1e-5);
           }
     }
   }
@@ -419,7 +428,8 @@ TEST(RayMarchedIllumination, NaNScalarsAreEmptySpace)
   auto otf = vtkSmartPointer<vtkPiecewiseFunction>::New();
   otf->AddPoint(0, 0);
   otf->AddPoint(200, 0.3);
-  auto run = [&](vtkImageData* image) {
+  auto run = [&](vtkImageData* image)
+  {
     vtkNew<vtkRayMarchedIllumination> filter;
     filter->SetOpacityFunction(otf);
     filter->AddLight(PointLight(-20, 32, 32));
@@ -444,11 +454,13 @@ TEST(RayMarchedIllumination, PointLightInsideTheVolume)
   const double light[3] = { 31.5, 30.5, 33.5 };
   filter->AddLight(PointLight(light[0], light[1], light[2]));
   EXPECT_EQ(RunAndCountErrors(filter, slab), 0);
-  const double error = MaxRelativeError(filter, [&](const double p[3], double d[3], double& t) {
-    for (int a = 0; a < 3; ++a)
-      d[a] = light[a] - p[a];
-    t = vtkMath::Normalize(d);
-  });
+  const double error = MaxRelativeError(filter,
+    [&](const double p[3], double d[3], double& t)
+    {
+      for (int a = 0; a < 3; ++a)
+        d[a] = light[a] - p[a];
+      t = vtkMath::Normalize(d);
+    });
   std::cout << "point light inside: max relative error " << error << std::endl;
   EXPECT_LE(error, 1e-3);
 }
