@@ -12,11 +12,13 @@
 #include "vtkLight.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
+#include "vtkSMPTools.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 
 #include <chrono>
 #include <cmath>
-#include <sstream>
+#include <cstdlib>
+#include <string>
 
 vtkCxxSetObjectMacro(vtkIlluminationVolumeAlgorithm,
   ColorTransferFunction,
@@ -34,6 +36,18 @@ bool vtkIlluminationVolumeAlgorithm::ClassificationKey::operator==(const Classif
 //------------------------------------------------------------------------------
 vtkIlluminationVolumeAlgorithm::vtkIlluminationVolumeAlgorithm()
 {
+  // Debian's ParaView defaults to the Sequential SMP backend; unless the user chose one
+  // with VTK_SMP_BACKEND_IN_USE, the illumination filters run on every core.
+  static const bool backendChosen = []
+  {
+    if (!std::getenv("VTK_SMP_BACKEND_IN_USE") &&
+      std::string(vtkSMPTools::GetBackend()) == "Sequential")
+    {
+      vtkSMPTools::SetBackend("STDThread");
+    }
+    return true;
+  }();
+  (void)backendChosen;
   this->SetInputArrayToProcess(
     0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
 }

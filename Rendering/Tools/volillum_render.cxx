@@ -564,23 +564,26 @@ int main(int argc, char* argv[])
   window->SetOffScreenRendering(1);
   window->SetSize(static_cast<int>(wh[0]), static_cast<int>(wh[1]));
   window->AddRenderer(renderer);
+  // The image is taken from the very first frame: it must already be lit.
   timer->StartTimer();
   window->Render();
   timer->StopTimer();
   const double firstFrameSeconds = timer->GetElapsedTime();
+  vtkNew<vtkWindowToImageFilter> grab;
+  grab->SetInput(window);
+  grab->ReadFrontBufferOff();
+  grab->Update();
+  vtkNew<vtkImageData> firstFrame;
+  firstFrame->DeepCopy(grab->GetOutput());
   timer->StartTimer();
   window->Render();
   timer->StopTimer();
   const double frameSeconds = timer->GetElapsedTime();
 
-  vtkNew<vtkWindowToImageFilter> grab;
-  grab->SetInput(window);
-  grab->ReadFrontBufferOff();
-  grab->Update();
   const std::string output = config.value("output", std::string("volillum.png"));
   vtkNew<vtkPNGWriter> writer;
   writer->SetFileName(output.c_str());
-  writer->SetInputConnection(grab->GetOutputPort());
+  writer->SetInputData(firstFrame);
   writer->Write();
   if (writer->GetErrorCode() != 0)
   {
