@@ -59,9 +59,8 @@ vtkIlluminationPhantomSource::vtkIlluminationPhantomSource()
 }
 
 //------------------------------------------------------------------------------
-int vtkIlluminationPhantomSource::RequestInformation(vtkInformation*,
-  vtkInformationVector**,
-  vtkInformationVector* outputVector)
+int vtkIlluminationPhantomSource::RequestInformation(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   const int* d = this->Dimensions;
@@ -75,9 +74,8 @@ int vtkIlluminationPhantomSource::RequestInformation(vtkInformation*,
 }
 
 //------------------------------------------------------------------------------
-int vtkIlluminationPhantomSource::RequestData(vtkInformation*,
-  vtkInformationVector**,
-  vtkInformationVector* outputVector)
+int vtkIlluminationPhantomSource::RequestData(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
   vtkImageData* output = vtkImageData::GetData(outputVector);
   output->Initialize();
@@ -102,9 +100,8 @@ int vtkIlluminationPhantomSource::RequestData(vtkInformation*,
     {
       case ThreeSpheres:
       {
-        static const double centres[3][3] = {
-          { 0.32, 0.50, 0.50 }, { 0.62, 0.32, 0.46 }, { 0.62, 0.68, 0.56 }
-        };
+        static const double centres[3][3] = { { 0.32, 0.50, 0.50 }, { 0.62, 0.32, 0.46 },
+          { 0.62, 0.68, 0.56 } };
         double v = 0.0;
         for (const auto& c : centres)
         {
@@ -132,9 +129,8 @@ int vtkIlluminationPhantomSource::RequestData(vtkInformation*,
           const double vc[3] = { c[0] + side * 0.09 * size[0], c[1] + 0.02 * size[1], c[2] };
           v -= 0.2 * Inside(EllipsoidDistance(p, vc, ventricle));
         }
-        const double blobs[3][4] = {
-          { 0.40, 0.30, 0.62, 0.05 }, { 0.62, 0.66, 0.40, 0.04 }, { 0.52, 0.42, 0.30, 0.035 }
-        };
+        const double blobs[3][4] = { { 0.40, 0.30, 0.62, 0.05 }, { 0.62, 0.66, 0.40, 0.04 },
+          { 0.52, 0.42, 0.30, 0.035 } };
         for (const auto& b : blobs)
         {
           const double bc[3] = { b[0] * size[0], b[1] * size[1], b[2] * size[2] };
@@ -148,14 +144,12 @@ int vtkIlluminationPhantomSource::RequestData(vtkInformation*,
 
   auto fill = [&](auto* values, double fullScale)
   {
-    vtkSMPTools::For(0,
-      n,
+    vtkSMPTools::For(0, n,
       [&](vtkIdType begin, vtkIdType end)
       {
         for (vtkIdType id = begin; id < end; ++id)
         {
-          const double p[3] = { static_cast<double>(id % nx),
-            static_cast<double>((id / nx) % ny),
+          const double p[3] = { static_cast<double>(id % nx), static_cast<double>((id / nx) % ny),
             static_cast<double>(id / (static_cast<vtkIdType>(nx) * ny)) };
           using ValueType = std::remove_pointer_t<decltype(values)>;
           const double v = evaluate(p) * fullScale;

@@ -168,16 +168,12 @@ struct TransferTable
 
 struct ClassifyWorker
 {
-  template<typename ArrayT>
-  void operator()(ArrayT* array,
-    int component,
-    const TransferTable& table,
-    float* out,
+  template <typename ArrayT>
+  void operator()(ArrayT* array, int component, const TransferTable& table, float* out,
     std::atomic<long long>& nans)
   {
     const auto values = vtk::DataArrayTupleRange(array);
-    vtkSMPTools::For(0,
-      values.size(),
+    vtkSMPTools::For(0, values.size(),
       [&](vtkIdType begin, vtkIdType end)
       {
         long long localNans = 0;
@@ -207,11 +203,8 @@ bool FiniteRange(vtkDataArray* scalars, int component, double range[2])
 }
 }
 
-bool Classify(vtkDataArray* scalars,
-  const GridGeometry& geometry,
-  const ClassificationSettings& settings,
-  ClassifiedVolume& out,
-  std::string& error,
+bool Classify(vtkDataArray* scalars, const GridGeometry& geometry,
+  const ClassificationSettings& settings, ClassifiedVolume& out, std::string& error,
   long long* nanCount)
 {
   if (!scalars)

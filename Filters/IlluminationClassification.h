@@ -85,11 +85,8 @@ constexpr double MaximumOpacity = 1.0 - 1e-6;
  * from 0 at the minimum to 1 at the maximum. Returns false with a message in error when
  * the input cannot be classified.
  */
-VOLILLUMFILTERS_EXPORT bool Classify(vtkDataArray* scalars,
-  const GridGeometry& geometry,
-  const ClassificationSettings& settings,
-  ClassifiedVolume& out,
-  std::string& error,
+VOLILLUMFILTERS_EXPORT bool Classify(vtkDataArray* scalars, const GridGeometry& geometry,
+  const ClassificationSettings& settings, ClassifiedVolume& out, std::string& error,
   long long* nanCount = nullptr);
 
 /// Step-corrected opacity of a step of length dt through a medium of extinction sigma.
@@ -97,9 +94,8 @@ inline double StepOpacity(double sigma, double dt);
 
 /// Distance from p along the unit direction d to where the ray leaves the box bounds
 /// (0 when p is outside and moving away).
-VOLILLUMFILTERS_EXPORT double DistanceToBoxExit(const double p[3],
-  const double d[3],
-  const double bounds[6]);
+VOLILLUMFILTERS_EXPORT double DistanceToBoxExit(
+  const double p[3], const double d[3], const double bounds[6]);
 
 }
 

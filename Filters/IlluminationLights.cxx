@@ -13,8 +13,7 @@ namespace volillum
 std::array<double, 3> LightState::Direction() const
 {
   std::array<double, 3> d{ { this->FocalPoint[0] - this->Position[0],
-    this->FocalPoint[1] - this->Position[1],
-    this->FocalPoint[2] - this->Position[2] } };
+    this->FocalPoint[1] - this->Position[1], this->FocalPoint[2] - this->Position[2] } };
   const double n = vtkMath::Norm(d.data());
   if (n > 0.0)
   {
@@ -36,8 +35,7 @@ std::array<double, 3> LightState::Radiance() const
   {
     return { { 0.0, 0.0, 0.0 } };
   }
-  return { { this->Color[0] * this->Intensity,
-    this->Color[1] * this->Intensity,
+  return { { this->Color[0] * this->Intensity, this->Color[1] * this->Intensity,
     this->Color[2] * this->Intensity } };
 }
 
@@ -104,9 +102,8 @@ Incidence ComputeIncidence(const LightState& light, const double point[3])
     inc.Distance = std::numeric_limits<double>::infinity();
     return inc;
   }
-  std::array<double, 3> v{
-    { light.Position[0] - point[0], light.Position[1] - point[1], light.Position[2] - point[2] }
-  };
+  std::array<double, 3> v{ { light.Position[0] - point[0], light.Position[1] - point[1],
+    light.Position[2] - point[2] } };
   inc.Distance = vtkMath::Norm(v.data());
   if (inc.Distance > 0.0)
   {

@@ -8,10 +8,8 @@
 namespace volillum
 {
 
-std::array<double, 3> RayMarchTransmittance(const ClassifiedVolume& volume,
-  const LightState& light,
-  const double p[3],
-  const RayMarchSettings& settings)
+std::array<double, 3> RayMarchTransmittance(const ClassifiedVolume& volume, const LightState& light,
+  const double p[3], const RayMarchSettings& settings)
 {
   const Incidence inc = ComputeIncidence(light, p);
   std::array<double, 3> t{ { inc.ConeFactor, inc.ConeFactor, inc.ConeFactor } };
@@ -31,9 +29,8 @@ std::array<double, 3> RayMarchTransmittance(const ClassifiedVolume& volume,
   for (long long i = 0; i < n; ++i)
   {
     const double d = (i + 0.5) * h;
-    const double q[3] = {
-      p[0] + d * inc.ToLight[0], p[1] + d * inc.ToLight[1], p[2] + d * inc.ToLight[2]
-    };
+    const double q[3] = { p[0] + d * inc.ToLight[0], p[1] + d * inc.ToLight[1],
+      p[2] + d * inc.ToLight[2] };
     volume.Sample(q, s);
     const double a = StepOpacity(s[0], h);
     t[0] *= 1.0 - a * s[1];
@@ -47,11 +44,8 @@ std::array<double, 3> RayMarchTransmittance(const ClassifiedVolume& volume,
   return t;
 }
 
-bool RayMarchIllumination(const ClassifiedVolume& volume,
-  const std::vector<LightState>& lights,
-  const GridGeometry& target,
-  const RayMarchSettings& settings,
-  float* rgb,
+bool RayMarchIllumination(const ClassifiedVolume& volume, const std::vector<LightState>& lights,
+  const GridGeometry& target, const RayMarchSettings& settings, float* rgb,
   const ProgressCallback& progress)
 {
   std::vector<LightState> active;
@@ -75,8 +69,7 @@ bool RayMarchIllumination(const ClassifiedVolume& volume,
   for (long long k0 = 0; k0 < nz; k0 += chunk)
   {
     const long long k1 = std::min(nz, k0 + chunk);
-    vtkSMPTools::For(k0 * ny,
-      k1 * ny,
+    vtkSMPTools::For(k0 * ny, k1 * ny,
       [&](long long begin, long long end)
       {
         for (long long row = begin; row < end; ++row)

@@ -39,18 +39,13 @@ using ProgressCallback = std::function<bool(double)>;
 
 /// Per-channel transmittance from point p to the light (0 outside a spot cone).
 VOLILLUMFILTERS_EXPORT std::array<double, 3> RayMarchTransmittance(const ClassifiedVolume& volume,
-  const LightState& light,
-  const double p[3],
-  const RayMarchSettings& settings);
+  const LightState& light, const double p[3], const RayMarchSettings& settings);
 
 /// Fill rgb (3 floats per target point, x fastest) with the summed illumination of all
 /// lights. Returns false when progress asked to stop (rgb is then incomplete).
 VOLILLUMFILTERS_EXPORT bool RayMarchIllumination(const ClassifiedVolume& volume,
-  const std::vector<LightState>& lights,
-  const GridGeometry& target,
-  const RayMarchSettings& settings,
-  float* rgb,
-  const ProgressCallback& progress);
+  const std::vector<LightState>& lights, const GridGeometry& target,
+  const RayMarchSettings& settings, float* rgb, const ProgressCallback& progress);
 
 }
 

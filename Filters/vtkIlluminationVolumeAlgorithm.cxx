@@ -20,9 +20,8 @@
 #include <cstdlib>
 #include <string>
 
-vtkCxxSetObjectMacro(vtkIlluminationVolumeAlgorithm,
-  ColorTransferFunction,
-  vtkColorTransferFunction);
+vtkCxxSetObjectMacro(
+  vtkIlluminationVolumeAlgorithm, ColorTransferFunction, vtkColorTransferFunction);
 vtkCxxSetObjectMacro(vtkIlluminationVolumeAlgorithm, OpacityFunction, vtkPiecewiseFunction);
 
 //------------------------------------------------------------------------------
@@ -181,9 +180,8 @@ int vtkIlluminationVolumeAlgorithm::FillInputPortInformation(int, vtkInformation
 }
 
 //------------------------------------------------------------------------------
-bool vtkIlluminationVolumeAlgorithm::ValidGeometry(vtkImageData* input,
-  volillum::GridGeometry& data,
-  volillum::GridGeometry& target)
+bool vtkIlluminationVolumeAlgorithm::ValidGeometry(
+  vtkImageData* input, volillum::GridGeometry& data, volillum::GridGeometry& target)
 {
   int dims[3];
   input->GetDimensions(dims);
@@ -236,9 +234,8 @@ bool vtkIlluminationVolumeAlgorithm::ValidGeometry(vtkImageData* input,
 }
 
 //------------------------------------------------------------------------------
-int vtkIlluminationVolumeAlgorithm::RequestInformation(vtkInformation*,
-  vtkInformationVector** inputVector,
-  vtkInformationVector* outputVector)
+int vtkIlluminationVolumeAlgorithm::RequestInformation(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
@@ -271,15 +268,13 @@ int vtkIlluminationVolumeAlgorithm::RequestInformation(vtkInformation*,
 }
 
 //------------------------------------------------------------------------------
-int vtkIlluminationVolumeAlgorithm::RequestUpdateExtent(vtkInformation*,
-  vtkInformationVector** inputVector,
-  vtkInformationVector*)
+int vtkIlluminationVolumeAlgorithm::RequestUpdateExtent(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
 {
   // Light crosses the whole volume: always ask for all of the input.
   vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
   inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(),
-    inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()),
-    6);
+    inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()), 6);
   return 1;
 }
 
@@ -291,9 +286,8 @@ bool vtkIlluminationVolumeAlgorithm::ReportProgress(double fraction)
 }
 
 //------------------------------------------------------------------------------
-int vtkIlluminationVolumeAlgorithm::RequestData(vtkInformation*,
-  vtkInformationVector** inputVector,
-  vtkInformationVector* outputVector)
+int vtkIlluminationVolumeAlgorithm::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   const auto start = std::chrono::steady_clock::now();
   vtkImageData* input = vtkImageData::GetData(inputVector[0]);

@@ -134,11 +134,8 @@ protected:
    * since the last successful update. Return false when aborted.
    */
   virtual bool ComputeIllumination(const volillum::ClassifiedVolume& volume,
-    const std::vector<volillum::LightState>& lights,
-    const volillum::GridGeometry& target,
-    bool inputModified,
-    float* rgb,
-    UpdateReport& report) = 0;
+    const std::vector<volillum::LightState>& lights, const volillum::GridGeometry& target,
+    bool inputModified, float* rgb, UpdateReport& report) = 0;
 
   /// Report progress; returns false when the update should stop.
   bool ReportProgress(double fraction);
@@ -154,9 +151,8 @@ private:
   vtkIlluminationVolumeAlgorithm(const vtkIlluminationVolumeAlgorithm&) = delete;
   void operator=(const vtkIlluminationVolumeAlgorithm&) = delete;
 
-  bool ValidGeometry(vtkImageData* input,
-    volillum::GridGeometry& data,
-    volillum::GridGeometry& target);
+  bool ValidGeometry(
+    vtkImageData* input, volillum::GridGeometry& data, volillum::GridGeometry& target);
 
   // What the last successful classification was made from; equal keys mean the cached
   // classification is still valid.

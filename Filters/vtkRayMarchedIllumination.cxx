@@ -7,11 +7,8 @@ vtkStandardNewMacro(vtkRayMarchedIllumination);
 
 //------------------------------------------------------------------------------
 bool vtkRayMarchedIllumination::ComputeIllumination(const volillum::ClassifiedVolume& volume,
-  const std::vector<volillum::LightState>& lights,
-  const volillum::GridGeometry& target,
-  bool,
-  float* rgb,
-  UpdateReport& report)
+  const std::vector<volillum::LightState>& lights, const volillum::GridGeometry& target, bool,
+  float* rgb, UpdateReport& report)
 {
   volillum::RayMarchSettings settings;
   settings.StepFraction = this->StepFraction;

@@ -33,11 +33,8 @@ protected:
   ~vtkRayMarchedIllumination() override = default;
 
   bool ComputeIllumination(const volillum::ClassifiedVolume& volume,
-    const std::vector<volillum::LightState>& lights,
-    const volillum::GridGeometry& target,
-    bool inputModified,
-    float* rgb,
-    UpdateReport& report) override;
+    const std::vector<volillum::LightState>& lights, const volillum::GridGeometry& target,
+    bool inputModified, float* rgb, UpdateReport& report) override;
 
   double StepFraction = 0.5;
 

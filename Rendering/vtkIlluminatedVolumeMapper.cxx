@@ -24,12 +24,8 @@ const char* const ShadingDecTag = "//VTK::Shading::Dec";
 const char* const ShadingImplTag = "//VTK::Shading::Impl";
 const char* const SamplerIntDeclaration = "uniform int volillum_illumination;";
 const char* const SamplerDeclaration = "uniform sampler3D volillum_illumination;";
-const char* const UniformNames[] = { "volillum_illumination",
-  "volillum_illuminationScale",
-  "volillum_illuminationShift",
-  "volillum_ambient",
-  "volillum_diffuse",
-  "volillum_gradientShading",
+const char* const UniformNames[] = { "volillum_illumination", "volillum_illuminationScale",
+  "volillum_illuminationShift", "volillum_ambient", "volillum_diffuse", "volillum_gradientShading",
   "volillum_phong" };
 
 vtkDataArray* IlluminationArray(vtkImageData* image)
@@ -112,8 +108,8 @@ bool vtkIlluminatedVolumeMapper::UpdateIlluminationTexture(vtkRenderer* ren)
 }
 
 //------------------------------------------------------------------------------
-void vtkIlluminatedVolumeMapper::SetShaderReplacements(vtkOpenGLShaderProperty* property,
-  bool enable)
+void vtkIlluminatedVolumeMapper::SetShaderReplacements(
+  vtkOpenGLShaderProperty* property, bool enable)
 {
   vtkShader::ReplacementSpec spec;
   spec.OriginalValue = ShadingImplTag;
@@ -169,8 +165,7 @@ void vtkIlluminatedVolumeMapper::SetShadingUniforms(vtkOpenGLShaderProperty* pro
   u->SetUniformf("volillum_diffuse", static_cast<float>(this->Diffuse));
   u->SetUniformi("volillum_gradientShading", this->GradientShading ? 1 : 0);
   const float phong[4] = { static_cast<float>(this->PhongAmbient),
-    static_cast<float>(this->PhongDiffuse),
-    static_cast<float>(this->PhongSpecular),
+    static_cast<float>(this->PhongDiffuse), static_cast<float>(this->PhongSpecular),
     static_cast<float>(this->PhongSpecularPower) };
   u->SetUniform4f("volillum_phong", phong);
 }

@@ -208,6 +208,25 @@ Options ParseArguments(int argc, char* argv[])
   return o;
 }
 
+template <typename ReaderType>
+vtkSmartPointer<vtkAlgorithm> MakeReader(const std::string& fileName)
+{
+  auto reader = vtkSmartPointer<ReaderType>::New();
+  reader->SetFileName(fileName.c_str());
+  return reader;
+}
+
+// The reader for each file ending (lower case).
+const struct
+{
+  const char* Extension;
+  vtkSmartPointer<vtkAlgorithm> (*Make)(const std::string&);
+} ReaderFormats[] = { { ".vti", &MakeReader<vtkXMLImageDataReader> },
+  { ".vtk", &MakeReader<vtkDataSetReader> }, { ".mha", &MakeReader<vtkMetaImageReader> },
+  { ".mhd", &MakeReader<vtkMetaImageReader> }, { ".nrrd", &MakeReader<vtkNrrdReader> },
+  { ".nhdr", &MakeReader<vtkNrrdReader> }, { ".slc", &MakeReader<vtkSLCReader> },
+  { ".nii", &MakeReader<vtkNIFTIImageReader> }, { ".nii.gz", &MakeReader<vtkNIFTIImageReader> } };
+
 // Reads the volume (or generates the phantom); fails with one line on any problem.
 vtkSmartPointer<vtkImageData> LoadVolume(const Options& o)
 {
@@ -249,43 +268,15 @@ vtkSmartPointer<vtkImageData> LoadVolume(const Options& o)
       Fail("cannot read " + o.Input);
     }
     const std::string name = Lower(o.Input);
-    if (EndsWith(name, ".vti"))
+    for (const auto& format : ReaderFormats)
     {
-      auto r = vtkSmartPointer<vtkXMLImageDataReader>::New();
-      r->SetFileName(o.Input.c_str());
-      reader = r;
+      if (EndsWith(name, format.Extension))
+      {
+        reader = format.Make(o.Input);
+        break;
+      }
     }
-    else if (EndsWith(name, ".vtk"))
-    {
-      auto r = vtkSmartPointer<vtkDataSetReader>::New();
-      r->SetFileName(o.Input.c_str());
-      reader = r;
-    }
-    else if (EndsWith(name, ".mha") || EndsWith(name, ".mhd"))
-    {
-      auto r = vtkSmartPointer<vtkMetaImageReader>::New();
-      r->SetFileName(o.Input.c_str());
-      reader = r;
-    }
-    else if (EndsWith(name, ".nrrd") || EndsWith(name, ".nhdr"))
-    {
-      auto r = vtkSmartPointer<vtkNrrdReader>::New();
-      r->SetFileName(o.Input.c_str());
-      reader = r;
-    }
-    else if (EndsWith(name, ".slc"))
-    {
-      auto r = vtkSmartPointer<vtkSLCReader>::New();
-      r->SetFileName(o.Input.c_str());
-      reader = r;
-    }
-    else if (EndsWith(name, ".nii") || EndsWith(name, ".nii.gz"))
-    {
-      auto r = vtkSmartPointer<vtkNIFTIImageReader>::New();
-      r->SetFileName(o.Input.c_str());
-      reader = r;
-    }
-    else
+    if (!reader)
     {
       Fail("unsupported file type: " + o.Input +
         " (.vti .vtk .mha .mhd .nrrd .nhdr .slc .nii .nii.gz)");
@@ -425,12 +416,8 @@ std::vector<vtkSmartPointer<vtkLight>> BuildLights(const json& config, const dou
   return out;
 }
 
-void BuildTransferFunctions(const json& config,
-  const double range[2],
-  vtkColorTransferFunction* ctf,
-  vtkPiecewiseFunction* otf,
-  double& unitDistance,
-  double minSpacing)
+void BuildTransferFunctions(const json& config, const double range[2],
+  vtkColorTransferFunction* ctf, vtkPiecewiseFunction* otf, double& unitDistance, double minSpacing)
 {
   const json tf =
     config.contains("transfer_function") ? config["transfer_function"] : json::object();

@@ -27,12 +27,8 @@ public:
   std::string LastMessage;
 };
 
-inline vtkSmartPointer<vtkLight> DirectionalLight(double dx,
-  double dy,
-  double dz,
-  double r = 1,
-  double g = 1,
-  double b = 1)
+inline vtkSmartPointer<vtkLight> DirectionalLight(
+  double dx, double dy, double dz, double r = 1, double g = 1, double b = 1)
 {
   auto light = vtkSmartPointer<vtkLight>::New();
   light->SetPositional(false);
@@ -42,12 +38,8 @@ inline vtkSmartPointer<vtkLight> DirectionalLight(double dx,
   return light;
 }
 
-inline vtkSmartPointer<vtkLight> PointLight(double x,
-  double y,
-  double z,
-  double r = 1,
-  double g = 1,
-  double b = 1)
+inline vtkSmartPointer<vtkLight> PointLight(
+  double x, double y, double z, double r = 1, double g = 1, double b = 1)
 {
   auto light = vtkSmartPointer<vtkLight>::New();
   light->SetPositional(true);

@@ -76,8 +76,7 @@ TEST(IlluminationLights, SpotConeFactor)
   EXPECT_NEAR(ComputeIncidence(spot, onAxis).ConeFactor, 1.0, 1e-12);
   const double at20[3] = { 10 * std::tan(20 * 3.14159265358979 / 180), 0, 0 };
   EXPECT_NEAR(ComputeIncidence(spot, at20).ConeFactor,
-    std::pow(std::cos(20 * 3.14159265358979 / 180), 2),
-    1e-9);
+    std::pow(std::cos(20 * 3.14159265358979 / 180), 2), 1e-9);
   const double at40[3] = { 10 * std::tan(40 * 3.14159265358979 / 180), 0, 0 };
   EXPECT_EQ(ComputeIncidence(spot, at40).ConeFactor, 0.0);
   const double bounds[6] = { -1, 1, -1, 1, -1, 1 };

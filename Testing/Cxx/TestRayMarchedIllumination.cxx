@@ -112,7 +112,7 @@ vtkFloatArray* Illumination(vtkRayMarchedIllumination* filter)
 
 // Largest relative difference between the red channel and the analytic transmittance
 // toward a light, over every point.
-template<typename Direction>
+template <typename Direction>
 double MaxRelativeError(vtkRayMarchedIllumination* filter, Direction towardLight)
 {
   vtkFloatArray* result = Illumination(filter);
@@ -284,8 +284,7 @@ TEST(RayMarchedIllumination, ResolutionScalesCoverTheSameBounds)
           {
             const vtkIdType fine = stride * i + N * (stride * j + N * stride * k);
             EXPECT_NEAR(c->GetTypedComponent(i + dims[0] * (j + dims[1] * k), 0),
-              f->GetTypedComponent(fine, 0),
-              1e-5);
+              f->GetTypedComponent(fine, 0), 1e-5);
           }
     }
   }
