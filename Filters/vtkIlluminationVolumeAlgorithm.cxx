@@ -399,7 +399,11 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
   if (!this->ComputeIllumination(
         this->Classified, lights, target, inputModified, illumination->GetPointer(0), report))
   {
-    // Aborted: the output stays empty and nothing of this update is kept.
+    // Aborted: show what the last complete update produced.
+    if (this->LastOutput)
+    {
+      output->ShallowCopy(this->LastOutput);
+    }
     return 1;
   }
 
@@ -419,9 +423,15 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
   vtkNew<vtkDoubleArray> time;
   time->SetName("UpdateSeconds");
   time->InsertNextValue(seconds);
+  vtkNew<vtkIntArray> pending;
+  pending->SetName("PendingPasses");
+  pending->InsertNextValue(report.PendingPasses);
   output->GetFieldData()->AddArray(mode);
   output->GetFieldData()->AddArray(passes);
+  output->GetFieldData()->AddArray(pending);
   output->GetFieldData()->AddArray(time);
+  this->LastOutput = vtkSmartPointer<vtkImageData>::New();
+  this->LastOutput->ShallowCopy(output);
   return 1;
 }
 

@@ -7,7 +7,8 @@
  * ResolutionScale (1, 0.5 or 0.25 per axis) with the point array "Illumination"
  * (3-component float, linear HDR: an unoccluded white light of intensity 1 gives (1,1,1)),
  * and the field arrays UpdateMode (0 full, 1 selective), PropagationPasses (passes or sweeps
- * the last update did) and UpdateSeconds (its wall time).
+ * the last update did), PendingPasses (passes left for a later update) and UpdateSeconds
+ * (its wall time). An aborted update leaves the previous output in place.
  *
  * Lights are vtkLight objects (see IlluminationLights.h for how they are read). The same
  * lights can be given as a flat list of 14 numbers per light, which is how ParaView's
@@ -29,6 +30,7 @@
 #include "IlluminationLights.h"
 #include "VolIllumFiltersModule.h"
 #include "vtkImageAlgorithm.h"
+#include "vtkImageData.h"
 #include "vtkSmartPointer.h"
 
 #include <vector>
@@ -126,12 +128,14 @@ protected:
   {
     int Mode = 0;
     int Passes = 0;
+    int PendingPasses = 0;
   };
 
   /**
    * Compute the illumination of all lights on the illumination grid into rgb (3 floats a
    * point, x fastest). inputModified tells whether the data or the classification changed
-   * since the last successful update. Return false when aborted.
+   * since the last successful update. Return false when aborted: the output then stays as
+   * the last successful update left it.
    */
   virtual bool ComputeIllumination(const volillum::ClassifiedVolume& volume,
     const std::vector<volillum::LightState>& lights, const volillum::GridGeometry& target,
@@ -169,6 +173,7 @@ private:
   ClassificationKey ClassifiedKey;
   bool HasClassification = false;
   volillum::ClassifiedVolume Classified;
+  vtkSmartPointer<vtkImageData> LastOutput;
 };
 
 #endif

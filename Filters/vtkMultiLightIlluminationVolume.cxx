@@ -1,0 +1,119 @@
+#include "vtkMultiLightIlluminationVolume.h"
+
+#include "vtkObjectFactory.h"
+
+vtkStandardNewMacro(vtkMultiLightIlluminationVolume);
+
+namespace
+{
+long long LightPropagations(const std::vector<volillum::PropagationTask>& tasks)
+{
+  return static_cast<long long>(tasks.size());
+}
+}
+
+//------------------------------------------------------------------------------
+int vtkMultiLightIlluminationVolume::GetNumberOfPendingPasses() const
+{
+  return volillum::CountSweeps(this->Pending, this->CoherentPropagation);
+}
+
+//------------------------------------------------------------------------------
+bool vtkMultiLightIlluminationVolume::ChooseSelective(
+  const std::vector<volillum::PropagationTask>& selective,
+  const std::vector<volillum::PropagationTask>& full, size_t changed, size_t lights) const
+{
+  if (this->CostEstimate == ChangedLightFraction)
+  {
+    return 2 * changed <= lights;
+  }
+  const int selectiveSweeps = volillum::CountSweeps(selective, this->CoherentPropagation);
+  const int fullSweeps = volillum::CountSweeps(full, this->CoherentPropagation);
+  if (selectiveSweeps != fullSweeps)
+  {
+    return selectiveSweeps < fullSweeps;
+  }
+  return LightPropagations(selective) <= LightPropagations(full);
+}
+
+//------------------------------------------------------------------------------
+bool vtkMultiLightIlluminationVolume::ComputeIllumination(const volillum::ClassifiedVolume& volume,
+  const std::vector<volillum::LightState>& lights, const volillum::GridGeometry& target,
+  bool inputModified, float* rgb, UpdateReport& report)
+{
+  double bounds[6];
+  target.GetBounds(bounds);
+  std::vector<volillum::PropagationTask> full;
+  for (const auto& light : lights)
+  {
+    const auto tasks = volillum::TasksForLight(light, +1, bounds);
+    full.insert(full.end(), tasks.begin(), tasks.end());
+  }
+
+  const bool mustRecompute = inputModified || !this->Valid || !this->SelectiveUpdates ||
+    this->Illumination.NumberOfPoints() != target.NumberOfPoints();
+  bool selective = false;
+  std::vector<volillum::PropagationTask> work;
+  if (!mustRecompute)
+  {
+    // Remove the applied states of the changed lights and add their new states, after the
+    // work an earlier update left pending.
+    const std::vector<int> changed = this->Applied.ChangedLights(lights);
+    const auto& applied = this->Applied.GetApplied();
+    std::vector<volillum::PropagationTask> changes;
+    for (int i : changed)
+    {
+      if (i < static_cast<int>(applied.size()))
+      {
+        const auto removal = volillum::TasksForLight(applied[i], -1, bounds);
+        changes.insert(changes.end(), removal.begin(), removal.end());
+      }
+      if (i < static_cast<int>(lights.size()))
+      {
+        const auto addition = volillum::TasksForLight(lights[i], +1, bounds);
+        changes.insert(changes.end(), addition.begin(), addition.end());
+      }
+    }
+    work = this->Pending;
+    work.insert(work.end(), changes.begin(), changes.end());
+    selective =
+      this->ChooseSelective(work, full, changed.size(), std::max(lights.size(), applied.size()));
+  }
+
+  this->Valid = false;
+  if (!selective)
+  {
+    volillum::ResampleClassification(volume, target, this->Grid);
+    this->Illumination.Reset(target.NumberOfPoints());
+    work = full;
+  }
+  this->LastStatistics = volillum::PropagationStatistics();
+  std::vector<volillum::PropagationTask> remaining;
+  if (!volillum::PropagateTasks(this->Grid, work, this->CoherentPropagation,
+        this->MaximumPassesPerUpdate, this->Illumination, remaining, this->LastStatistics,
+        [this](double f) { return this->ReportProgress(f); }))
+  {
+    // The accumulated illumination is partly updated: the next update starts afresh.
+    this->Pending.clear();
+    this->Applied.Reset();
+    return false;
+  }
+  this->Pending = remaining;
+  this->Applied.Commit(lights);
+  this->Valid = true;
+  this->Illumination.ToFloat(rgb);
+  report.Mode = selective ? 1 : 0;
+  report.Passes = this->LastStatistics.Sweeps;
+  report.PendingPasses = this->GetNumberOfPendingPasses();
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkMultiLightIlluminationVolume::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "CostEstimate: " << this->CostEstimate << "\n";
+  os << indent << "SelectiveUpdates: " << this->SelectiveUpdates << "\n";
+  os << indent << "CoherentPropagation: " << this->CoherentPropagation << "\n";
+  os << indent << "MaximumPassesPerUpdate: " << this->MaximumPassesPerUpdate << "\n";
+}

@@ -1,0 +1,501 @@
+// Tests of vtkMultiLightIlluminationVolume: accuracy against the ray-marched reference,
+// selective updates against full recomputes, grouped against one-light-per-pass
+// propagation, continuity across propagation groups, memory, budgets, abort and bad input.
+#include "IlluminationTestUtilities.h"
+#include "vtkIlluminationPhantomSource.h"
+#include "vtkMultiLightIlluminationVolume.h"
+#include "vtkRayMarchedIllumination.h"
+
+#include "vtkExecutive.h"
+#include "vtkFieldData.h"
+#include "vtkFloatArray.h"
+#include "vtkMath.h"
+#include "vtkMinimalStandardRandomSequence.h"
+#include "vtkPiecewiseFunction.h"
+#include "vtkPointData.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <new>
+
+using volillumtest::DirectionalLight;
+using volillumtest::ErrorCounter;
+using volillumtest::PointLight;
+
+// ---------------------------------------------------------------- allocation accounting
+// Every operator new of this test program is counted so that the peak memory of an update
+// can be measured.
+namespace
+{
+std::atomic<long long> CurrentBytes(0);
+std::atomic<long long> PeakBytes(0);
+}
+
+void* operator new(std::size_t size)
+{
+  auto* block = static_cast<std::size_t*>(std::malloc(size + sizeof(std::max_align_t)));
+  if (!block)
+  {
+    throw std::bad_alloc();
+  }
+  *block = size;
+  const long long now = CurrentBytes += static_cast<long long>(size);
+  long long peak = PeakBytes.load();
+  while (now > peak && !PeakBytes.compare_exchange_weak(peak, now))
+  {
+  }
+  return reinterpret_cast<char*>(block) + sizeof(std::max_align_t);
+}
+
+void operator delete(void* p) noexcept
+{
+  if (p)
+  {
+    auto* block = reinterpret_cast<std::size_t*>(static_cast<char*>(p) - sizeof(std::max_align_t));
+    CurrentBytes -= static_cast<long long>(*block);
+    std::free(block);
+  }
+}
+
+void operator delete(void* p, std::size_t) noexcept
+{
+  operator delete(p);
+}
+
+namespace
+{
+vtkSmartPointer<vtkImageData> Scene(int scene, int n)
+{
+  vtkNew<vtkIlluminationPhantomSource> source;
+  source->SetScene(scene);
+  source->SetDimensions(n, n, n);
+  source->SetSlabBegin(n / 4);
+  source->SetSlabEnd(3 * n / 4 - 1);
+  source->Update();
+  return source->GetOutput();
+}
+
+vtkSmartPointer<vtkPiecewiseFunction> Opacity(vtkImageData* image, double maximum)
+{
+  double range[2];
+  image->GetPointData()->GetScalars()->GetRange(range);
+  auto otf = vtkSmartPointer<vtkPiecewiseFunction>::New();
+  otf->AddPoint(range[0], 0.0);
+  otf->AddPoint(range[1], maximum);
+  return otf;
+}
+
+vtkSmartPointer<vtkFloatArray> Result(vtkImageAlgorithm* filter)
+{
+  auto copy = vtkSmartPointer<vtkFloatArray>::New();
+  copy->DeepCopy(filter->GetOutput()->GetPointData()->GetArray("Illumination"));
+  return copy;
+}
+
+double RmsRelative(vtkFloatArray* got, vtkFloatArray* reference)
+{
+  double error = 0.0, norm = 0.0;
+  for (vtkIdType i = 0; i < got->GetNumberOfValues(); ++i)
+  {
+    const double d = got->GetValue(i) - reference->GetValue(i);
+    error += d * d;
+    norm += reference->GetValue(i) * reference->GetValue(i);
+  }
+  return std::sqrt(error / norm);
+}
+
+// Largest difference relative to the largest reference value.
+double MaxRelative(vtkFloatArray* got, vtkFloatArray* reference)
+{
+  double worst = 0.0, largest = 0.0;
+  for (vtkIdType i = 0; i < got->GetNumberOfValues(); ++i)
+  {
+    worst = std::max(worst, std::abs(double(got->GetValue(i)) - reference->GetValue(i)));
+    largest = std::max(largest, std::abs(double(reference->GetValue(i))));
+  }
+  return worst / largest;
+}
+
+int Field(vtkImageAlgorithm* filter, const char* name)
+{
+  return static_cast<int>(filter->GetOutput()->GetFieldData()->GetArray(name)->GetTuple1(0));
+}
+
+template <typename Filter>
+vtkSmartPointer<Filter> MakeFilter(vtkImageData* image, vtkPiecewiseFunction* otf)
+{
+  auto filter = vtkSmartPointer<Filter>::New();
+  filter->SetInputData(image);
+  filter->SetOpacityFunction(otf);
+  return filter;
+}
+}
+
+TEST(MultiLightIlluminationVolume, ApproximatesTheRayMarchedReference)
+{
+  struct Case
+  {
+    const char* Name;
+    int Scene;
+    double Opacity;
+    double Tolerance;
+  };
+  for (const Case& c : { Case{ "slab", vtkIlluminationPhantomSource::Slab, 0.05, 0.05 },
+         Case{ "three spheres", vtkIlluminationPhantomSource::ThreeSpheres, 0.3, 0.1 } })
+  {
+    auto image = Scene(c.Scene, 64);
+    auto otf = Opacity(image, c.Opacity);
+    auto reference = MakeFilter<vtkRayMarchedIllumination>(image, otf);
+    auto propagated = MakeFilter<vtkMultiLightIlluminationVolume>(image, otf);
+    auto point = PointLight(-64, 32, 51, 1, 1, 0);
+    auto directional = DirectionalLight(-0.3, -0.2, -1, 0, 0.5, 1);
+    for (vtkIlluminationVolumeAlgorithm* f :
+      { static_cast<vtkIlluminationVolumeAlgorithm*>(reference),
+        static_cast<vtkIlluminationVolumeAlgorithm*>(propagated) })
+    {
+      f->AddLight(point);
+      f->AddLight(directional);
+      f->Update();
+    }
+    const double rms = RmsRelative(Result(propagated), Result(reference));
+    std::cout << c.Name << ": RMS relative difference to RayMarchedIllumination " << rms
+              << std::endl;
+    EXPECT_LE(rms, c.Tolerance) << c.Name;
+  }
+}
+
+TEST(MultiLightIlluminationVolume, SelectiveUpdatesMatchAFullRecompute)
+{
+  auto image = Scene(vtkIlluminationPhantomSource::ThreeSpheres, 24);
+  auto otf = Opacity(image, 0.3);
+  auto filter = MakeFilter<vtkMultiLightIlluminationVolume>(image, otf);
+  std::vector<vtkSmartPointer<vtkLight>> lights = { PointLight(-20, 12, 12, 1, 1, 0),
+    PointLight(40, 10, 14, 0, 0, 1), DirectionalLight(0.2, -0.1, -1),
+    DirectionalLight(1, 0.3, 0.1, 0.5, 1, 0.5), PointLight(12, 40, 5, 1, 0.3, 0.3) };
+  for (auto& l : lights)
+  {
+    filter->AddLight(l);
+  }
+  filter->Update();
+  vtkNew<vtkMinimalStandardRandomSequence> random;
+  random->SetSeed(7);
+  auto next = [&](double lo, double hi)
+  {
+    random->Next();
+    return random->GetRangeValue(lo, hi);
+  };
+  int selective = 0;
+  const int edits = 1000;
+  for (int edit = 0; edit < edits; ++edit)
+  {
+    vtkLight* l = lights[static_cast<int>(next(0, lights.size() - 1e-9))];
+    switch (static_cast<int>(next(0, 4 - 1e-9)))
+    {
+      case 0:
+        l->SetPosition(next(-30, 50), next(-30, 50), next(-30, 50));
+        break;
+      case 1:
+        l->SetDiffuseColor(next(0, 1), next(0, 1), next(0, 1));
+        break;
+      case 2:
+        l->SetIntensity(next(0.1, 3));
+        break;
+      default:
+        l->SetSwitch(!l->GetSwitch());
+    }
+    filter->Update();
+    selective += Field(filter, "UpdateMode");
+  }
+  auto fresh = MakeFilter<vtkMultiLightIlluminationVolume>(image, otf);
+  for (auto& l : lights)
+  {
+    fresh->AddLight(l);
+  }
+  fresh->Update();
+  const double error = MaxRelative(Result(filter), Result(fresh));
+  std::cout << edits << " random edits, " << selective << " selective; max relative difference "
+            << error << std::endl;
+  EXPECT_GT(selective, edits / 2);
+  EXPECT_LE(error, 1e-4);
+}
+
+TEST(MultiLightIlluminationVolume, TogglingALightRestoresTheVolume)
+{
+  auto image = Scene(vtkIlluminationPhantomSource::ThreeSpheres, 32);
+  auto otf = Opacity(image, 0.3);
+  auto filter = MakeFilter<vtkMultiLightIlluminationVolume>(image, otf);
+  auto a = PointLight(-20, 16, 16, 1, 1, 0);
+  auto b = PointLight(50, 16, 16, 0, 0, 1);
+  auto c = DirectionalLight(0, 0.3, -1);
+  filter->AddLight(a);
+  filter->AddLight(b);
+  filter->AddLight(c);
+  filter->Update();
+  auto before = Result(filter);
+  b->SwitchOff();
+  filter->Update();
+  EXPECT_EQ(Field(filter, "UpdateMode"), 1);
+  // Removing one light costs its own sweeps only (one per group it belongs to).
+  double bounds[6];
+  filter->GetOutput()->GetBounds(bounds);
+  const int lightGroups =
+    static_cast<int>(volillum::AssignPropagationGroups(volillum::CaptureLight(b), bounds).size());
+  EXPECT_EQ(Field(filter, "PropagationPasses"), lightGroups);
+  b->SwitchOn();
+  filter->Update();
+  EXPECT_EQ(Field(filter, "UpdateMode"), 1);
+  EXPECT_LE(MaxRelative(Result(filter), before), 1e-6);
+}
+
+TEST(MultiLightIlluminationVolume, GroupedPropagationEqualsOneLightPerPass)
+{
+  auto image = Scene(vtkIlluminationPhantomSource::ThreeSpheres, 32);
+  auto otf = Opacity(image, 0.3);
+  auto coherent = MakeFilter<vtkMultiLightIlluminationVolume>(image, otf);
+  auto sequential = MakeFilter<vtkMultiLightIlluminationVolume>(image, otf);
+  sequential->CoherentPropagationOff();
+  for (vtkMultiLightIlluminationVolume* f : { coherent.Get(), sequential.Get() })
+  {
+    f->AddLight(PointLight(-20, 16, 16, 1, 1, 0));
+    f->AddLight(PointLight(-25, 10, 20, 1, 0, 0));
+    f->AddLight(DirectionalLight(1, 0.1, 0.2));
+    f->AddLight(DirectionalLight(0.2, 0.1, -1));
+    f->AddLight(PointLight(16, 16, 60, 0, 1, 0));
+    f->Update();
+  }
+  EXPECT_LT(Field(coherent, "PropagationPasses"), Field(sequential, "PropagationPasses"));
+  EXPECT_LE(MaxRelative(Result(coherent), Result(sequential)), 1e-5);
+}
+
+TEST(MultiLightIlluminationVolume, RotatingLightChangesContinuouslyAcrossGroups)
+{
+  auto image = Scene(vtkIlluminationPhantomSource::ThreeSpheres, 32);
+  auto otf = Opacity(image, 0.3);
+  // A directional light turning through the boundary of the -z and -x groups (in the x-z
+  // plane at 45 degrees) and through the swap of the second and third closest axes.
+  auto check = [&](auto direction, double a0, double a1, const char* what)
+  {
+    auto filter = MakeFilter<vtkMultiLightIlluminationVolume>(image, otf);
+    auto light = DirectionalLight(0, 0, -1);
+    filter->AddLight(light);
+    std::vector<vtkSmartPointer<vtkFloatArray>> results;
+    const int steps = 8;
+    for (int i = 0; i <= steps; ++i)
+    {
+      const auto d = direction(a0 + (a1 - a0) * i / steps);
+      light->SetFocalPoint(d[0], d[1], d[2]);
+      filter->Update();
+      results.push_back(Result(filter));
+    }
+    // The step across the boundary (the middle one) changes the volume about as much as its
+    // neighbours: a light that switched groups would jump there.
+    std::vector<double> change;
+    for (int i = 0; i < steps; ++i)
+    {
+      change.push_back(RmsRelative(results[i + 1], results[i]));
+    }
+    const double largest = *std::max_element(change.begin(), change.end());
+    const double smallest = *std::min_element(change.begin(), change.end());
+    std::cout << what << ": RMS change per step " << smallest << " .. " << largest << std::endl;
+    EXPECT_LE(largest, 2.0 * smallest + 1e-6) << what;
+    EXPECT_LE(largest, 0.02) << what;
+  };
+  check(
+    [](double deg)
+    {
+      const double r = vtkMath::RadiansFromDegrees(deg);
+      return std::array<double, 3>{ -std::sin(r), 0.0, -std::cos(r) };
+    },
+    43.0, 47.0, "first/second group swap");
+  check(
+    [](double e) {
+      return std::array<double, 3>{ -0.8, -0.4 - e, -0.4 + e };
+    },
+    -0.02, 0.02, "second/third group swap");
+}
+
+TEST(MultiLightIlluminationVolume, MemoryDoesNotGrowWithLightsBeyondSliceBuffers)
+{
+  auto image = Scene(vtkIlluminationPhantomSource::ThreeSpheres, 48);
+  auto otf = Opacity(image, 0.3);
+  auto peakFor = [&](int count, size_t& buffers)
+  {
+    auto filter = MakeFilter<vtkMultiLightIlluminationVolume>(image, otf);
+    for (int i = 0; i < count; ++i)
+    {
+      const double angle = 2.0 * vtkMath::Pi() * i / count;
+      filter->AddLight(PointLight(24 + 60 * std::cos(angle), 24 + 60 * std::sin(angle), 30));
+    }
+    const long long base = CurrentBytes.load();
+    PeakBytes = base;
+    filter->Update();
+    buffers = filter->GetLastPeakBufferBytes();
+    return PeakBytes.load() - base;
+  };
+  size_t buffers1 = 0, buffers64 = 0;
+  const long long one = peakFor(1, buffers1);
+  const long long many = peakFor(64, buffers64);
+  std::cout << "peak bytes: 1 light " << one << " (buffers " << buffers1 << "), 64 lights " << many
+            << " (buffers " << buffers64 << ")" << std::endl;
+  EXPECT_LE(double(many - buffers64), 1.1 * double(one - buffers1));
+}
+
+TEST(MultiLightIlluminationVolume, PassBudgetContinuesOnTheNextUpdate)
+{
+  auto image = Scene(vtkIlluminationPhantomSource::ThreeSpheres, 32);
+  auto otf = Opacity(image, 0.3);
+  auto budgeted = MakeFilter<vtkMultiLightIlluminationVolume>(image, otf);
+  auto complete = MakeFilter<vtkMultiLightIlluminationVolume>(image, otf);
+  budgeted->SetMaximumPassesPerUpdate(1);
+  for (vtkMultiLightIlluminationVolume* f : { budgeted.Get(), complete.Get() })
+  {
+    f->AddLight(DirectionalLight(0, 0, -1));
+    f->AddLight(DirectionalLight(1, 0, 0));
+    f->AddLight(DirectionalLight(0, -1, 0));
+    f->Update();
+  }
+  EXPECT_EQ(Field(budgeted, "PropagationPasses"), 1);
+  EXPECT_EQ(Field(budgeted, "PendingPasses"), 2);
+  int updates = 1;
+  while (budgeted->GetNumberOfPendingPasses() > 0 && updates < 10)
+  {
+    budgeted->Modified();
+    budgeted->Update();
+    ++updates;
+  }
+  EXPECT_EQ(updates, 3);
+  EXPECT_EQ(Field(budgeted, "PendingPasses"), 0);
+  EXPECT_LE(MaxRelative(Result(budgeted), Result(complete)), 1e-6);
+}
+
+namespace
+{
+// Aborts the filter once its progress passes one half.
+class AbortHalfway : public vtkCommand
+{
+public:
+  static AbortHalfway* New() { return new AbortHalfway; }
+  void Execute(vtkObject* caller, unsigned long, void* data) override
+  {
+    if (this->Armed && *static_cast<double*>(data) > 0.5)
+    {
+      static_cast<vtkAlgorithm*>(caller)->SetAbortExecute(1);
+      this->Armed = false;
+    }
+  }
+  bool Armed = false;
+};
+}
+
+TEST(MultiLightIlluminationVolume, AbortKeepsThePreviousOutput)
+{
+  auto image = Scene(vtkIlluminationPhantomSource::ThreeSpheres, 32);
+  auto otf = Opacity(image, 0.3);
+  auto filter = MakeFilter<vtkMultiLightIlluminationVolume>(image, otf);
+  auto light = PointLight(-20, 16, 16);
+  filter->AddLight(light);
+  filter->Update();
+  auto before = Result(filter);
+  vtkNew<AbortHalfway> abort;
+  filter->AddObserver(vtkCommand::ProgressEvent, abort);
+  abort->Armed = true;
+  light->SetPosition(50, 16, 16);
+  filter->Update();
+  EXPECT_LE(MaxRelative(Result(filter), before), 0.0);
+  // The next update recomputes fully and is right.
+  filter->SetAbortExecute(0);
+  filter->Modified();
+  filter->Update();
+  auto fresh = MakeFilter<vtkMultiLightIlluminationVolume>(image, otf);
+  fresh->AddLight(light);
+  fresh->Update();
+  EXPECT_EQ(Field(filter, "UpdateMode"), 0);
+  EXPECT_LE(MaxRelative(Result(filter), Result(fresh)), 1e-6);
+}
+
+TEST(MultiLightIlluminationVolume, CostEstimatesChooseTheUpdate)
+{
+  auto image = Scene(vtkIlluminationPhantomSource::ThreeSpheres, 24);
+  auto otf = Opacity(image, 0.3);
+  for (int estimate : { vtkMultiLightIlluminationVolume::ChangedLightFraction,
+         vtkMultiLightIlluminationVolume::PropagationPasses })
+  {
+    auto filter = MakeFilter<vtkMultiLightIlluminationVolume>(image, otf);
+    filter->SetCostEstimate(estimate);
+    std::vector<vtkSmartPointer<vtkLight>> lights;
+    for (int i = 0; i < 4; ++i)
+    {
+      lights.push_back(DirectionalLight(0.1 * i, 0, -1));
+      filter->AddLight(lights.back());
+    }
+    filter->Update();
+    EXPECT_EQ(Field(filter, "UpdateMode"), 0);
+    // One of four lights changes colour: selective by both estimates.
+    lights[0]->SetDiffuseColor(1, 0, 0);
+    filter->Update();
+    EXPECT_EQ(Field(filter, "UpdateMode"), 1) << "estimate " << estimate;
+    // Three of four change: the fraction estimate recomputes all, the pass estimate too
+    // (removing and adding three lights in -z is no fewer sweeps than a full update but
+    // more light propagations).
+    for (int i = 0; i < 3; ++i)
+    {
+      lights[i]->SetIntensity(2.0);
+    }
+    filter->Update();
+    EXPECT_EQ(Field(filter, "UpdateMode"), 0) << "estimate " << estimate;
+    // A transfer-function change always recomputes everything.
+    otf->AddPoint(100, 0.1);
+    filter->Update();
+    EXPECT_EQ(Field(filter, "UpdateMode"), 0);
+    otf->RemovePoint(100);
+  }
+}
+
+TEST(MultiLightIlluminationVolume, LightInsideTheVolumeAndSpotLights)
+{
+  auto image = Scene(vtkIlluminationPhantomSource::ThreeSpheres, 48);
+  auto otf = Opacity(image, 0.3);
+  auto inside = PointLight(24, 24, 30, 1, 1, 1);
+  auto spot = PointLight(24, 24, 90, 1, 0.5, 0);
+  spot->SetFocalPoint(24, 24, 0);
+  spot->SetConeAngle(20);
+  for (vtkLight* light : { inside.Get(), spot.Get() })
+  {
+    auto reference = MakeFilter<vtkRayMarchedIllumination>(image, otf);
+    auto propagated = MakeFilter<vtkMultiLightIlluminationVolume>(image, otf);
+    reference->AddLight(light);
+    propagated->AddLight(light);
+    reference->Update();
+    propagated->Update();
+    const double rms = RmsRelative(Result(propagated), Result(reference));
+    std::cout << (light == inside ? "point light inside" : "spot light")
+              << ": RMS relative difference " << rms << ", passes "
+              << Field(propagated, "PropagationPasses") << std::endl;
+    EXPECT_LE(rms, 0.15);
+  }
+}
+
+TEST(MultiLightIlluminationVolume, BadInputGivesAnErrorAndAnEmptyOutput)
+{
+  vtkNew<vtkImageData> noScalars;
+  noScalars->SetDimensions(8, 8, 8);
+  vtkNew<vtkMultiLightIlluminationVolume> filter;
+  filter->AddLight(DirectionalLight(0, 0, -1));
+  vtkNew<ErrorCounter> errors;
+  filter->AddObserver(vtkCommand::ErrorEvent, errors);
+  filter->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, errors);
+  filter->SetInputData(noScalars);
+  filter->Update();
+  EXPECT_EQ(errors->Count, 1);
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0);
+  vtkNew<vtkImageData> flat;
+  flat->SetDimensions(8, 8, 1);
+  flat->AllocateScalars(VTK_FLOAT, 1);
+  filter->SetInputData(flat);
+  filter->Update();
+  EXPECT_EQ(errors->Count, 2);
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0);
+}
