@@ -7,6 +7,7 @@
 // starts with "volillum-render: error:" and exits with status 1.
 #include "vtkIlluminatedVolumeMapper.h"
 #include "vtkIlluminationPhantomSource.h"
+#include "vtkMultiLightIlluminationVolume.h"
 #include "vtkRayMarchedIllumination.h"
 
 #include "vtkCamera.h"
@@ -61,13 +62,14 @@ options:
   --dims N           phantom size (points per axis, default 128)
   --config FILE      JSON settings (see below); flags given after it override it
   --output FILE      PNG to write (default volillum.png)
-  --method NAME      illumination method: reference (brute-force ray marching)
-  --scale S          illumination resolution scale 1, 0.5 or 0.25 (default 0.5)
+  --method NAME      illumination method: propagation (multi-light illumination
+                     volume, default) or reference (brute-force ray marching)
+  --scale S          illumination resolution scale 1, 0.5 or 0.25 (default 1)
   --size W H         image size in pixels (default 512 512)
   --help             this text
 
 JSON (every key optional):
-  {"method": "reference", "resolution_scale": 0.5, "image_size": [512, 512],
+  {"method": "propagation", "resolution_scale": 1, "image_size": [512, 512],
    "output": "volillum.png", "ambient": 0.1, "diffuse": 1.0, "background": [0,0,0],
    "gradient_shading": false, "chromatic_attenuation": false,
    "lights": [{"type": "directional" | "point" | "spot",
@@ -477,12 +479,20 @@ int main(int argc, char* argv[])
   BuildTransferFunctions(config, range, ctf, otf, unitDistance, minSpacing);
   const auto lights = BuildLights(config, bounds);
 
-  const std::string method = config.value("method", std::string("reference"));
-  if (method != "reference")
+  const std::string method = config.value("method", std::string("propagation"));
+  vtkSmartPointer<vtkIlluminationVolumeAlgorithm> illumination;
+  if (method == "propagation")
   {
-    Fail("unknown method '" + method + "' (available: reference)");
+    illumination = vtkSmartPointer<vtkMultiLightIlluminationVolume>::New();
   }
-  vtkNew<vtkRayMarchedIllumination> illumination;
+  else if (method == "reference")
+  {
+    illumination = vtkSmartPointer<vtkRayMarchedIllumination>::New();
+  }
+  else
+  {
+    Fail("unknown method '" + method + "' (available: propagation, reference)");
+  }
   illumination->SetInputData(image);
   for (const auto& l : lights)
   {
@@ -491,7 +501,7 @@ int main(int argc, char* argv[])
   illumination->SetColorTransferFunction(ctf);
   illumination->SetOpacityFunction(otf);
   illumination->SetScalarOpacityUnitDistance(unitDistance);
-  illumination->SetResolutionScale(Number(config, "resolution_scale", 0.5));
+  illumination->SetResolutionScale(Number(config, "resolution_scale", 1.0));
   illumination->SetChromaticAttenuation(config.value("chromatic_attenuation", false));
   vtkNew<vtkTimerLog> timer;
   timer->StartTimer();
