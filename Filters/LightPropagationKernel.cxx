@@ -19,64 +19,89 @@ int GroupOf(int axis, double component)
   return 2 * axis + (component >= 0.0 ? 0 : 1);
 }
 
-// Light of one task as the sweep needs it.
-struct PreparedLight
+// Where light of one geometry (kind, position or direction) comes from. Lights that share
+// a geometry share the transmittance of their rays, so a sweep propagates each geometry
+// once, whatever the lights' colours, intensities, weights and spot cones.
+struct RaySource
 {
   bool Directional;
-  bool Spot;
   bool Inside;
-  double Travel[3]; // directional lights: direction light travels
+  double Travel[3]; // directional: the direction light travels
   double Position[3];
-  double Axis[3]; // spot cone axis
-  double CosCone;
-  double Exponent;
-  float Radiance[3];
-  double SignedWeight;
 
-  explicit PreparedLight(const PropagationTask& task)
+  bool operator==(const RaySource& o) const
   {
-    const LightState& l = task.Light;
-    this->Directional = l.Kind == LightKind::Directional;
-    this->Spot = l.Kind == LightKind::Spot;
-    this->Inside = task.Inside;
-    const auto d = l.Direction();
-    for (int a = 0; a < 3; ++a)
-    {
-      this->Travel[a] = d[a];
-      this->Axis[a] = d[a];
-      this->Position[a] = l.Position[a];
-    }
-    this->CosCone = std::cos(vtkMath::RadiansFromDegrees(l.ConeAngle));
-    this->Exponent = l.Exponent;
-    const auto r = l.Radiance();
-    for (int c = 0; c < 3; ++c)
-    {
-      this->Radiance[c] = static_cast<float>(r[c]);
-    }
-    this->SignedWeight = task.Weight * task.Sign;
+    return this->Directional == o.Directional && this->Inside == o.Inside &&
+      std::equal(this->Travel, this->Travel + 3, o.Travel) &&
+      std::equal(this->Position, this->Position + 3, o.Position);
   }
 };
 
-// Bilinear interpolation of n interleaved channels of a slice (width nb) at (u, v), with
-// u in [0, nb-1] and v in [0, nc-1]; strides in values.
-template <int Channels>
-void Bilinear(const float* base, long long strideU, long long strideV, int nb, int nc, double u,
-  double v, float* out)
+// Rounds half away from zero, so that -x rounds to exactly minus what x rounds to: a light
+// state removed later cancels to the last unit.
+inline std::int64_t RoundToFixed(double x)
 {
-  int iu = std::min(static_cast<int>(u), nb - 2);
-  int iv = std::min(static_cast<int>(v), nc - 2);
-  iu = std::max(iu, 0);
-  iv = std::max(iv, 0);
-  const float fu = nb > 1 ? static_cast<float>(u - iu) : 0.0f;
-  const float fv = nc > 1 ? static_cast<float>(v - iv) : 0.0f;
-  const long long du = nb > 1 ? strideU : 0;
-  const long long dv = nc > 1 ? strideV : 0;
-  const float* q = base + iu * strideU + iv * strideV;
+  return static_cast<std::int64_t>(x >= 0.0 ? x + 0.5 : x - 0.5);
+}
+
+// One task as the sweep deposits it.
+struct Deposit
+{
+  size_t Source;
+  bool Spot;
+  double Axis[3]; // spot cone axis
+  double CosCone;
+  double Exponent;
+  double Scaled[3]; // radiance x weight x sign x fixed-point scale
+};
+
+RaySource SourceOf(const PropagationTask& task)
+{
+  RaySource r;
+  const LightState& l = task.Light;
+  r.Directional = l.Kind == LightKind::Directional;
+  r.Inside = task.Inside;
+  const auto d = l.Direction();
+  for (int a = 0; a < 3; ++a)
+  {
+    r.Travel[a] = r.Directional ? d[a] : 0.0;
+    r.Position[a] = r.Directional ? 0.0 : l.Position[a];
+  }
+  return r;
+}
+
+// Position in a slice (width nb, height nc) as the cell (iu, iv) and the fractions in it.
+struct SlicePoint
+{
+  int U, V;
+  float FU, FV;
+};
+
+// Where (u, v) falls, or false when outside the slice.
+inline bool Locate(double u, double v, int nb, int nc, SlicePoint& at)
+{
+  if (u < 0.0 || v < 0.0 || u > nb - 1 || v > nc - 1)
+  {
+    return false;
+  }
+  at.U = std::min(static_cast<int>(u), std::max(nb - 2, 0));
+  at.V = std::min(static_cast<int>(v), std::max(nc - 2, 0));
+  at.FU = nb > 1 ? static_cast<float>(u - at.U) : 0.0f;
+  at.FV = nc > 1 ? static_cast<float>(v - at.V) : 0.0f;
+  return true;
+}
+
+// Bilinear interpolation of interleaved channels; strides in values (0 along a flat axis).
+template <int Channels>
+inline void Bilinear(
+  const float* base, long long strideU, long long strideV, const SlicePoint& at, float* out)
+{
+  const float* q = base + at.U * strideU + at.V * strideV;
   for (int ch = 0; ch < Channels; ++ch)
   {
-    const float a = q[ch] + fu * (q[du + ch] - q[ch]);
-    const float b = q[dv + ch] + fu * (q[dv + du + ch] - q[dv + ch]);
-    out[ch] = a + fv * (b - a);
+    const float a = q[ch] + at.FU * (q[strideU + ch] - q[ch]);
+    const float b = q[strideV + ch] + at.FU * (q[strideV + strideU + ch] - q[strideV + ch]);
+    out[ch] = a + at.FV * (b - a);
   }
 }
 
@@ -89,97 +114,195 @@ struct SweepContext
   double Origin[3], Spacing[3];
 };
 
-// Light of one task arriving at point p of slice t (before any spot cone), and the factor
-// (group weight of an inside light, spot cone) it is deposited with.
-void LightAtPoint(const SweepContext& s, const PreparedLight& light, const float* readBuffer, int t,
-  int k, int ib, int ic, const double p[3], const float* current, float out[3], double& pointWeight)
+// A ray source as one sweep uses it; for a directional light everything that does not
+// depend on the point is worked out once.
+struct SweepSource
 {
-  out[0] = out[1] = out[2] = 0.0f;
-  pointWeight = 1.0;
-  double d[3];
-  double distance = 0.0;
-  if (light.Directional)
+  RaySource Source;
+  bool Enters = false;  // directional: light does not progress along the axis
+  double Step = 0.0;    // directional: path length between slices
+  double OffsetU = 0.0; // directional: offset to the previous slice, in cells
+  double OffsetV = 0.0;
+
+  SweepSource(const RaySource& source, const SweepContext& s)
+    : Source(source)
   {
-    d[0] = light.Travel[0];
-    d[1] = light.Travel[1];
-    d[2] = light.Travel[2];
+    if (!source.Directional)
+    {
+      return;
+    }
+    const double along = s.Sign * source.Travel[s.Axis];
+    this->Enters = along <= 1e-6;
+    if (!this->Enters)
+    {
+      this->Step = s.Spacing[s.Axis] / along;
+      this->OffsetU = source.Travel[s.B] * this->Step / s.Spacing[s.B];
+      this->OffsetV = source.Travel[s.C] * this->Step / s.Spacing[s.C];
+    }
+  }
+};
+
+// Transmittance of the ray from a source to point p of slice t (out), the unit direction the
+// light travels there (d) and the factor an inside light's group gives the point.
+void TransmittanceAtPoint(const SweepContext& s, const SweepSource& sweep, const float* readBuffer,
+  int t, int k, int ib, int ic, const double p[3], const float* current, float out[3], double d[3],
+  double& groupFactor)
+{
+  const RaySource& source = sweep.Source;
+  out[0] = out[1] = out[2] = 1.0f;
+  groupFactor = 1.0;
+  const int a = s.Axis;
+  double step, u, v;
+  if (source.Directional)
+  {
+    d[0] = source.Travel[0];
+    d[1] = source.Travel[1];
+    d[2] = source.Travel[2];
+    if (t == 0 || sweep.Enters)
+    {
+      return;
+    }
+    step = sweep.Step;
+    u = ib - sweep.OffsetU;
+    v = ic - sweep.OffsetV;
   }
   else
   {
-    for (int a = 0; a < 3; ++a)
+    for (int i = 0; i < 3; ++i)
     {
-      d[a] = p[a] - light.Position[a];
+      d[i] = p[i] - source.Position[i];
     }
-    distance = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    const double distance = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     if (distance < 1e-12)
     {
-      // The point is the light: every group shares it.
-      pointWeight = light.Inside ? 1.0 / NumberOfPropagationGroups : 1.0;
-      std::copy(light.Radiance, light.Radiance + 3, out);
+      // The point is the light: every group of an inside light shares it.
+      d[0] = d[1] = 0.0;
+      d[2] = 1.0;
+      groupFactor = source.Inside ? 1.0 / NumberOfPropagationGroups : 1.0;
       return;
     }
-    d[0] /= distance;
-    d[1] /= distance;
-    d[2] /= distance;
-  }
-  const int a = s.Axis;
-  if (light.Inside)
-  {
-    if (s.Sign * (p[a] - light.Position[a]) <= 0.0)
+    const double inverse = 1.0 / distance;
+    d[0] *= inverse;
+    d[1] *= inverse;
+    d[2] *= inverse;
+    if (source.Inside)
     {
-      pointWeight = 0.0;
+      if (s.Sign * (p[a] - source.Position[a]) <= 0.0)
+      {
+        groupFactor = 0.0;
+        return;
+      }
+      groupFactor = d[a] * d[a];
+      if (s.Sign * (p[a] - s.Sign * s.Spacing[a] - source.Position[a]) <= 0.0)
+      {
+        // The light lies between the previous slice and this point: attenuate over the
+        // short path from the light with this point's properties.
+        const double alpha = StepOpacity(current[0], distance);
+        for (int ch = 0; ch < 3; ++ch)
+        {
+          out[ch] = static_cast<float>(1.0 - alpha * current[1 + ch]);
+        }
+        return;
+      }
+    }
+    const double along = s.Sign * d[a];
+    if (t == 0 || along <= 1e-6)
+    {
+      // Light enters the box at the first slice, or makes no progress along the axis.
       return;
     }
-    pointWeight = d[a] * d[a];
-  }
-  if (light.Spot)
-  {
-    // The buffers carry the light as if there were no cone; the cone factor is constant
-    // along a ray from the light, so it is applied where the light is deposited. This
-    // keeps the cone's edge sharp.
-    const double cosine = d[0] * light.Axis[0] + d[1] * light.Axis[1] + d[2] * light.Axis[2];
-    pointWeight *= cosine < light.CosCone ? 0.0 : std::pow(std::max(cosine, 0.0), light.Exponent);
-  }
-  const float* entering = light.Radiance;
-  const double along = s.Sign * d[a];
-  const double step = s.Spacing[a] / std::max(along, 1e-300);
-  if (light.Inside && s.Sign * (p[a] - s.Sign * s.Spacing[a] - light.Position[a]) <= 0.0)
-  {
-    // The light lies between the previous slice and this point: attenuate over the short
-    // path from the light with this point's properties.
-    const double alpha = StepOpacity(current[0], distance);
-    for (int ch = 0; ch < 3; ++ch)
-    {
-      out[ch] = static_cast<float>(entering[ch] * (1.0 - alpha * current[1 + ch]));
-    }
-    return;
-  }
-  if (t == 0 || along <= 1e-6)
-  {
-    std::copy(entering, entering + 3, out);
-    return;
+    step = s.Spacing[a] / along;
+    u = ib - d[s.B] * step / s.Spacing[s.B];
+    v = ic - d[s.C] * step / s.Spacing[s.C];
   }
   const int nb = s.N[s.B];
   const int nc = s.N[s.C];
-  const double u = ib - d[s.B] * step / s.Spacing[s.B];
-  const double v = ic - d[s.C] * step / s.Spacing[s.C];
-  if (u < 0.0 || v < 0.0 || u > nb - 1 || v > nc - 1)
+  SlicePoint at;
+  if (!Locate(u, v, nb, nc, at))
   {
     // The light entered the box through a side face after the previous slice.
-    std::copy(entering, entering + 3, out);
     return;
   }
   float incoming[3];
-  Bilinear<3>(readBuffer, 3, 3LL * nb, nb, nc, u, v, incoming);
+  Bilinear<3>(readBuffer, nb > 1 ? 3 : 0, nc > 1 ? 3LL * nb : 0, at, incoming);
   float previous[4];
-  const int kPrevious = k - s.Sign;
-  const float* slice = s.Grid.Properties.data() + 4 * kPrevious * s.Stride[a];
-  Bilinear<4>(slice, 4 * s.Stride[s.B], 4 * s.Stride[s.C], nb, nc, u, v, previous);
-  const double alpha = StepOpacity(0.5 * (previous[0] + current[0]), step);
+  const float* slice = s.Grid.Properties.data() + 4 * (k - s.Sign) * s.Stride[a];
+  Bilinear<4>(slice, nb > 1 ? 4 * s.Stride[s.B] : 0, nc > 1 ? 4 * s.Stride[s.C] : 0, at, previous);
+  const float alpha =
+    1.0f - std::exp(-0.5f * (previous[0] + current[0]) * static_cast<float>(step));
   for (int ch = 0; ch < 3; ++ch)
   {
-    const double absorb = 0.5 * (previous[1 + ch] + current[1 + ch]);
-    out[ch] = static_cast<float>(incoming[ch] * (1.0 - alpha * absorb));
+    out[ch] = incoming[ch] * (1.0f - alpha * 0.5f * (previous[1 + ch] + current[1 + ch]));
+  }
+}
+
+// Transmittance of one source along row ic of slice t into out (3 floats a pixel), with
+// the direction and group factor at each pixel. A directional source has the same offset
+// to the previous slice at every pixel, so its row is a fixed-weight stencil.
+void RowTransmittance(const SweepContext& s, const SweepSource& sweep, const float* readBuffer,
+  int t, int k, int ic, float* out, double* direction, double* groupFactor)
+{
+  const int nb = s.N[s.B];
+  const int nc = s.N[s.C];
+  const RaySource& source = sweep.Source;
+  if (!source.Directional)
+  {
+    double p[3];
+    p[s.Axis] = s.Origin[s.Axis] + k * s.Spacing[s.Axis];
+    p[s.C] = s.Origin[s.C] + ic * s.Spacing[s.C];
+    for (int ib = 0; ib < nb; ++ib)
+    {
+      p[s.B] = s.Origin[s.B] + ib * s.Spacing[s.B];
+      const long long index = k * s.Stride[s.Axis] + ib * s.Stride[s.B] + ic * s.Stride[s.C];
+      TransmittanceAtPoint(s, sweep, readBuffer, t, k, ib, ic, p,
+        s.Grid.Properties.data() + 4 * index, out + 3 * ib, direction + 3 * ib, groupFactor[ib]);
+    }
+    return;
+  }
+  for (int ib = 0; ib < nb; ++ib)
+  {
+    direction[3 * ib] = source.Travel[0];
+    direction[3 * ib + 1] = source.Travel[1];
+    direction[3 * ib + 2] = source.Travel[2];
+    groupFactor[ib] = 1.0;
+  }
+  const double v = ic - sweep.OffsetV;
+  if (t == 0 || sweep.Enters || v < 0.0 || v > nc - 1)
+  {
+    // Light enters the box here (first slice, side face, or no progress along the axis).
+    std::fill(out, out + 3 * nb, 1.0f);
+    return;
+  }
+  SlicePoint at;
+  at.V = std::min(static_cast<int>(v), std::max(nc - 2, 0));
+  at.FV = nc > 1 ? static_cast<float>(v - at.V) : 0.0f;
+  const long long strideU = nb > 1 ? 4 * s.Stride[s.B] : 0;
+  const long long strideV = nc > 1 ? 4 * s.Stride[s.C] : 0;
+  const long long bufferU = nb > 1 ? 3 : 0;
+  const long long bufferV = nc > 1 ? 3LL * nb : 0;
+  const float* previousSlice = s.Grid.Properties.data() + 4 * (k - s.Sign) * s.Stride[s.Axis];
+  const float* currentSlice = s.Grid.Properties.data() + 4 * k * s.Stride[s.Axis];
+  const float halfStep = 0.5f * static_cast<float>(sweep.Step);
+  for (int ib = 0; ib < nb; ++ib)
+  {
+    const double u = ib - sweep.OffsetU;
+    float* o = out + 3 * ib;
+    if (u < 0.0 || u > nb - 1)
+    {
+      o[0] = o[1] = o[2] = 1.0f;
+      continue;
+    }
+    at.U = std::min(static_cast<int>(u), std::max(nb - 2, 0));
+    at.FU = nb > 1 ? static_cast<float>(u - at.U) : 0.0f;
+    float incoming[3], previous[4];
+    Bilinear<3>(readBuffer, bufferU, bufferV, at, incoming);
+    Bilinear<4>(previousSlice, strideU, strideV, at, previous);
+    const float* current = currentSlice + 4 * (ib * s.Stride[s.B] + ic * s.Stride[s.C]);
+    const float alpha = 1.0f - std::exp(-halfStep * (previous[0] + current[0]));
+    for (int ch = 0; ch < 3; ++ch)
+    {
+      o[ch] = incoming[ch] * (1.0f - alpha * 0.5f * (previous[1 + ch] + current[1 + ch]));
+    }
   }
 }
 
@@ -197,14 +320,37 @@ bool Sweep(const ClassifiedVolume& grid, int group, const std::vector<Propagatio
   const int nb = s.N[s.B];
   const int nc = s.N[s.C];
   const size_t sliceValues = 3 * static_cast<size_t>(nb) * nc;
-  std::vector<PreparedLight> lights;
+
+  std::vector<RaySource> sources;
+  std::vector<SweepSource> prepared;
+  std::vector<Deposit> deposits;
   for (const auto& task : tasks)
   {
-    lights.emplace_back(task);
+    const RaySource source = SourceOf(task);
+    auto found = std::find(sources.begin(), sources.end(), source);
+    Deposit deposit;
+    deposit.Source = static_cast<size_t>(found - sources.begin());
+    if (found == sources.end())
+    {
+      sources.push_back(source);
+      prepared.emplace_back(source, s);
+    }
+    const LightState& l = task.Light;
+    deposit.Spot = l.Kind == LightKind::Spot;
+    const auto axis = l.Direction();
+    std::copy(axis.begin(), axis.end(), deposit.Axis);
+    deposit.CosCone = std::cos(vtkMath::RadiansFromDegrees(l.ConeAngle));
+    deposit.Exponent = l.Exponent;
+    const auto r = l.Radiance();
+    for (int ch = 0; ch < 3; ++ch)
+    {
+      deposit.Scaled[ch] = r[ch] * task.Weight * task.Sign * FixedPointIllumination::Scale;
+    }
+    deposits.push_back(deposit);
   }
-  const size_t count = lights.size();
-  std::vector<std::vector<float>> read(count, std::vector<float>(sliceValues, 0.0f));
-  std::vector<std::vector<float>> write(count, std::vector<float>(sliceValues, 0.0f));
+  const size_t count = sources.size();
+  std::vector<std::vector<float>> read(count, std::vector<float>(sliceValues, 1.0f));
+  std::vector<std::vector<float>> write(count, std::vector<float>(sliceValues, 1.0f));
   statistics.PeakBufferBytes =
     std::max(statistics.PeakBufferBytes, 2 * count * sliceValues * sizeof(float));
   std::int64_t* values = illumination.Values.data();
@@ -216,34 +362,45 @@ bool Sweep(const ClassifiedVolume& grid, int group, const std::vector<Propagatio
     vtkSMPTools::For(0, nc,
       [&](int begin, int end)
       {
-        double p[3];
-        float light[3];
+        // Per row and source: the light's direction and group factor at each pixel (only
+        // point and spot sources vary along the row).
+        std::vector<double> direction(3 * static_cast<size_t>(nb) * count);
+        std::vector<double> groupFactor(static_cast<size_t>(nb) * count, 1.0);
         for (int ic = begin; ic < end; ++ic)
         {
+          const size_t row = 3 * static_cast<size_t>(ic) * nb;
+          for (size_t j = 0; j < count; ++j)
+          {
+            RowTransmittance(s, prepared[j], read[j].data(), t, k, ic, write[j].data() + row,
+              direction.data() + 3 * nb * j, groupFactor.data() + nb * j);
+          }
           for (int ib = 0; ib < nb; ++ib)
           {
-            const long long index = k * s.Stride[s.Axis] + ib * s.Stride[s.B] + ic * s.Stride[s.C];
-            p[s.Axis] = s.Origin[s.Axis] + k * s.Spacing[s.Axis];
-            p[s.B] = s.Origin[s.B] + ib * s.Spacing[s.B];
-            p[s.C] = s.Origin[s.C] + ic * s.Spacing[s.C];
-            const float* current = grid.Properties.data() + 4 * index;
-            const size_t pixel = 3 * (static_cast<size_t>(ic) * nb + ib);
             std::int64_t sum[3] = { 0, 0, 0 };
-            for (size_t j = 0; j < count; ++j)
+            for (const Deposit& deposit : deposits)
             {
-              double pointWeight;
-              LightAtPoint(
-                s, lights[j], read[j].data(), t, k, ib, ic, p, current, light, pointWeight);
-              std::copy(light, light + 3, write[j].data() + pixel);
-              const double w = lights[j].SignedWeight * pointWeight * FixedPointIllumination::Scale;
-              if (w != 0.0)
+              const size_t j = deposit.Source;
+              double factor = groupFactor[nb * j + ib];
+              if (deposit.Spot && factor != 0.0)
               {
-                for (int ch = 0; ch < 3; ++ch)
-                {
-                  sum[ch] += std::llround(w * light[ch]);
-                }
+                const double* d = direction.data() + 3 * (nb * j + ib);
+                const double cosine =
+                  d[0] * deposit.Axis[0] + d[1] * deposit.Axis[1] + d[2] * deposit.Axis[2];
+                factor *= cosine < deposit.CosCone
+                  ? 0.0
+                  : std::pow(std::max(cosine, 0.0), deposit.Exponent);
+              }
+              if (factor == 0.0)
+              {
+                continue;
+              }
+              const float* tj = write[j].data() + row + 3 * ib;
+              for (int ch = 0; ch < 3; ++ch)
+              {
+                sum[ch] += RoundToFixed(deposit.Scaled[ch] * factor * tj[ch]);
               }
             }
+            const long long index = k * s.Stride[s.Axis] + ib * s.Stride[s.B] + ic * s.Stride[s.C];
             for (int ch = 0; ch < 3; ++ch)
             {
               values[3 * index + ch] += sum[ch];

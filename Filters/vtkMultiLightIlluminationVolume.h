@@ -102,11 +102,12 @@ private:
     const std::vector<volillum::PropagationTask>& full, size_t changed, size_t lights) const;
 
   // The accumulated illumination, the states it holds (with Pending still to do) and the
-  // classification resampled onto the illumination grid.
+  // classification on the illumination grid (the input's own at scale 1, else Resampled).
   volillum::FixedPointIllumination Illumination;
   volillum::LightChangeTracker Applied;
   std::vector<volillum::PropagationTask> Pending;
-  volillum::ClassifiedVolume Grid;
+  volillum::ClassifiedVolume Resampled;
+  const volillum::ClassifiedVolume* Grid = nullptr;
   bool Valid = false;
   volillum::PropagationStatistics LastStatistics;
 };

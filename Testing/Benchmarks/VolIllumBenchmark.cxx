@@ -1,18 +1,25 @@
-// volillum-benchmark: times the reference illumination and compares rendered frame times of
-// the illuminated mapper, a plain GPU ray-cast frame and VTK's built-in volumetric shadows
-// (GlobalIlluminationReach 0.5, VolumetricScatteringBlending 1) on the same view and size.
-// Prints a table of ratios measured in one run and writes them as JSON.
+// volillum-benchmark: performance of the illumination filters and of lit rendering, as
+// ratios measured in one run. Prints tables and writes everything as JSON.
 //
-//   volillum-benchmark [--smoke] [--engine FILE] [--json FILE]
+//   volillum-benchmark [--smoke] [--only rendering|multilight] [--engine FILE] [--json FILE]
 //
+// rendering:  reference illumination time; frame time of the illuminated mapper, a plain GPU
+//             ray-cast frame and VTK's built-in volumetric shadows (GlobalIlluminationReach
+//             0.5, VolumetricScatteringBlending 1) on the same view at 512x512.
+// multilight: a replica of Table 1 of the selective-light-updates paper (sequential and
+//             coherent full updates, one-light state change, on/off), a replica of its
+//             Fig. 10 (1..40 lights from one direction), the speed-up over the reference at
+//             equal resolution and the memory throughput of a full update.
 // --smoke uses tiny sizes so that CI only checks that the benchmark runs.
 #include "vtkIlluminatedVolumeMapper.h"
 #include "vtkIlluminationPhantomSource.h"
+#include "vtkMultiLightIlluminationVolume.h"
 #include "vtkRayMarchedIllumination.h"
 
 #include "vtkCamera.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkDataArray.h"
+#include "vtkFieldData.h"
 #include "vtkImageData.h"
 #include "vtkImageResize.h"
 #include "vtkLight.h"
@@ -29,49 +36,349 @@
 #include "vtkVolumeProperty.h"
 #include "vtkXMLImageDataReader.h"
 
+#include "vtk_nlohmannjson.h"
+#include VTK_NLOHMANN_JSON(json.hpp)
+
+#include <algorithm>
+#include <cstring>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
-#include <sstream>
 #include <string>
 #include <vector>
 
+using json = nlohmann::json;
+
 namespace
 {
-struct Case
+struct Volume
 {
   std::string Name;
   vtkSmartPointer<vtkImageData> Image;
+  vtkSmartPointer<vtkColorTransferFunction> Color;
+  vtkSmartPointer<vtkPiecewiseFunction> Opacity;
 };
 
-struct Result
+Volume MakeVolume(const std::string& name, vtkImageData* image)
 {
-  std::string Name;
-  int Dimensions[3];
-  double IlluminationScale;
-  double IlluminationSeconds;
-  double PlainFrame;
-  double LitFrame;
-  double ShadowFrame;
-};
+  Volume v{ name, image, vtkSmartPointer<vtkColorTransferFunction>::New(),
+    vtkSmartPointer<vtkPiecewiseFunction>::New() };
+  double range[2];
+  image->GetPointData()->GetScalars()->GetRange(range);
+  const double w = range[1] - range[0];
+  v.Color->AddRGBPoint(range[0], 0, 0, 0);
+  v.Color->AddRGBPoint(range[0] + 0.3 * w, 0.8, 0.4, 0.3);
+  v.Color->AddRGBPoint(range[1], 1.0, 0.95, 0.8);
+  v.Opacity->AddPoint(range[0], 0);
+  v.Opacity->AddPoint(range[0] + 0.2 * w, 0);
+  v.Opacity->AddPoint(range[1], 0.5);
+  return v;
+}
 
-void AddLights(vtkRayMarchedIllumination* filter, const double b[6])
+vtkSmartPointer<vtkImageData> Resize(vtkImageData* image, int x, int y, int z)
+{
+  vtkNew<vtkImageResize> resize;
+  resize->SetInputData(image);
+  resize->SetOutputDimensions(x, y, z);
+  resize->Update();
+  return resize->GetOutput();
+}
+
+template <typename F>
+double Seconds(F&& work)
+{
+  vtkNew<vtkTimerLog> timer;
+  timer->StartTimer();
+  work();
+  timer->StopTimer();
+  return timer->GetElapsedTime();
+}
+
+void Configure(vtkIlluminationVolumeAlgorithm* filter, const Volume& v, double scale)
+{
+  filter->SetInputData(v.Image);
+  filter->SetColorTransferFunction(v.Color);
+  filter->SetOpacityFunction(v.Opacity);
+  filter->SetResolutionScale(scale);
+}
+
+// The lights of Fig. 9: two directional lights from above (both travel mostly along -z, so
+// they share the -z propagation group) and a point light on the left, all outside.
+std::vector<vtkSmartPointer<vtkLight>> Fig9Lights(int count, const double b[6])
 {
   const double c[3] = { 0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5]) };
   const double size = std::max(b[1] - b[0], std::max(b[3] - b[2], b[5] - b[4]));
-  vtkNew<vtkLight> key, fill, rim;
-  key->SetPositional(true);
-  key->SetConeAngle(180);
-  key->SetPosition(c[0] - size, c[1] + size, c[2] + size);
-  key->SetDiffuseColor(1.0, 0.85, 0.6);
-  fill->SetPositional(false);
-  fill->SetPosition(c[0] + size, c[1], c[2]);
-  fill->SetFocalPoint(c);
-  fill->SetDiffuseColor(0.45, 0.6, 1.0);
-  rim->SetPositional(false);
-  rim->SetPosition(c[0], c[1] - size, c[2] - size);
-  rim->SetFocalPoint(c);
-  for (vtkLight* l : { key.Get(), fill.Get(), rim.Get() })
+  std::vector<vtkSmartPointer<vtkLight>> lights;
+  auto directional = [&](double dx, double dy, double dz, double r, double g, double bl)
+  {
+    auto l = vtkSmartPointer<vtkLight>::New();
+    l->SetPositional(false);
+    l->SetPosition(c[0] - dx, c[1] - dy, c[2] - dz);
+    l->SetFocalPoint(c);
+    l->SetDiffuseColor(r, g, bl);
+    lights.push_back(l);
+  };
+  directional(0.3, -0.2, -1.0, 1.0, 1.0, 1.0);
+  directional(-0.25, 0.3, -1.0, 1.0, 1.0, 1.0);
+  if (count > 2)
+  {
+    auto point = vtkSmartPointer<vtkLight>::New();
+    point->SetPositional(true);
+    point->SetConeAngle(180);
+    point->SetPosition(c[0] - 1.2 * size, c[1] + 0.2 * size, c[2] + 0.3 * size);
+    point->SetDiffuseColor(1.0, 0.9, 0.2);
+    lights.push_back(point);
+  }
+  return lights;
+}
+
+int Passes(vtkImageAlgorithm* f)
+{
+  return static_cast<int>(
+    f->GetOutput()->GetFieldData()->GetArray("PropagationPasses")->GetTuple1(0));
+}
+
+int Mode(vtkImageAlgorithm* f)
+{
+  return static_cast<int>(f->GetOutput()->GetFieldData()->GetArray("UpdateMode")->GetTuple1(0));
+}
+
+// Seconds of a full update of the lights, coherent or one light per pass.
+double FullUpdate(const Volume& v, double scale,
+  const std::vector<vtkSmartPointer<vtkLight>>& lights, bool coherent, int* passes = nullptr)
+{
+  vtkNew<vtkMultiLightIlluminationVolume> filter;
+  Configure(filter, v, scale);
+  filter->SetCoherentPropagation(coherent);
+  filter->SetSelectiveUpdates(false);
+  filter->Update(); // classification only: no lights yet
+  for (const auto& l : lights)
+  {
+    filter->AddLight(l);
+  }
+  const double s = Seconds([&] { filter->Update(); });
+  if (passes)
+  {
+    *passes = Passes(filter);
+  }
+  return s;
+}
+
+// Seconds of selective updates of light 0: a state change (it moves: its old state is
+// removed and the new one added), a colour change (the same rays, so one propagation) and
+// switching it off.
+void SelectiveUpdates(
+  const Volume& v, double scale, const std::vector<vtkSmartPointer<vtkLight>>& lights, json& row)
+{
+  vtkNew<vtkMultiLightIlluminationVolume> filter;
+  Configure(filter, v, scale);
+  for (const auto& l : lights)
+  {
+    filter->AddLight(l);
+  }
+  filter->Update();
+  double position[3], color[3], bounds[6];
+  v.Image->GetBounds(bounds);
+  lights[0]->GetPosition(position);
+  lights[0]->GetDiffuseColor(color);
+  auto measure = [&](const char* name)
+  {
+    row[std::string(name) + "_s"] = Seconds([&] { filter->Update(); });
+    row[std::string(name) + "_mode"] = Mode(filter);
+    row[std::string(name) + "_passes"] = Passes(filter);
+  };
+  lights[0]->SetPosition(position[0] + 0.05 * (bounds[1] - bounds[0]), position[1], position[2]);
+  measure("state_change");
+  lights[0]->SetDiffuseColor(color[0], 0.5 * color[1], color[2]);
+  measure("color_change");
+  lights[0]->SwitchOff();
+  measure("on_off");
+  lights[0]->SwitchOn();
+  lights[0]->SetDiffuseColor(color);
+  lights[0]->SetPosition(position);
+}
+
+json Table1(const std::vector<Volume>& volumes, bool smoke)
+{
+  json rows = json::array();
+  std::cout << "\nTable 1 replica (seconds; ratios)\n"
+            << std::left << std::setw(20) << "volume" << std::setw(8) << "lights" << std::setw(7)
+            << "scale" << std::right << std::setw(11) << "sequential" << std::setw(10) << "coherent"
+            << std::setw(10) << "seq/coh" << std::setw(10) << "state" << std::setw(11)
+            << "seq/state" << std::setw(10) << "on/off" << std::setw(13) << "state/onoff"
+            << "\n";
+  for (const auto& v : volumes)
+  {
+    double bounds[6];
+    v.Image->GetBounds(bounds);
+    for (int count : { 2, 3 })
+    {
+      for (double scale : { 1.0, 0.25 })
+      {
+        auto lights = Fig9Lights(count, bounds);
+        json row;
+        row["volume"] = v.Name;
+        row["lights"] = count;
+        row["scale"] = scale;
+        int seqPasses = 0, cohPasses = 0;
+        const double sequential = FullUpdate(v, scale, lights, false, &seqPasses);
+        const double coherent = FullUpdate(v, scale, lights, true, &cohPasses);
+        row["sequential_full_s"] = sequential;
+        row["sequential_passes"] = seqPasses;
+        row["coherent_full_s"] = coherent;
+        row["coherent_passes"] = cohPasses;
+        SelectiveUpdates(v, scale, lights, row);
+        row["coherent_speedup"] = sequential / coherent;
+        row["state_change_speedup"] = sequential / row["state_change_s"].get<double>();
+        row["on_off_vs_state_change"] =
+          row["state_change_s"].get<double>() / row["on_off_s"].get<double>();
+        std::cout << std::left << std::setw(20) << v.Name << std::setw(8) << count << std::setw(7)
+                  << scale << std::right << std::fixed << std::setprecision(3) << std::setw(11)
+                  << sequential << std::setw(10) << coherent << std::setw(10)
+                  << row["coherent_speedup"].get<double>() << std::setw(10)
+                  << row["state_change_s"].get<double>() << std::setw(11)
+                  << row["state_change_speedup"].get<double>() << std::setw(10)
+                  << row["on_off_s"].get<double>() << std::setw(13)
+                  << row["on_off_vs_state_change"].get<double>() << "\n"
+                  << std::defaultfloat;
+        rows.push_back(row);
+      }
+    }
+  }
+  (void)smoke;
+  return rows;
+}
+
+// Least-squares slope of y over x.
+double Slope(const std::vector<double>& x, const std::vector<double>& y)
+{
+  double mx = 0, my = 0;
+  for (size_t i = 0; i < x.size(); ++i)
+  {
+    mx += x[i] / x.size();
+    my += y[i] / y.size();
+  }
+  double num = 0, den = 0;
+  for (size_t i = 0; i < x.size(); ++i)
+  {
+    num += (x[i] - mx) * (y[i] - my);
+    den += (x[i] - mx) * (x[i] - mx);
+  }
+  return num / den;
+}
+
+json Fig10(const Volume& v, bool smoke)
+{
+  double bounds[6];
+  v.Image->GetBounds(bounds);
+  const std::vector<int> counts =
+    smoke ? std::vector<int>{ 1, 2, 4 } : std::vector<int>{ 1, 2, 5, 10, 20, 40 };
+  json result;
+  std::vector<double> x, coherent, sequential;
+  std::vector<vtkSmartPointer<vtkLight>> lights;
+  std::cout << "\nFig. 10 replica: lights from one direction (" << v.Name << ")\n"
+            << std::setw(8) << "lights" << std::setw(14) << "coherent [s]" << std::setw(16)
+            << "sequential [s]" << std::setw(16) << "state change [s]"
+            << "\n";
+  json rows = json::array();
+  for (int n : counts)
+  {
+    while (static_cast<int>(lights.size()) < n)
+    {
+      auto l = vtkSmartPointer<vtkLight>::New();
+      l->SetPositional(false);
+      l->SetPosition(0.2, -0.1, 1.0);
+      l->SetFocalPoint(0, 0, 0);
+      const double hue = static_cast<double>(lights.size()) / 40.0;
+      l->SetDiffuseColor(1.0 - hue, 0.5, hue);
+      l->SetIntensity(1.0 / 40.0);
+      lights.push_back(l);
+    }
+    const double c = FullUpdate(v, 1.0, lights, true);
+    const double s = FullUpdate(v, 1.0, lights, false);
+    json row;
+    SelectiveUpdates(v, 1.0, lights, row);
+    row["lights"] = n;
+    row["coherent_full_s"] = c;
+    row["sequential_full_s"] = s;
+    row["state_change_speedup_over_sequential"] = s / row["state_change_s"].get<double>();
+    std::cout << std::setw(8) << n << std::setw(14) << c << std::setw(16) << s << std::setw(16)
+              << row["state_change_s"].get<double>() << "\n";
+    rows.push_back(row);
+    x.push_back(n);
+    coherent.push_back(c);
+    sequential.push_back(s);
+  }
+  result["rows"] = rows;
+  result["coherent_seconds_per_light"] = Slope(x, coherent);
+  result["sequential_seconds_per_light"] = Slope(x, sequential);
+  result["coherent_over_sequential_per_light"] = Slope(x, coherent) / Slope(x, sequential);
+  const double changeFew = rows.front()["state_change_s"].get<double>();
+  const double changeMany = rows.back()["state_change_s"].get<double>();
+  const int few = rows.size() > 1 ? 1 : 0;
+  result["state_change_many_over_two"] = changeMany / rows[few]["state_change_s"].get<double>();
+  (void)changeFew;
+  std::cout << "cost per added light: coherent " << Slope(x, coherent) << " s, sequential "
+            << Slope(x, sequential) << " s, ratio "
+            << result["coherent_over_sequential_per_light"].get<double>() << "\n"
+            << "one-light state change with " << counts.back() << " lights / with " << counts[few]
+            << ": " << result["state_change_many_over_two"].get<double>() << "\n";
+  return result;
+}
+
+// Speed-up over the reference at equal resolution, and bandwidth use of a full update.
+json AgainstReference(const Volume& v, double scale)
+{
+  double bounds[6];
+  v.Image->GetBounds(bounds);
+  auto lights = Fig9Lights(3, bounds);
+  vtkNew<vtkRayMarchedIllumination> reference;
+  Configure(reference, v, scale);
+  for (const auto& l : lights)
+  {
+    reference->AddLight(l);
+  }
+  const double referenceSeconds = Seconds([&] { reference->Update(); });
+  int passes = 0;
+  const double propagation = FullUpdate(v, scale, lights, true, &passes);
+
+  // A sweep reads the classified grid (16 bytes a point) and reads and writes the
+  // fixed-point illumination (2 x 24 bytes); the conversion to float reads 24 and writes 12.
+  const double points = static_cast<double>(reference->GetOutput()->GetNumberOfPoints());
+  const double bytes = points * (passes * (16.0 + 48.0) + 36.0);
+  const size_t copyBytes = 256u << 20;
+  std::vector<char> from(copyBytes, 1), to(copyBytes, 0);
+  const double copySeconds = Seconds(
+    [&]
+    {
+      for (int i = 0; i < 4; ++i)
+      {
+        std::memcpy(to.data(), from.data(), copyBytes);
+        from[i] = to[copyBytes - 1 - i];
+      }
+    });
+  const double copyBandwidth = 4.0 * 2.0 * copyBytes / copySeconds; // read + write
+  json r;
+  r["volume"] = v.Name;
+  r["scale"] = scale;
+  r["reference_s"] = referenceSeconds;
+  r["propagation_s"] = propagation;
+  r["speedup"] = referenceSeconds / propagation;
+  r["full_update_bandwidth_GBps"] = bytes / propagation / 1e9;
+  r["memcpy_bandwidth_GBps"] = copyBandwidth / 1e9;
+  r["bandwidth_fraction"] = (bytes / propagation) / copyBandwidth;
+  std::cout << "\nreference vs propagation (" << v.Name << ", scale " << scale
+            << "): " << referenceSeconds << " s vs " << propagation << " s, speed-up "
+            << r["speedup"].get<double>() << "\nfull update moves "
+            << r["full_update_bandwidth_GBps"].get<double>() << " GB/s, "
+            << 100.0 * r["bandwidth_fraction"].get<double>() << "% of memcpy's "
+            << r["memcpy_bandwidth_GBps"].get<double>() << " GB/s\n";
+  return r;
+}
+
+void AddLights(vtkRayMarchedIllumination* filter, const double b[6])
+{
+  for (const auto& l : Fig9Lights(3, b))
   {
     filter->AddLight(l);
   }
@@ -81,59 +388,38 @@ void AddLights(vtkRayMarchedIllumination* filter, const double b[6])
 double TimeFrames(vtkRenderWindow* window, int frames)
 {
   window->Render();
-  vtkNew<vtkTimerLog> timer;
-  timer->StartTimer();
-  for (int i = 0; i < frames; ++i)
-  {
-    window->GetRenderers()->GetFirstRenderer()->GetActiveCamera()->Azimuth(1.0);
-    window->Render();
-  }
-  timer->StopTimer();
-  return timer->GetElapsedTime() / frames;
+  return Seconds(
+           [&]
+           {
+             for (int i = 0; i < frames; ++i)
+             {
+               window->GetRenderers()->GetFirstRenderer()->GetActiveCamera()->Azimuth(1.0);
+               window->Render();
+             }
+           }) /
+    frames;
 }
 
-Result Run(const Case& c, bool smoke)
+json Rendering(const Volume& v, bool smoke)
 {
-  Result r;
-  r.Name = c.Name;
-  c.Image->GetDimensions(r.Dimensions);
-  double range[2], bounds[6];
-  c.Image->GetPointData()->GetScalars()->GetRange(range);
-  c.Image->GetBounds(bounds);
-  const double w = range[1] - range[0];
-  vtkNew<vtkColorTransferFunction> ctf;
-  ctf->AddRGBPoint(range[0], 0, 0, 0);
-  ctf->AddRGBPoint(range[0] + 0.3 * w, 0.8, 0.4, 0.3);
-  ctf->AddRGBPoint(range[1], 1.0, 0.95, 0.8);
-  vtkNew<vtkPiecewiseFunction> otf;
-  otf->AddPoint(range[0], 0);
-  otf->AddPoint(range[0] + 0.2 * w, 0);
-  otf->AddPoint(range[1], 0.5);
-
+  double bounds[6];
+  v.Image->GetBounds(bounds);
   vtkNew<vtkRayMarchedIllumination> reference;
-  reference->SetInputData(c.Image);
-  reference->SetColorTransferFunction(ctf);
-  reference->SetOpacityFunction(otf);
-  reference->SetResolutionScale(0.5);
+  Configure(reference, v, 0.5);
   AddLights(reference, bounds);
-  vtkNew<vtkTimerLog> timer;
-  timer->StartTimer();
-  reference->Update();
-  timer->StopTimer();
-  r.IlluminationScale = 0.5;
-  r.IlluminationSeconds = timer->GetElapsedTime();
+  const double referenceSeconds = Seconds([&] { reference->Update(); });
 
   const int size = smoke ? 64 : 512;
   const int frames = smoke ? 1 : 3;
   auto frame = [&](vtkOpenGLGPUVolumeRayCastMapper* mapper, bool shade)
   {
     vtkNew<vtkVolumeProperty> property;
-    property->SetColor(ctf);
-    property->SetScalarOpacity(otf);
+    property->SetColor(v.Color);
+    property->SetScalarOpacity(v.Opacity);
     property->SetInterpolationTypeToLinear();
     property->SetShade(shade);
     vtkNew<vtkVolume> volume;
-    mapper->SetInputData(c.Image);
+    mapper->SetInputData(v.Image);
     volume->SetMapper(mapper);
     volume->SetProperty(property);
     vtkNew<vtkRenderer> renderer;
@@ -149,14 +435,29 @@ Result Run(const Case& c, bool smoke)
     return TimeFrames(window, frames);
   };
   vtkNew<vtkOpenGLGPUVolumeRayCastMapper> plain;
-  r.PlainFrame = frame(plain, false);
+  const double plainFrame = frame(plain, false);
   vtkNew<vtkIlluminatedVolumeMapper> lit;
   lit->SetIlluminationData(reference->GetOutput());
-  r.LitFrame = frame(lit, false);
+  const double litFrame = frame(lit, false);
   vtkNew<vtkOpenGLGPUVolumeRayCastMapper> shadows;
   shadows->SetGlobalIlluminationReach(0.5f);
   shadows->SetVolumetricScatteringBlending(1.0f);
-  r.ShadowFrame = frame(shadows, true);
+  const double shadowFrame = frame(shadows, true);
+
+  int dims[3];
+  v.Image->GetDimensions(dims);
+  json r;
+  r["volume"] = v.Name;
+  r["dimensions"] = { dims[0], dims[1], dims[2] };
+  r["image_size"] = size;
+  r["reference_resolution_scale"] = 0.5;
+  r["reference_seconds"] = referenceSeconds;
+  r["lit_over_plain_frame"] = litFrame / plainFrame;
+  r["builtin_shadows_over_plain_frame"] = shadowFrame / plainFrame;
+  r["builtin_shadows_over_lit_frame"] = shadowFrame / litFrame;
+  std::cout << std::left << std::setw(20) << v.Name << std::right << std::setw(16)
+            << referenceSeconds << std::setw(14) << litFrame / plainFrame << std::setw(16)
+            << shadowFrame / plainFrame << std::setw(14) << shadowFrame / litFrame << "\n";
   return r;
 }
 }
@@ -165,6 +466,7 @@ int main(int argc, char* argv[])
 {
   vtkSMPTools::SetBackend("STDThread");
   bool smoke = false;
+  std::string only;
   std::string engine = VOLILLUM_SHARED_DATA "/volumes/engine.vti";
   std::string jsonPath = "volillum-benchmark.json";
   for (int i = 1; i < argc; ++i)
@@ -172,79 +474,66 @@ int main(int argc, char* argv[])
     const std::string a = argv[i];
     if (a == "--smoke")
       smoke = true;
+    else if (a == "--only" && i + 1 < argc)
+      only = argv[++i];
     else if (a == "--engine" && i + 1 < argc)
       engine = argv[++i];
     else if (a == "--json" && i + 1 < argc)
       jsonPath = argv[++i];
     else
     {
-      std::cerr << "usage: volillum-benchmark [--smoke] [--engine FILE] [--json FILE]\n";
+      std::cerr << "usage: volillum-benchmark [--smoke] [--only rendering|multilight] "
+                   "[--engine FILE] [--json FILE]\n";
       return 2;
     }
   }
 
-  std::vector<Case> cases;
+  std::vector<Volume> volumes;
   vtkNew<vtkXMLImageDataReader> reader;
   if (reader->CanReadFile(engine.c_str()))
   {
     reader->SetFileName(engine.c_str());
     reader->Update();
     vtkSmartPointer<vtkImageData> image = reader->GetOutput();
-    if (smoke)
-    {
-      vtkNew<vtkImageResize> shrink;
-      shrink->SetInputData(image);
-      shrink->SetOutputDimensions(32, 32, 16);
-      shrink->Update();
-      image = shrink->GetOutput();
-    }
-    cases.push_back({ "engine", image });
+    volumes.push_back(MakeVolume("engine", smoke ? Resize(image, 32, 32, 16) : image));
+    volumes.push_back(
+      MakeVolume("engine-256^3", smoke ? Resize(image, 24, 24, 24) : Resize(image, 256, 256, 256)));
   }
   else
   {
-    std::cout << "engine volume not found at " << engine << "; skipping it\n";
-  }
-  vtkNew<vtkIlluminationPhantomSource> phantom;
-  phantom->SetScene(vtkIlluminationPhantomSource::CTPhantom);
-  const int n = smoke ? 32 : 256;
-  phantom->SetDimensions(n, n, n);
-  phantom->Update();
-  cases.push_back({ "ct-phantom-" + std::to_string(n), phantom->GetOutput() });
-
-  std::vector<Result> results;
-  for (const auto& c : cases)
-  {
-    results.push_back(Run(c, smoke));
+    std::cout << "engine volume not found at " << engine << "; using the phantom only\n";
+    vtkNew<vtkIlluminationPhantomSource> phantom;
+    phantom->SetScene(vtkIlluminationPhantomSource::CTPhantom);
+    const int n = smoke ? 32 : 256;
+    phantom->SetDimensions(n, n, n);
+    phantom->Update();
+    volumes.push_back(MakeVolume("ct-phantom-" + std::to_string(n), phantom->GetOutput()));
   }
 
-  std::cout << "\n"
-            << std::left << std::setw(18) << "volume" << std::setw(14) << "dims" << std::right
-            << std::setw(16) << "reference [s]" << std::setw(14) << "lit/plain" << std::setw(16)
-            << "shadows/plain" << std::setw(14) << "shadows/lit"
-            << "\n";
-  std::ostringstream json;
-  json << "{\n  \"smoke\": " << (smoke ? "true" : "false") << ",\n  \"cases\": [\n";
-  for (size_t i = 0; i < results.size(); ++i)
+  json results;
+  results["smoke"] = smoke;
+  if (only.empty() || only == "multilight")
   {
-    const Result& r = results[i];
-    std::ostringstream dims;
-    dims << r.Dimensions[0] << "x" << r.Dimensions[1] << "x" << r.Dimensions[2];
-    std::cout << std::left << std::setw(18) << r.Name << std::setw(14) << dims.str() << std::right
-              << std::setw(16) << std::setprecision(3) << r.IlluminationSeconds << std::setw(14)
-              << r.LitFrame / r.PlainFrame << std::setw(16) << r.ShadowFrame / r.PlainFrame
-              << std::setw(14) << r.ShadowFrame / r.LitFrame << "\n";
-    json << "    {\"volume\": \"" << r.Name << "\", \"dimensions\": [" << r.Dimensions[0] << ", "
-         << r.Dimensions[1] << ", " << r.Dimensions[2]
-         << "], \"reference_resolution_scale\": " << r.IlluminationScale
-         << ", \"reference_seconds\": " << r.IlluminationSeconds
-         << ", \"lit_over_plain_frame\": " << r.LitFrame / r.PlainFrame
-         << ", \"builtin_shadows_over_plain_frame\": " << r.ShadowFrame / r.PlainFrame
-         << ", \"builtin_shadows_over_lit_frame\": " << r.ShadowFrame / r.LitFrame << "}"
-         << (i + 1 < results.size() ? "," : "") << "\n";
+    results["table1"] = Table1(volumes, smoke);
+    results["fig10"] = Fig10(volumes.back(), smoke);
+    results["against_reference"] = AgainstReference(volumes.front(), 0.5);
   }
-  json << "  ]\n}\n";
+  if (only.empty() || only == "rendering")
+  {
+    std::cout << "\nRendering (" << (smoke ? 64 : 512) << " pixels square; ratios of frame times)\n"
+              << std::left << std::setw(20) << "volume" << std::right << std::setw(16)
+              << "reference [s]" << std::setw(14) << "lit/plain" << std::setw(16) << "shadows/plain"
+              << std::setw(14) << "shadows/lit"
+              << "\n";
+    json rows = json::array();
+    for (const auto& v : volumes)
+    {
+      rows.push_back(Rendering(v, smoke));
+    }
+    results["rendering"] = rows;
+  }
   std::ofstream out(jsonPath);
-  out << json.str();
+  out << results.dump(2) << "\n";
   std::cout << "wrote " << jsonPath << std::endl;
   return out ? 0 : 1;
 }
