@@ -499,3 +499,35 @@ TEST(MultiLightIlluminationVolume, BadInputGivesAnErrorAndAnEmptyOutput)
   EXPECT_EQ(errors->Count, 2);
   EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0);
 }
+
+TEST(MultiLightIlluminationVolume, ResolutionScalesFollowTheReference)
+{
+  auto image = Scene(vtkIlluminationPhantomSource::ThreeSpheres, 64);
+  auto otf = Opacity(image, 0.3);
+  double inBounds[6];
+  image->GetBounds(inBounds);
+  for (double scale : { 0.5, 0.25 })
+  {
+    auto reference = MakeFilter<vtkRayMarchedIllumination>(image, otf);
+    auto propagated = MakeFilter<vtkMultiLightIlluminationVolume>(image, otf);
+    for (vtkIlluminationVolumeAlgorithm* f :
+      { static_cast<vtkIlluminationVolumeAlgorithm*>(reference),
+        static_cast<vtkIlluminationVolumeAlgorithm*>(propagated) })
+    {
+      f->SetResolutionScale(scale);
+      f->AddLight(PointLight(-64, 32, 40, 1, 1, 0));
+      f->AddLight(DirectionalLight(0.2, 0.1, -1, 0, 0.5, 1));
+      f->Update();
+    }
+    double outBounds[6];
+    propagated->GetOutput()->GetBounds(outBounds);
+    for (int a = 0; a < 6; ++a)
+    {
+      EXPECT_NEAR(outBounds[a], inBounds[a], 1e-9);
+    }
+    const double rms = RmsRelative(Result(propagated), Result(reference));
+    std::cout << "scale " << scale << ": RMS relative difference to the reference " << rms
+              << std::endl;
+    EXPECT_LE(rms, scale == 0.5 ? 0.1 : 0.15);
+  }
+}
