@@ -102,8 +102,10 @@ void Configure(vtkIlluminationVolumeAlgorithm* filter, const Volume& v, double s
   filter->SetResolutionScale(scale);
 }
 
-// The lights of Fig. 9: two directional lights from above (both travel mostly along -z, so
-// they share the -z propagation group) and a point light on the left, all outside.
+// The lights of Fig. 9: two directional lights from above, slightly from the left, and a
+// point light above and to the left, all outside the volume. All three travel mostly down
+// (-z, their closest propagation group) and then toward +x (the second closest), so they
+// share both of their propagation groups.
 std::vector<vtkSmartPointer<vtkLight>> Fig9Lights(int count, const double b[6])
 {
   const double c[3] = { 0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5]) };
@@ -119,13 +121,13 @@ std::vector<vtkSmartPointer<vtkLight>> Fig9Lights(int count, const double b[6])
     lights.push_back(l);
   };
   directional(0.3, -0.2, -1.0, 1.0, 1.0, 1.0);
-  directional(-0.25, 0.3, -1.0, 1.0, 1.0, 1.0);
+  directional(0.2, 0.1, -1.0, 1.0, 1.0, 1.0);
   if (count > 2)
   {
     auto point = vtkSmartPointer<vtkLight>::New();
     point->SetPositional(true);
     point->SetConeAngle(180);
-    point->SetPosition(c[0] - 1.2 * size, c[1] + 0.2 * size, c[2] + 0.3 * size);
+    point->SetPosition(c[0] - 0.5 * size, c[1] + 0.1 * size, c[2] + 1.5 * size);
     point->SetDiffuseColor(1.0, 0.9, 0.2);
     lights.push_back(point);
   }
