@@ -5,6 +5,7 @@
 //
 // Run with --help for the options and the JSON format. Any failure prints one line that
 // starts with "volillum-render: error:" and exits with status 1.
+#include "vtkFilteredVolumetricShadows.h"
 #include "vtkIlluminatedVolumeMapper.h"
 #include "vtkIlluminationPhantomSource.h"
 #include "vtkMultiLightIlluminationVolume.h"
@@ -63,7 +64,9 @@ options:
   --config FILE      JSON settings (see below); flags given after it override it
   --output FILE      PNG to write (default volillum.png)
   --method NAME      illumination method: propagation (multi-light illumination
-                     volume, default) or reference (brute-force ray marching)
+                     volume, default), filtered (soft shadows from summed-area tables;
+                     directional lights only so far) or reference (brute-force ray
+                     marching)
   --scale S          illumination resolution scale 1, 0.5 or 0.25 (default 1)
   --size W H         image size in pixels (default 512 512)
   --help             this text
@@ -71,7 +74,7 @@ options:
 JSON (every key optional):
   {"method": "propagation", "resolution_scale": 1, "image_size": [512, 512],
    "output": "volillum.png", "ambient": 0.1, "diffuse": 1.0, "background": [0,0,0],
-   "gradient_shading": false, "chromatic_attenuation": false,
+   "gradient_shading": false, "chromatic_attenuation": false, "filter_width": 3,
    "lights": [{"type": "directional" | "point" | "spot",
                "position": [x,y,z], "focal_point": [x,y,z], "relative": true,
                "color": [r,g,b], "intensity": 1, "cone_angle": 30, "exponent": 1,
@@ -489,9 +492,15 @@ int main(int argc, char* argv[])
   {
     illumination = vtkSmartPointer<vtkRayMarchedIllumination>::New();
   }
+  else if (method == "filtered")
+  {
+    auto filtered = vtkSmartPointer<vtkFilteredVolumetricShadows>::New();
+    filtered->SetFilterWidth(Number(config, "filter_width", 3.0));
+    illumination = filtered;
+  }
   else
   {
-    Fail("unknown method '" + method + "' (available: propagation, reference)");
+    Fail("unknown method '" + method + "' (available: propagation, filtered, reference)");
   }
   illumination->SetInputData(image);
   for (const auto& l : lights)

@@ -1,0 +1,156 @@
+#include "vtkFilteredVolumetricShadows.h"
+
+#include "vtkObjectFactory.h"
+#include "vtkSMPTools.h"
+
+#include <algorithm>
+#include <cmath>
+
+vtkStandardNewMacro(vtkFilteredVolumetricShadows);
+
+namespace
+{
+// A light as a table lookup: which table, which of its axes, toward which end.
+struct ShadowLookup
+{
+  size_t Table;
+  int Axis;
+  int Sign;
+  std::array<double, 3> Radiance;
+};
+
+bool SameFrame(const volillum::SatFrame& a, const volillum::SatFrame& b)
+{
+  return a.Axes == b.Axes;
+}
+}
+
+//------------------------------------------------------------------------------
+bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::ClassifiedVolume& volume,
+  const std::vector<volillum::LightState>& lights, const volillum::GridGeometry& target,
+  bool inputModified, float* rgb, UpdateReport& report)
+{
+  const double scale = this->SATResolutionScale;
+  if (scale != 1.0 && scale != 0.5 && scale != 0.25)
+  {
+    vtkErrorMacro("SATResolutionScale must be 1, 0.5 or 0.25; it is " << scale << ".");
+    return false;
+  }
+  for (const auto& light : lights)
+  {
+    if (light.On && light.Kind != volillum::LightKind::Directional)
+    {
+      vtkErrorMacro("Filtered Volumetric Shadows supports only directional lights so far; "
+                    "switch point and spot lights off or use another method.");
+      return false;
+    }
+  }
+  const auto& sp = volume.Geometry.Spacing;
+  const double minSpacing = std::min(sp[0], std::min(sp[1], sp[2]));
+  const double cellSize = minSpacing / scale;
+  const int channels = this->ChromaticAttenuation ? 3 : 1;
+
+  // Frames: a light joins the first frame that has its direction as an axis (eq. 14).
+  std::vector<volillum::SatFrame> frames;
+  std::vector<ShadowLookup> lookups;
+  for (const auto& light : lights)
+  {
+    if (!light.On)
+    {
+      continue;
+    }
+    // The table is read toward the light, against the direction light travels.
+    const auto travel = light.Direction();
+    const double toward[3] = { -travel[0], -travel[1], -travel[2] };
+    ShadowLookup lookup{ frames.size(), -1, 0, light.Radiance() };
+    for (size_t f = 0; f < frames.size() && lookup.Axis < 0; ++f)
+    {
+      lookup.Axis = volillum::AxisOfDirection(frames[f], toward, lookup.Sign);
+      lookup.Table = f;
+    }
+    if (lookup.Axis < 0)
+    {
+      frames.push_back(volillum::FrameForDirection(toward));
+      lookup.Table = frames.size() - 1;
+      lookup.Axis = volillum::AxisOfDirection(frames.back(), toward, lookup.Sign);
+    }
+    lookups.push_back(lookup);
+  }
+
+  // Build only the tables whose frame, resolution or classification changed.
+  std::vector<volillum::CartesianSAT> tables(frames.size());
+  report.Passes = 0;
+  for (size_t f = 0; f < frames.size(); ++f)
+  {
+    auto reuse = std::find_if(this->Tables.begin(), this->Tables.end(),
+      [&](const volillum::CartesianSAT& t) { return SameFrame(t.GetFrame(), frames[f]); });
+    if (!inputModified && this->TablesScale == scale && reuse != this->Tables.end() &&
+      reuse->GetNumberOfChannels() == channels)
+    {
+      tables[f] = std::move(*reuse);
+      continue;
+    }
+    tables[f].Build(volume, frames[f], cellSize, channels);
+    ++report.Passes;
+    if (!this->ReportProgress(0.5 * (f + 1) / frames.size()))
+    {
+      this->Tables.clear();
+      return false;
+    }
+  }
+  this->Tables = std::move(tables);
+  this->TablesScale = scale;
+
+  // Half the patch side, at least half a table cell (hard shadows at the table's resolution).
+  const double halfWidth = std::max(0.5 * this->FilterWidth * minSpacing, 0.5 * cellSize);
+  const long long nx = target.Dimensions[0];
+  const long long ny = target.Dimensions[1];
+  const long long points = target.NumberOfPoints();
+  const long long chunk = std::max(1LL, points / 20);
+  for (long long first = 0; first < points; first += chunk)
+  {
+    const long long last = std::min(points, first + chunk);
+    vtkSMPTools::For(first, last,
+      [&](long long begin, long long end)
+      {
+        for (long long id = begin; id < end; ++id)
+        {
+          double p[3];
+          target.PointPosition(id % nx, (id / nx) % ny, id / (nx * ny), p);
+          double sum[3] = { 0.0, 0.0, 0.0 };
+          for (const auto& l : lookups)
+          {
+            const auto& table = this->Tables[l.Table];
+            double transmittance[3];
+            for (int c = 0; c < channels; ++c)
+            {
+              const double tau = table.FilteredOpticalDepth(c, p, l.Axis, l.Sign, halfWidth);
+              transmittance[c] = std::exp(-std::max(tau, 0.0));
+            }
+            for (int c = 0; c < 3; ++c)
+            {
+              sum[c] += l.Radiance[c] * transmittance[channels == 3 ? c : 0];
+            }
+          }
+          for (int c = 0; c < 3; ++c)
+          {
+            rgb[3 * id + c] = static_cast<float>(sum[c]);
+          }
+        }
+      });
+    if (!this->ReportProgress(0.5 + 0.5 * static_cast<double>(last) / points))
+    {
+      return false;
+    }
+  }
+  report.Mode = 0;
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkFilteredVolumetricShadows::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "FilterWidth: " << this->FilterWidth << "\n";
+  os << indent << "SATResolutionScale: " << this->SATResolutionScale << "\n";
+}

@@ -1,0 +1,64 @@
+/**
+ * @class vtkFilteredVolumetricShadows
+ * @brief Soft volumetric shadows of controllable width from light-aligned summed-area
+ * tables (the low-pass filtered volumetric shadows paper, section 4.2).
+ *
+ * For each directional light the optical depth toward the light is box-filtered over a
+ * square patch of side FilterWidth voxels perpendicular to the light (eq. 12-13), read from
+ * a Cartesian summed-area table aligned with the light (see SummedAreaTableKernel.h), and
+ * the light reaches a point with transmittance exp(-filtered depth). The cost does not
+ * depend on FilterWidth; FilterWidth 0 gives hard shadows at the table's resolution
+ * (SATResolutionScale, default 1/2 of the input's). Lights along the six directions of one
+ * frame share a table (eq. 14-15): lights are grouped into as few tables as possible.
+ * Tables are kept while only the lights' colour, intensity or switch change.
+ * PropagationPasses reports the number of tables built by the last update.
+ *
+ * Not yet supported: point and spot lights (spherical tables, eq. 16-24) and the Gaussian
+ * kernel (eq. 25); they are reported as errors.
+ */
+#ifndef vtkFilteredVolumetricShadows_h
+#define vtkFilteredVolumetricShadows_h
+
+#include "SummedAreaTableKernel.h"
+#include "vtkIlluminationVolumeAlgorithm.h"
+
+class VOLILLUMFILTERS_EXPORT vtkFilteredVolumetricShadows : public vtkIlluminationVolumeAlgorithm
+{
+public:
+  static vtkFilteredVolumetricShadows* New();
+  vtkTypeMacro(vtkFilteredVolumetricShadows, vtkIlluminationVolumeAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /** Side of the filter patch in voxels (0: hard shadows). Default 3. */
+  vtkSetClampMacro(FilterWidth, double, 0.0, 1000.0);
+  vtkGetMacro(FilterWidth, double);
+  ///@}
+
+  ///@{
+  /** Resolution of the summed-area tables relative to the input: 1, 0.5 (default) or 0.25. */
+  vtkSetMacro(SATResolutionScale, double);
+  vtkGetMacro(SATResolutionScale, double);
+  ///@}
+
+protected:
+  vtkFilteredVolumetricShadows() = default;
+  ~vtkFilteredVolumetricShadows() override = default;
+
+  bool ComputeIllumination(const volillum::ClassifiedVolume& volume,
+    const std::vector<volillum::LightState>& lights, const volillum::GridGeometry& target,
+    bool inputModified, float* rgb, UpdateReport& report) override;
+
+  double FilterWidth = 3.0;
+  double SATResolutionScale = 0.5;
+
+private:
+  vtkFilteredVolumetricShadows(const vtkFilteredVolumetricShadows&) = delete;
+  void operator=(const vtkFilteredVolumetricShadows&) = delete;
+
+  // Tables of the last update, reused while the classification and their frames hold.
+  std::vector<volillum::CartesianSAT> Tables;
+  double TablesScale = 0.0;
+};
+
+#endif

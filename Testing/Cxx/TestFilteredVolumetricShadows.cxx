@@ -1,0 +1,179 @@
+// Tests of vtkFilteredVolumetricShadows: hard shadows against the ray-marched reference,
+// sharing of tables between orthodirectional lights, reuse of tables when only light
+// colours change, and lights it cannot handle yet.
+#include "IlluminationTestUtilities.h"
+#include "vtkFilteredVolumetricShadows.h"
+#include "vtkIlluminationPhantomSource.h"
+#include "vtkRayMarchedIllumination.h"
+
+#include "vtkExecutive.h"
+#include "vtkFieldData.h"
+#include "vtkFloatArray.h"
+#include "vtkPiecewiseFunction.h"
+#include "vtkPointData.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using volillumtest::DirectionalLight;
+using volillumtest::ErrorCounter;
+using volillumtest::PointLight;
+
+namespace
+{
+vtkSmartPointer<vtkImageData> Spheres(int n)
+{
+  vtkNew<vtkIlluminationPhantomSource> source;
+  source->SetDimensions(n, n, n);
+  source->Update();
+  return source->GetOutput();
+}
+
+vtkSmartPointer<vtkPiecewiseFunction> Opacity()
+{
+  auto otf = vtkSmartPointer<vtkPiecewiseFunction>::New();
+  otf->AddPoint(0.0, 0.0);
+  otf->AddPoint(200.0, 0.3);
+  return otf;
+}
+
+vtkSmartPointer<vtkFloatArray> Result(vtkImageAlgorithm* filter)
+{
+  auto copy = vtkSmartPointer<vtkFloatArray>::New();
+  copy->DeepCopy(filter->GetOutput()->GetPointData()->GetArray("Illumination"));
+  return copy;
+}
+
+int Passes(vtkImageAlgorithm* filter)
+{
+  return static_cast<int>(
+    filter->GetOutput()->GetFieldData()->GetArray("PropagationPasses")->GetTuple1(0));
+}
+}
+
+TEST(FilteredVolumetricShadows, HardShadowsAgreeWithTheRayMarchedReference)
+{
+  auto image = Spheres(64);
+  auto otf = Opacity();
+  for (const auto& d :
+    { std::array<double, 3>{ 0, 0, -1 }, std::array<double, 3>{ 0.5, -0.3, -1 } })
+  {
+    vtkNew<vtkRayMarchedIllumination> reference;
+    vtkNew<vtkFilteredVolumetricShadows> filtered;
+    filtered->SetFilterWidth(0);
+    filtered->SetSATResolutionScale(1);
+    auto light = DirectionalLight(d[0], d[1], d[2], 1, 0.8, 0.5);
+    for (vtkIlluminationVolumeAlgorithm* f :
+      { static_cast<vtkIlluminationVolumeAlgorithm*>(reference),
+        static_cast<vtkIlluminationVolumeAlgorithm*>(filtered) })
+    {
+      f->SetInputData(image);
+      f->SetOpacityFunction(otf);
+      f->AddLight(light);
+      f->Update();
+    }
+    auto a = Result(filtered);
+    auto b = Result(reference);
+    double error = 0.0, norm = 0.0;
+    for (vtkIdType i = 0; i < a->GetNumberOfValues(); ++i)
+    {
+      error += std::pow(a->GetValue(i) - b->GetValue(i), 2);
+      norm += std::pow(b->GetValue(i), 2);
+    }
+    const double rms = std::sqrt(error / norm);
+    std::cout << "FilterWidth 0 vs RayMarchedIllumination, light travelling (" << d[0] << ","
+              << d[1] << "," << d[2] << "): RMS relative difference " << rms << std::endl;
+    // Hard shadows at the table's resolution: a one-cell box across the light.
+    EXPECT_LE(rms, 0.06);
+  }
+}
+
+TEST(FilteredVolumetricShadows, OrthodirectionalLightsShareOneTable)
+{
+  auto image = Spheres(32);
+  auto otf = Opacity();
+  std::vector<vtkSmartPointer<vtkLight>> lights = { DirectionalLight(1, 0, 0, 1, 0, 0),
+    DirectionalLight(-1, 0, 0, 0, 1, 0), DirectionalLight(0, 0, -1, 0, 0, 1),
+    DirectionalLight(0, 1, 0, 1, 1, 1) };
+  vtkNew<vtkFilteredVolumetricShadows> together;
+  together->SetInputData(image);
+  together->SetOpacityFunction(otf);
+  for (auto& l : lights)
+  {
+    together->AddLight(l);
+  }
+  together->Update();
+  EXPECT_EQ(Passes(together), 1);
+  auto combined = Result(together);
+  std::vector<double> sum(combined->GetNumberOfValues(), 0.0);
+  for (auto& l : lights)
+  {
+    vtkNew<vtkFilteredVolumetricShadows> alone;
+    alone->SetInputData(image);
+    alone->SetOpacityFunction(otf);
+    alone->AddLight(l);
+    alone->Update();
+    auto part = Result(alone);
+    for (size_t i = 0; i < sum.size(); ++i)
+    {
+      sum[i] += part->GetValue(i);
+    }
+  }
+  double worst = 0.0;
+  for (size_t i = 0; i < sum.size(); ++i)
+  {
+    worst = std::max(worst, std::abs(combined->GetValue(i) - sum[i]));
+  }
+  EXPECT_LE(worst, 1e-5);
+}
+
+TEST(FilteredVolumetricShadows, OnlyLightColourChangesReuseTheTables)
+{
+  auto image = Spheres(32);
+  auto otf = Opacity();
+  vtkNew<vtkFilteredVolumetricShadows> filter;
+  filter->SetInputData(image);
+  filter->SetOpacityFunction(otf);
+  auto light = DirectionalLight(0.3, 0.2, -1);
+  filter->AddLight(light);
+  filter->Update();
+  EXPECT_EQ(Passes(filter), 1);
+  auto narrow = Result(filter);
+  light->SetDiffuseColor(1, 0, 0);
+  light->SetIntensity(2);
+  filter->Update();
+  EXPECT_EQ(Passes(filter), 0);
+  filter->SetFilterWidth(9);
+  filter->Update();
+  EXPECT_EQ(Passes(filter), 0);
+  // A wider filter changes the shadows but not the light far from any occluder.
+  auto wide = Result(filter);
+  double changed = 0.0;
+  for (vtkIdType i = 0; i < wide->GetNumberOfTuples(); ++i)
+  {
+    changed =
+      std::max(changed, std::abs(wide->GetComponent(i, 0) - 2.0 * narrow->GetComponent(i, 0)));
+  }
+  EXPECT_GT(changed, 0.05);
+  EXPECT_NEAR(wide->GetComponent(wide->GetNumberOfTuples() - 1, 0), 2.0, 1e-6);
+  light->SetFocalPoint(0.3, 0.25, -1);
+  filter->Update();
+  EXPECT_EQ(Passes(filter), 1);
+  otf->AddPoint(100.0, 0.05);
+  filter->Update();
+  EXPECT_EQ(Passes(filter), 1);
+}
+
+TEST(FilteredVolumetricShadows, PointLightsAreReportedAsUnsupported)
+{
+  auto image = Spheres(16);
+  vtkNew<vtkFilteredVolumetricShadows> filter;
+  vtkNew<ErrorCounter> errors;
+  filter->AddObserver(vtkCommand::ErrorEvent, errors);
+  filter->SetInputData(image);
+  filter->AddLight(PointLight(-20, 8, 8));
+  filter->Update();
+  EXPECT_EQ(errors->Count, 1);
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0);
+}
