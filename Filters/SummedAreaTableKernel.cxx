@@ -43,6 +43,23 @@ SatFrame FrameForDirection(const double direction[3])
   return f;
 }
 
+std::vector<double> GaussianWeights(int count)
+{
+  std::vector<double> weights(count);
+  double total = 0.0;
+  for (int i = 0; i < count; ++i)
+  {
+    const double x = -1.0 + (i + 0.5) * 2.0 / count; // centre of sub-interval i
+    weights[i] = std::exp(-0.5 * (x / 0.5) * (x / 0.5));
+    total += weights[i];
+  }
+  for (auto& w : weights)
+  {
+    w /= total;
+  }
+  return weights;
+}
+
 int AxisOfDirection(const SatFrame& frame, const double direction[3], int& sign)
 {
   for (int a = 0; a < 3; ++a)
@@ -218,6 +235,33 @@ double CartesianSAT::FilteredOpticalDepth(
   lo[axis] = sign > 0 ? q[axis] : 0.0;
   hi[axis] = sign > 0 ? end : q[axis];
   return this->BoxIntegral(channel, lo, hi) / (4.0 * halfWidth * halfWidth);
+}
+
+double CartesianSAT::KernelFilteredOpticalDepth(int channel, const double p[3], int axis, int sign,
+  double halfWidth, const std::vector<double>& weights) const
+{
+  const int count = static_cast<int>(weights.size());
+  double q[3];
+  this->ToFrame(p, q);
+  const int a1 = (axis + 1) % 3;
+  const int a2 = (axis + 2) % 3;
+  const double side = 2.0 * halfWidth / count;
+  double lo[3], hi[3];
+  lo[axis] = sign > 0 ? q[axis] : 0.0;
+  hi[axis] = sign > 0 ? this->N[axis] * this->H : q[axis];
+  double depth = 0.0;
+  for (int i = 0; i < count; ++i)
+  {
+    lo[a1] = q[a1] - halfWidth + i * side;
+    hi[a1] = lo[a1] + side;
+    for (int j = 0; j < count; ++j)
+    {
+      lo[a2] = q[a2] - halfWidth + j * side;
+      hi[a2] = lo[a2] + side;
+      depth += weights[i] * weights[j] * this->BoxIntegral(channel, lo, hi) / (side * side);
+    }
+  }
+  return depth;
 }
 
 double CartesianSAT::CellExtinction(int channel, int i, int j, int k) const

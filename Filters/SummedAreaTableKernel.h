@@ -35,6 +35,10 @@ struct SatFrame
 /// axes made orthogonal to it (canonical, so lights along data axes get the data's frame).
 VOLILLUMFILTERS_EXPORT SatFrame FrameForDirection(const double direction[3]);
 
+/// Normalised weights of a Gaussian over `count` equal sub-intervals of [-1, 1] (standard
+/// deviation 1/2, so the patch spans two standard deviations each way).
+VOLILLUMFILTERS_EXPORT std::vector<double> GaussianWeights(int count);
+
 /// The axis of the frame parallel to the unit direction (sign +1 or -1), or -1.
 VOLILLUMFILTERS_EXPORT int AxisOfDirection(
   const SatFrame& frame, const double direction[3], int& sign);
@@ -59,6 +63,12 @@ public:
   /// reaching to the table's end toward the light, divided by the patch area (eq. 13).
   double FilteredOpticalDepth(
     int channel, const double p[3], int axis, int sign, double halfWidth) const;
+
+  /// The same with a separable kernel: the patch is cut into weights.size()^2 equal
+  /// squares, square (i, j) weighted by weights[i] x weights[j] (weights summing to 1),
+  /// each square's cuboid read from the table (eq. 25).
+  double KernelFilteredOpticalDepth(int channel, const double p[3], int axis, int sign,
+    double halfWidth, const std::vector<double>& weights) const;
 
   /// Mean extinction of cell (i, j, k) for a channel.
   double CellExtinction(int channel, int i, int j, int k) const;

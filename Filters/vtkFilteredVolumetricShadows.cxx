@@ -103,6 +103,8 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
 
   // Half the patch side, at least half a table cell (hard shadows at the table's resolution).
   const double halfWidth = std::max(0.5 * this->FilterWidth * minSpacing, 0.5 * cellSize);
+  const std::vector<double> gaussian =
+    this->FilterKernel == Gaussian ? volillum::GaussianWeights(5) : std::vector<double>();
   const long long nx = target.Dimensions[0];
   const long long ny = target.Dimensions[1];
   const long long points = target.NumberOfPoints();
@@ -124,7 +126,9 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
             double transmittance[3];
             for (int c = 0; c < channels; ++c)
             {
-              const double tau = table.FilteredOpticalDepth(c, p, l.Axis, l.Sign, halfWidth);
+              const double tau = gaussian.empty()
+                ? table.FilteredOpticalDepth(c, p, l.Axis, l.Sign, halfWidth)
+                : table.KernelFilteredOpticalDepth(c, p, l.Axis, l.Sign, halfWidth, gaussian);
               transmittance[c] = std::exp(-std::max(tau, 0.0));
             }
             for (int c = 0; c < 3; ++c)
@@ -152,5 +156,6 @@ void vtkFilteredVolumetricShadows::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "FilterWidth: " << this->FilterWidth << "\n";
+  os << indent << "FilterKernel: " << this->FilterKernel << "\n";
   os << indent << "SATResolutionScale: " << this->SATResolutionScale << "\n";
 }

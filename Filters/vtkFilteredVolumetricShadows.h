@@ -13,8 +13,8 @@
  * Tables are kept while only the lights' colour, intensity or switch change.
  * PropagationPasses reports the number of tables built by the last update.
  *
- * Not yet supported: point and spot lights (spherical tables, eq. 16-24) and the Gaussian
- * kernel (eq. 25); they are reported as errors.
+ * Not yet supported: point and spot lights (spherical tables, eq. 16-24); they are
+ * reported as errors.
  */
 #ifndef vtkFilteredVolumetricShadows_h
 #define vtkFilteredVolumetricShadows_h
@@ -35,6 +35,22 @@ public:
   vtkGetMacro(FilterWidth, double);
   ///@}
 
+  enum FilterKernels
+  {
+    Box = 0,
+    Gaussian = 1
+  };
+
+  ///@{
+  /**
+   * Filter kernel: Box (default, one table read per light) or Gaussian (eq. 25: the patch
+   * cut into 5 x 5 squares weighted by a Gaussian of standard deviation a quarter of the
+   * width, 25 reads).
+   */
+  vtkSetClampMacro(FilterKernel, int, Box, Gaussian);
+  vtkGetMacro(FilterKernel, int);
+  ///@}
+
   ///@{
   /** Resolution of the summed-area tables relative to the input: 1, 0.5 (default) or 0.25. */
   vtkSetMacro(SATResolutionScale, double);
@@ -50,6 +66,7 @@ protected:
     bool inputModified, float* rgb, UpdateReport& report) override;
 
   double FilterWidth = 3.0;
+  int FilterKernel = Box;
   double SATResolutionScale = 0.5;
 
 private:
