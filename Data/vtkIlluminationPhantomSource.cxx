@@ -4,6 +4,7 @@
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
+#include "vtkMath.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkSMPTools.h"
@@ -114,6 +115,22 @@ int vtkIlluminationPhantomSource::RequestData(
       }
       case Slab:
         return (p[2] >= this->SlabBegin && p[2] <= this->SlabEnd) ? 1.0 : 0.0;
+      case Chirp:
+      {
+        if (p[2] <= 2.0)
+        {
+          return 1.0;
+        }
+        if (p[2] < 0.6 * size[2] || p[2] > 0.75 * size[2])
+        {
+          return 0.0;
+        }
+        // Frequency f(x) = f0 + (f1 - f0) x / L, phase = 2 pi (f0 x + (f1 - f0) x^2 / 2L).
+        const double f0 = 1.0 / 40.0, f1 = 0.25, length = std::max(size[0], 1.0);
+        const double phase =
+          2.0 * vtkMath::Pi() * (f0 * p[0] + 0.5 * (f1 - f0) * p[0] * p[0] / length);
+        return 0.5 * (1.0 + std::cos(phase));
+      }
       default:
       {
         const double c[3] = { 0.5 * size[0], 0.5 * size[1], 0.5 * size[2] };
@@ -160,7 +177,7 @@ int vtkIlluminationPhantomSource::RequestData(
   };
 
   vtkSmartPointer<vtkDataArray> scalars;
-  if (this->Scene == Slab)
+  if (this->Scene == Slab || this->Scene == Chirp)
   {
     auto a = vtkSmartPointer<vtkFloatArray>::New();
     a->SetNumberOfTuples(n);

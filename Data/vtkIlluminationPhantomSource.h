@@ -10,6 +10,10 @@
  * - CTPhantom: a CT-like head: a skull shell (600), soft tissue (300), two low-density
  *   ventricles (100) and a
  *   few dense inclusions (1000) (unsigned short).
+ * - Chirp: the test scene of Fig. 4 of the filtered-shadows paper: an opaque floor (value 1,
+ *   the lowest 3 z layers) under an occluder layer (z from 60 % to 75 % of the height)
+ *   whose value is a chirp along x, 0.5 (1 + cos(phase)), its frequency rising from 1/40
+ *   to 1/4 cycle per voxel (float).
  * Cost: one pass over the points.
  */
 #ifndef vtkIlluminationPhantomSource_h
@@ -29,12 +33,13 @@ public:
   {
     ThreeSpheres = 0,
     Slab = 1,
-    CTPhantom = 2
+    CTPhantom = 2,
+    Chirp = 3
   };
 
   ///@{
   /** Which scene to generate. Default ThreeSpheres. */
-  vtkSetClampMacro(Scene, int, ThreeSpheres, CTPhantom);
+  vtkSetClampMacro(Scene, int, ThreeSpheres, Chirp);
   vtkGetMacro(Scene, int);
   ///@}
 

@@ -59,7 +59,7 @@ illumination volume, renders it lit and writes a PNG. Without a volume, --phanto
 chooses a generated one.
 
 options:
-  --phantom NAME     ct (default), spheres or slab: generate the volume instead
+  --phantom NAME     ct (default), spheres, slab or chirp: generate the volume instead
   --dims N           phantom size (points per axis, default 128)
   --config FILE      JSON settings (see below); flags given after it override it
   --output FILE      PNG to write (default volillum.png)
@@ -248,6 +248,10 @@ vtkSmartPointer<vtkImageData> LoadVolume(const Options& o)
     {
       source->SetScene(vtkIlluminationPhantomSource::ThreeSpheres);
     }
+    else if (name == "chirp")
+    {
+      source->SetScene(vtkIlluminationPhantomSource::Chirp);
+    }
     else if (name == "slab")
     {
       source->SetScene(vtkIlluminationPhantomSource::Slab);
@@ -256,7 +260,7 @@ vtkSmartPointer<vtkImageData> LoadVolume(const Options& o)
     }
     else
     {
-      Fail("unknown phantom '" + o.Phantom + "' (ct, spheres or slab)");
+      Fail("unknown phantom '" + o.Phantom + "' (ct, spheres, slab or chirp)");
     }
     if (o.PhantomDims < 2 || o.PhantomDims > 1024)
     {
