@@ -1,16 +1,21 @@
 // volillum-benchmark: performance of the illumination filters and of lit rendering, as
 // ratios measured in one run. Prints tables and writes everything as JSON.
 //
-//   volillum-benchmark [--smoke] [--only rendering|multilight] [--engine FILE] [--json FILE]
+//   volillum-benchmark [--smoke] [--only rendering|multilight|filtered] [--engine FILE] [--json FILE]
 //
 // rendering:  reference illumination time; frame time of the illuminated mapper, a plain GPU
 //             ray-cast frame and VTK's built-in volumetric shadows (GlobalIlluminationReach
 //             0.5, VolumetricScatteringBlending 1) on the same view at 512x512.
+// filtered:   a transfer-function change with three orthodirectional lights: filtered
+//             shadows against the reference and the multi-light propagation, filter
+//             width 11 against 3, the share of building the tables, Gaussian against box.
 // multilight: a replica of Table 1 of the selective-light-updates paper (sequential and
 //             coherent full updates, one-light state change, on/off), a replica of its
 //             Fig. 10 (1..40 lights from one direction), the speed-up over the reference at
 //             equal resolution and the memory throughput of a full update.
 // --smoke uses tiny sizes so that CI only checks that the benchmark runs.
+#include "RayMarchKernel.h"
+#include "vtkFilteredVolumetricShadows.h"
 #include "vtkIlluminatedVolumeMapper.h"
 #include "vtkIlluminationPhantomSource.h"
 #include "vtkMultiLightIlluminationVolume.h"
@@ -328,6 +333,144 @@ json Fig10(const Volume& v, bool smoke)
   return result;
 }
 
+// Seconds of an update after a transfer-function change (the tables are rebuilt).
+double AfterTransferFunctionChange(vtkIlluminationVolumeAlgorithm* filter, const Volume& v)
+{
+  double range[2];
+  v.Image->GetPointData()->GetScalars()->GetRange(range);
+  const double s = range[0] + 0.6 * (range[1] - range[0]);
+  const int id = v.Opacity->AddPoint(s, v.Opacity->GetValue(s) * 1.01);
+  const double seconds = Seconds([&] { filter->Update(); });
+  v.Opacity->RemovePoint(s);
+  (void)id;
+  return seconds;
+}
+
+// Filtered shadows with three orthodirectional lights after a transfer-function change,
+// against the reference (single scattering) and the multi-light propagation on the same
+// lights, at the same output resolution.
+json FilteredShadows(const Volume& v, double scale, bool referenceInFull)
+{
+  double bounds[6];
+  v.Image->GetBounds(bounds);
+  std::vector<vtkSmartPointer<vtkLight>> lights;
+  for (const auto& travel : { std::array<double, 3>{ 0, 0, -1 }, std::array<double, 3>{ 1, 0, 0 },
+         std::array<double, 3>{ 0, -1, 0 } })
+  {
+    auto l = vtkSmartPointer<vtkLight>::New();
+    l->SetPositional(false);
+    l->SetPosition(0, 0, 0);
+    l->SetFocalPoint(travel.data());
+    lights.push_back(l);
+  }
+  auto filtered = [&](double width, int kernel) {
+    vtkNew<vtkFilteredVolumetricShadows> f;
+    Configure(f, v, scale);
+    f->SetFilterWidth(width);
+    f->SetFilterKernel(kernel);
+    for (const auto& l : lights)
+    {
+      f->AddLight(l);
+    }
+    f->Update();
+    json r;
+    r["tf_change_s"] = AfterTransferFunctionChange(f, v);
+    r["tables_built"] = Passes(f);
+    lights[0]->SetDiffuseColor(1.0, 0.9, 0.8);
+    r["color_change_s"] = Seconds([&] { f->Update(); });
+    lights[0]->SetDiffuseColor(1.0, 1.0, 1.0);
+    return r;
+  };
+  json r;
+  r["volume"] = v.Name;
+  r["scale"] = scale;
+  const json box3 = filtered(3, vtkFilteredVolumetricShadows::Box);
+  const json box11 = filtered(11, vtkFilteredVolumetricShadows::Box);
+  const json gauss3 = filtered(3, vtkFilteredVolumetricShadows::Gaussian);
+  const double t3 = box3["tf_change_s"].get<double>();
+  r["filtered_width3_s"] = t3;
+  r["filtered_width11_s"] = box11["tf_change_s"].get<double>();
+  r["tables_built"] = box3["tables_built"];
+  r["width11_over_width3"] = box11["tf_change_s"].get<double>() / t3;
+  r["table_build_share"] = 1.0 - box3["color_change_s"].get<double>() / t3;
+  r["gaussian_over_box"] = gauss3["tf_change_s"].get<double>() / t3;
+
+  vtkNew<vtkMultiLightIlluminationVolume> propagation;
+  Configure(propagation, v, scale);
+  for (const auto& l : lights)
+  {
+    propagation->AddLight(l);
+  }
+  propagation->Update();
+  r["propagation_s"] = AfterTransferFunctionChange(propagation, v);
+  r["propagation_over_filtered"] = r["propagation_s"].get<double>() / t3;
+
+  // The reference marches every point to every light; where that would take too long it
+  // is timed on a few slices of the output grid and scaled to the whole grid (its cost is
+  // proportional to the number of points).
+  vtkNew<vtkRayMarchedIllumination> reference;
+  Configure(reference, v, scale);
+  for (const auto& l : lights)
+  {
+    reference->AddLight(l);
+  }
+  double referenceSeconds = 0.0;
+  if (referenceInFull)
+  {
+    reference->Update();
+    referenceSeconds = AfterTransferFunctionChange(reference, v);
+  }
+  else
+  {
+    volillum::ClassificationSettings settings;
+    settings.Color = v.Color;
+    settings.Opacity = v.Opacity;
+    volillum::GridGeometry data;
+    int dims[3];
+    v.Image->GetDimensions(dims);
+    double spacing[3], origin[3];
+    v.Image->GetSpacing(spacing);
+    v.Image->GetOrigin(origin);
+    for (int a = 0; a < 3; ++a)
+    {
+      data.Dimensions[a] = dims[a];
+      data.Spacing[a] = spacing[a];
+      data.Origin[a] = origin[a];
+    }
+    volillum::ClassifiedVolume classified;
+    std::string error;
+    const double classifySeconds = Seconds([&] {
+      volillum::Classify(v.Image->GetPointData()->GetScalars(), data, settings, classified, error);
+    });
+    volillum::GridGeometry full = volillum::ScaledGeometry(data, scale);
+    volillum::GridGeometry part = full;
+    part.Dimensions[2] = 4;
+    part.Origin[2] = full.Origin[2] + 0.5 * full.Dimensions[2] * full.Spacing[2];
+    std::vector<float> rgb(3 * static_cast<size_t>(part.NumberOfPoints()));
+    std::vector<volillum::LightState> states;
+    for (const auto& l : lights)
+    {
+      states.push_back(volillum::CaptureLight(l));
+    }
+    const double partSeconds = Seconds([&] {
+      volillum::RayMarchIllumination(classified, states, part, volillum::RayMarchSettings(),
+        rgb.data(), nullptr);
+    });
+    referenceSeconds = classifySeconds + partSeconds * full.Dimensions[2] / part.Dimensions[2];
+    r["reference_extrapolated_from_slices"] = part.Dimensions[2];
+  }
+  r["reference_s"] = referenceSeconds;
+  r["filtered_speedup_over_reference"] = referenceSeconds / t3;
+  std::cout << std::left << std::setw(16) << v.Name << std::setw(7) << scale << std::right
+            << std::setw(12) << referenceSeconds << std::setw(11) << t3 << std::setw(11)
+            << r["filtered_speedup_over_reference"].get<double>() << std::setw(10)
+            << r["width11_over_width3"].get<double>() << std::setw(12)
+            << r["table_build_share"].get<double>() << std::setw(12)
+            << r["gaussian_over_box"].get<double>() << std::setw(12)
+            << r["propagation_over_filtered"].get<double>() << "\n";
+  return r;
+}
+
 // Speed-up over the reference at equal resolution, and bandwidth use of a full update.
 json AgainstReference(const Volume& v, double scale)
 {
@@ -484,7 +627,7 @@ int main(int argc, char* argv[])
       jsonPath = argv[++i];
     else
     {
-      std::cerr << "usage: volillum-benchmark [--smoke] [--only rendering|multilight] "
+      std::cerr << "usage: volillum-benchmark [--smoke] [--only rendering|multilight|filtered] "
                    "[--engine FILE] [--json FILE]\n";
       return 2;
     }
@@ -519,6 +662,22 @@ int main(int argc, char* argv[])
     results["table1"] = Table1(volumes, smoke);
     results["fig10"] = Fig10(volumes.back(), smoke);
     results["against_reference"] = AgainstReference(volumes.front(), 0.5);
+  }
+  if (only.empty() || only == "filtered")
+  {
+    std::cout << "\nFiltered shadows after a transfer-function change, 3 orthodirectional lights\n"
+              << std::left << std::setw(16) << "volume" << std::setw(7) << "scale" << std::right
+              << std::setw(12) << "ref [s]" << std::setw(11) << "filt [s]" << std::setw(11)
+              << "ref/filt" << std::setw(10) << "w11/w3" << std::setw(12) << "table share"
+              << std::setw(12) << "gauss/box" << std::setw(12) << "prop/filt" << "\n";
+    json rows = json::array();
+    rows.push_back(FilteredShadows(volumes.front(), 0.5, true));
+    if (!smoke && volumes.front().Name == "engine")
+    {
+      rows.push_back(FilteredShadows(
+        MakeVolume("engine-512^3", Resize(volumes.front().Image, 512, 512, 512)), 0.5, false));
+    }
+    results["filtered"] = rows;
   }
   if (only.empty() || only == "rendering")
   {
