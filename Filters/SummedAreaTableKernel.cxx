@@ -9,6 +9,24 @@
 namespace volillum
 {
 
+namespace
+{
+// Sample the classified data at p, or return false when p is outside its bounds.
+bool SampleInside(
+  const ClassifiedVolume& data, const double bounds[6], double eps, const double p[3], float s[4])
+{
+  for (int a = 0; a < 3; ++a)
+  {
+    if (p[a] < bounds[2 * a] - eps || p[a] > bounds[2 * a + 1] + eps)
+    {
+      return false;
+    }
+  }
+  data.Sample(p, s);
+  return true;
+}
+}
+
 SatFrame FrameForDirection(const double direction[3])
 {
   SatFrame f;
@@ -88,7 +106,6 @@ void CartesianSAT::Build(
 {
   this->Frame = frame;
   this->H = cellSize;
-  this->Channels = channels;
   double bounds[6];
   data.Geometry.GetBounds(bounds);
   double lo[3] = { VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
@@ -104,26 +121,26 @@ void CartesianSAT::Build(
       hi[a] = std::max(hi[a], c);
     }
   }
+  std::array<int, 3> n;
   for (int a = 0; a < 3; ++a)
   {
-    this->N[a] = std::max(1, static_cast<int>(std::ceil((hi[a] - lo[a]) / cellSize - 1e-9)));
+    n[a] = std::max(1, static_cast<int>(std::ceil((hi[a] - lo[a]) / cellSize - 1e-9)));
     // Centre the cells on the rotated bounding box.
-    this->Origin[a] = 0.5 * (lo[a] + hi[a]) - 0.5 * this->N[a] * cellSize;
+    this->Origin[a] = 0.5 * (lo[a] + hi[a]) - 0.5 * n[a] * cellSize;
   }
-  const long long nx = this->N[0], ny = this->N[1], nz = this->N[2];
-  this->Table.assign(static_cast<size_t>((nx + 1) * (ny + 1) * (nz + 1) * channels), 0.0);
+  this->Table.Allocate(n, channels);
 
   // Cell integrals: extinction at the cell centre (zero outside the data) times volume.
   const double eps = 1e-9 * std::max(bounds[1] - bounds[0], 1.0);
   const double volume = cellSize * cellSize * cellSize;
-  vtkSMPTools::For(0, nz,
+  vtkSMPTools::For(0, static_cast<long long>(n[2]),
     [&](long long k0, long long k1)
     {
       for (long long k = k0; k < k1; ++k)
       {
-        for (long long j = 0; j < ny; ++j)
+        for (long long j = 0; j < n[1]; ++j)
         {
-          for (long long i = 0; i < nx; ++i)
+          for (long long i = 0; i < n[0]; ++i)
           {
             const double q[3] = { this->Origin[0] + (i + 0.5) * cellSize,
               this->Origin[1] + (j + 0.5) * cellSize, this->Origin[2] + (k + 0.5) * cellSize };
@@ -132,27 +149,69 @@ void CartesianSAT::Build(
             {
               p[a] = q[0] * frame.Axes[0][a] + q[1] * frame.Axes[1][a] + q[2] * frame.Axes[2][a];
             }
-            bool inside = true;
-            for (int a = 0; a < 3; ++a)
-            {
-              inside = inside && p[a] >= bounds[2 * a] - eps && p[a] <= bounds[2 * a + 1] + eps;
-            }
-            if (!inside)
+            float s[4];
+            if (!SampleInside(data, bounds, eps, p, s))
             {
               continue;
             }
-            float s[4];
-            data.Sample(p, s);
             for (int c = 0; c < channels; ++c)
             {
               const double absorb = channels == 3 ? s[1 + c] : 1.0;
-              this->At(c, i + 1, j + 1, k + 1) = s[0] * absorb * volume;
+              this->Table.SetCell(c, i, j, k, s[0] * absorb * volume);
             }
           }
         }
       }
     });
+  this->Table.Integrate();
+}
 
+double RunningIntegralTable::Cumulative(int channel, double x, double y, double z) const
+{
+  // Continuous running integral up to (x, y, z) in cell units: trilinear interpolation of
+  // the corner values, exact for a field that is constant in each cell.
+  const double c[3] = { std::min(std::max(x, 0.0), static_cast<double>(this->N[0])),
+    std::min(std::max(y, 0.0), static_cast<double>(this->N[1])),
+    std::min(std::max(z, 0.0), static_cast<double>(this->N[2])) };
+  long long i0[3];
+  double f[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    i0[a] = std::min(static_cast<long long>(c[a]), static_cast<long long>(this->N[a] - 1));
+    f[a] = c[a] - i0[a];
+  }
+  double result = 0.0;
+  for (int corner = 0; corner < 8; ++corner)
+  {
+    const int di = corner & 1, dj = (corner >> 1) & 1, dk = (corner >> 2) & 1;
+    const double w = (di ? f[0] : 1.0 - f[0]) * (dj ? f[1] : 1.0 - f[1]) * (dk ? f[2] : 1.0 - f[2]);
+    if (w != 0.0)
+    {
+      result += w * this->At(channel, i0[0] + di, i0[1] + dj, i0[2] + dk);
+    }
+  }
+  return result;
+}
+
+double RunningIntegralTable::Box(int channel, const double a[3], const double b[3]) const
+{
+  return this->Cumulative(channel, b[0], b[1], b[2]) - this->Cumulative(channel, a[0], b[1], b[2]) -
+    this->Cumulative(channel, b[0], a[1], b[2]) - this->Cumulative(channel, b[0], b[1], a[2]) +
+    this->Cumulative(channel, a[0], a[1], b[2]) + this->Cumulative(channel, a[0], b[1], a[2]) +
+    this->Cumulative(channel, b[0], a[1], a[2]) - this->Cumulative(channel, a[0], a[1], a[2]);
+}
+
+void RunningIntegralTable::Allocate(const std::array<int, 3>& n, int channels)
+{
+  this->N = n;
+  this->Channels = channels;
+  this->Values.assign(static_cast<size_t>(n[0] + 1) * (n[1] + 1) * (n[2] + 1) * channels, 0.0);
+}
+
+void RunningIntegralTable::Integrate()
+{
+  const long long nx = this->N[0], ny = this->N[1], nz = this->N[2];
+  const int channels = this->Channels;
   // Running sums along x, then y, then z.
   vtkSMPTools::For(1, nz + 1,
     [&](long long k0, long long k1)
@@ -183,41 +242,11 @@ void CartesianSAT::Build(
     });
 }
 
-double CartesianSAT::Cumulative(int channel, double x, double y, double z) const
-{
-  // Continuous running integral up to (x, y, z) in cell units: trilinear interpolation of
-  // the corner values, exact for a field that is constant in each cell.
-  const double c[3] = { std::min(std::max(x, 0.0), static_cast<double>(this->N[0])),
-    std::min(std::max(y, 0.0), static_cast<double>(this->N[1])),
-    std::min(std::max(z, 0.0), static_cast<double>(this->N[2])) };
-  long long i0[3];
-  double f[3];
-  for (int a = 0; a < 3; ++a)
-  {
-    i0[a] = std::min(static_cast<long long>(c[a]), static_cast<long long>(this->N[a] - 1));
-    f[a] = c[a] - i0[a];
-  }
-  double result = 0.0;
-  for (int corner = 0; corner < 8; ++corner)
-  {
-    const int di = corner & 1, dj = (corner >> 1) & 1, dk = (corner >> 2) & 1;
-    const double w = (di ? f[0] : 1.0 - f[0]) * (dj ? f[1] : 1.0 - f[1]) * (dk ? f[2] : 1.0 - f[2]);
-    if (w != 0.0)
-    {
-      result += w * this->At(channel, i0[0] + di, i0[1] + dj, i0[2] + dk);
-    }
-  }
-  return result;
-}
-
 double CartesianSAT::BoxIntegral(int channel, const double lo[3], const double hi[3]) const
 {
   const double a[3] = { lo[0] / this->H, lo[1] / this->H, lo[2] / this->H };
   const double b[3] = { hi[0] / this->H, hi[1] / this->H, hi[2] / this->H };
-  return this->Cumulative(channel, b[0], b[1], b[2]) - this->Cumulative(channel, a[0], b[1], b[2]) -
-    this->Cumulative(channel, b[0], a[1], b[2]) - this->Cumulative(channel, b[0], b[1], a[2]) +
-    this->Cumulative(channel, a[0], a[1], b[2]) + this->Cumulative(channel, a[0], b[1], a[2]) +
-    this->Cumulative(channel, b[0], a[1], a[2]) - this->Cumulative(channel, a[0], a[1], a[2]);
+  return this->Table.Box(channel, a, b);
 }
 
 double CartesianSAT::FilteredOpticalDepth(
@@ -231,7 +260,7 @@ double CartesianSAT::FilteredOpticalDepth(
     lo[a] = q[a] - halfWidth;
     hi[a] = q[a] + halfWidth;
   }
-  const double end = this->N[axis] * this->H;
+  const double end = this->Table.GetDimensions()[axis] * this->H;
   lo[axis] = sign > 0 ? q[axis] : 0.0;
   hi[axis] = sign > 0 ? end : q[axis];
   return this->BoxIntegral(channel, lo, hi) / (4.0 * halfWidth * halfWidth);
@@ -246,19 +275,39 @@ double CartesianSAT::KernelFilteredOpticalDepth(int channel, const double p[3], 
   const int a1 = (axis + 1) % 3;
   const int a2 = (axis + 2) % 3;
   const double side = 2.0 * halfWidth / count;
-  double lo[3], hi[3];
-  lo[axis] = sign > 0 ? q[axis] : 0.0;
-  hi[axis] = sign > 0 ? this->N[axis] * this->H : q[axis];
+  const double ends[2] = { (sign > 0 ? q[axis] : 0.0) / this->H,
+    (sign > 0 ? this->Table.GetDimensions()[axis] * this->H : q[axis]) / this->H };
+  // Running integrals at the corners of the count x count squares, at both ends of the
+  // cuboids: neighbouring squares share them (eq. 25 with 2 (count+1)^2 table reads).
+  std::vector<double> corner(2 * (count + 1) * (count + 1));
+  for (int e = 0; e < 2; ++e)
+  {
+    for (int i = 0; i <= count; ++i)
+    {
+      for (int j = 0; j <= count; ++j)
+      {
+        double c[3];
+        c[axis] = ends[e];
+        c[a1] = (q[a1] - halfWidth + i * side) / this->H;
+        c[a2] = (q[a2] - halfWidth + j * side) / this->H;
+        corner[(e * (count + 1) + i) * (count + 1) + j] =
+          this->Table.Cumulative(channel, c[0], c[1], c[2]);
+      }
+    }
+  }
+  auto at = [&](int e, int i, int j) { return corner[(e * (count + 1) + i) * (count + 1) + j]; };
   double depth = 0.0;
   for (int i = 0; i < count; ++i)
   {
-    lo[a1] = q[a1] - halfWidth + i * side;
-    hi[a1] = lo[a1] + side;
     for (int j = 0; j < count; ++j)
     {
-      lo[a2] = q[a2] - halfWidth + j * side;
-      hi[a2] = lo[a2] + side;
-      depth += weights[i] * weights[j] * this->BoxIntegral(channel, lo, hi) / (side * side);
+      double square = 0.0;
+      for (int e = 0; e < 2; ++e)
+      {
+        const double face = at(e, i + 1, j + 1) - at(e, i, j + 1) - at(e, i + 1, j) + at(e, i, j);
+        square += e == 1 ? face : -face;
+      }
+      depth += weights[i] * weights[j] * square / (side * side);
     }
   }
   return depth;
@@ -269,6 +318,172 @@ double CartesianSAT::CellExtinction(int channel, int i, int j, int k) const
   const double lo[3] = { i * this->H, j * this->H, k * this->H };
   const double hi[3] = { lo[0] + this->H, lo[1] + this->H, lo[2] + this->H };
   return this->BoxIntegral(channel, lo, hi) / (this->H * this->H * this->H);
+}
+
+void SphericalSAT::ToSpherical(const double p[3], double s[3]) const
+{
+  double d[3] = { p[0] - this->Light[0], p[1] - this->Light[1], p[2] - this->Light[2] };
+  const double x = vtkMath::Dot(d, this->Frame.Axes[0].data());
+  const double y = vtkMath::Dot(d, this->Frame.Axes[1].data());
+  const double z = vtkMath::Dot(d, this->Frame.Axes[2].data());
+  s[2] = std::sqrt(x * x + y * y + z * z);
+  s[1] = std::atan2(std::sqrt(x * x + y * y), z);
+  s[0] = std::atan2(y, x);
+}
+
+void SphericalSAT::Build(const ClassifiedVolume& data, const double light[3], double cellSize,
+  int channels, long long maxCells)
+{
+  std::copy(light, light + 3, this->Light.begin());
+  double bounds[6];
+  data.Geometry.GetBounds(bounds);
+  double toCentre[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    toCentre[a] = 0.5 * (bounds[2 * a] + bounds[2 * a + 1]) - light[a];
+  }
+  if (vtkMath::Norm(toCentre) < 1e-12)
+  {
+    toCentre[0] = toCentre[1] = 0.0;
+    toCentre[2] = 1.0;
+  }
+  vtkMath::Normalize(toCentre);
+  this->Frame = FrameForDirection(toCentre);
+
+  // Radius and opening angle that hold the whole box (with a margin: the widest angle of a
+  // box need not be at a corner).
+  bool inside = true;
+  for (int a = 0; a < 3; ++a)
+  {
+    inside = inside && light[a] >= bounds[2 * a] && light[a] <= bounds[2 * a + 1];
+  }
+  double rMax = 0.0, thetaMax = 0.0;
+  for (int corner = 0; corner < 27; ++corner)
+  {
+    const int c[3] = { corner % 3, (corner / 3) % 3, corner / 9 };
+    double p[3], s[3];
+    for (int a = 0; a < 3; ++a)
+    {
+      p[a] = bounds[2 * a] + 0.5 * c[a] * (bounds[2 * a + 1] - bounds[2 * a]);
+    }
+    this->ToSpherical(p, s);
+    rMax = std::max(rMax, s[2]);
+    thetaMax = std::max(thetaMax, s[1]);
+  }
+  this->ThetaMax = inside ? vtkMath::Pi() : std::min(vtkMath::Pi(), 1.1 * thetaMax + 0.05);
+  const double spread = this->ThetaMax >= 0.5 * vtkMath::Pi() ? 1.0 : std::sin(this->ThetaMax);
+  double counts[3] = { 2.0 * vtkMath::Pi() * rMax * spread / cellSize,
+    this->ThetaMax * rMax / cellSize, rMax / cellSize };
+  const double total =
+    std::max(counts[0], 1.0) * std::max(counts[1], 1.0) * std::max(counts[2], 1.0);
+  const double shrink = total > maxCells ? std::cbrt(maxCells / total) : 1.0;
+  std::array<int, 3> n;
+  for (int a = 0; a < 3; ++a)
+  {
+    n[a] = std::max(1, static_cast<int>(std::ceil(counts[a] * shrink)));
+  }
+  this->H = cellSize / shrink;
+  this->DPhi = 2.0 * vtkMath::Pi() / n[0];
+  this->DTheta = this->ThetaMax / n[1];
+  this->DR = rMax / n[2];
+  this->Table.Allocate(n, channels);
+
+  const double eps = 1e-9 * std::max(bounds[1] - bounds[0], 1.0);
+  vtkSMPTools::For(0, static_cast<long long>(n[2]),
+    [&](long long k0, long long k1)
+    {
+      for (long long k = k0; k < k1; ++k)
+      {
+        const double r = (k + 0.5) * this->DR;
+        for (long long j = 0; j < n[1]; ++j)
+        {
+          const double theta0 = j * this->DTheta;
+          const double theta = theta0 + 0.5 * this->DTheta;
+          const double solidAngle =
+            (std::cos(theta0) - std::cos(theta0 + this->DTheta)) * this->DPhi;
+          for (long long i = 0; i < n[0]; ++i)
+          {
+            const double phi = -vtkMath::Pi() + (i + 0.5) * this->DPhi;
+            const double local[3] = { std::sin(theta) * std::cos(phi),
+              std::sin(theta) * std::sin(phi), std::cos(theta) };
+            double p[3];
+            for (int a = 0; a < 3; ++a)
+            {
+              p[a] = light[a] +
+                r *
+                  (local[0] * this->Frame.Axes[0][a] + local[1] * this->Frame.Axes[1][a] +
+                    local[2] * this->Frame.Axes[2][a]);
+            }
+            float s[4];
+            if (!SampleInside(data, bounds, eps, p, s))
+            {
+              continue;
+            }
+            for (int c = 0; c < channels; ++c)
+            {
+              const double absorb = channels == 3 ? s[1 + c] : 1.0;
+              this->Table.SetCell(c, i, j, k, s[0] * absorb * this->DR * solidAngle);
+            }
+          }
+        }
+      }
+    });
+  this->Table.Integrate();
+}
+
+double SphericalSAT::Integral(
+  int channel, double phi0, double phi1, double theta0, double theta1, double r) const
+{
+  // A cell holds its content in proportion to solid angle, so a fraction of a theta cell is
+  // measured in cos(theta), not in theta.
+  auto thetaIndex = [this](double theta)
+  {
+    const int n = this->Table.GetDimensions()[1];
+    const int j = std::min(std::max(static_cast<int>(theta / this->DTheta), 0), n - 1);
+    const double c0 = std::cos(j * this->DTheta);
+    const double c1 = std::cos((j + 1) * this->DTheta);
+    return j + (c0 - std::cos(theta)) / (c0 - c1);
+  };
+  const double lo[3] = { (phi0 + vtkMath::Pi()) / this->DPhi, thetaIndex(theta0), 0.0 };
+  const double hi[3] = { (phi1 + vtkMath::Pi()) / this->DPhi, thetaIndex(theta1), r / this->DR };
+  return this->Table.Box(channel, lo, hi);
+}
+
+double SphericalSAT::FilteredOpticalDepth(int channel, const double p[3], double halfWidth) const
+{
+  double s[3];
+  this->ToSpherical(p, s);
+  const double r = std::max(s[2], 1e-12);
+  const double pi = vtkMath::Pi();
+  const double dTheta = std::min(halfWidth / r, pi);
+  const double theta0 = std::max(0.0, s[1] - dTheta);
+  const double theta1 = std::min(pi, s[1] + dTheta);
+  const double sine = std::sin(s[1]);
+  const double dPhi = sine * r > halfWidth / pi ? std::min(halfWidth / (r * sine), pi) : pi;
+  const double phi0 = s[0] - dPhi;
+  const double phi1 = s[0] + dPhi;
+  const double thetaTop = std::min(theta1, this->ThetaMax);
+  double integral = 0.0;
+  if (theta0 < thetaTop)
+  {
+    // The patch may wrap around phi = +-pi: integrate the pieces.
+    if (phi0 < -pi)
+    {
+      integral += this->Integral(channel, phi0 + 2.0 * pi, pi, theta0, thetaTop, r);
+      integral += this->Integral(channel, -pi, phi1, theta0, thetaTop, r);
+    }
+    else if (phi1 > pi)
+    {
+      integral += this->Integral(channel, phi0, pi, theta0, thetaTop, r);
+      integral += this->Integral(channel, -pi, phi1 - 2.0 * pi, theta0, thetaTop, r);
+    }
+    else
+    {
+      integral += this->Integral(channel, phi0, phi1, theta0, thetaTop, r);
+    }
+  }
+  const double solidAngle = (std::cos(theta0) - std::cos(theta1)) * (phi1 - phi0);
+  return solidAngle > 0.0 ? integral / solidAngle : 0.0;
 }
 
 }

@@ -43,6 +43,53 @@ VOLILLUMFILTERS_EXPORT std::vector<double> GaussianWeights(int count);
 VOLILLUMFILTERS_EXPORT int AxisOfDirection(
   const SatFrame& frame, const double direction[3], int& sign);
 
+/**
+ * Running integrals of per-cell values over a grid of N[0] x N[1] x N[2] cells, in double
+ * precision, with the zero planes stored. Box integrals with real-valued corners (in cell
+ * units) are inclusion-exclusions of eight trilinearly interpolated values, exact for
+ * values constant in each cell.
+ */
+class VOLILLUMFILTERS_EXPORT RunningIntegralTable
+{
+public:
+  /// Allocate zeroed cells; set them with SetCell, then call Integrate once.
+  void Allocate(const std::array<int, 3>& n, int channels);
+  void SetCell(int channel, long long i, long long j, long long k, double value)
+  {
+    this->At(channel, i + 1, j + 1, k + 1) = value;
+  }
+  void Integrate();
+
+  /// Integral over the box [lo, hi] in cell units, clamped to the grid.
+  double Box(int channel, const double lo[3], const double hi[3]) const;
+
+  /// Running integral from the grid's first corner to (x, y, z) in cell units (clamped).
+  double Cumulative(int channel, double x, double y, double z) const;
+
+  const std::array<int, 3>& GetDimensions() const { return this->N; }
+  int GetNumberOfChannels() const { return this->Channels; }
+  size_t GetMemoryBytes() const { return this->Values.size() * sizeof(double); }
+
+private:
+  size_t Index(int channel, long long i, long long j, long long k) const
+  {
+    return static_cast<size_t>(
+      ((k * (this->N[1] + 1) + j) * (this->N[0] + 1) + i) * this->Channels + channel);
+  }
+  double& At(int channel, long long i, long long j, long long k)
+  {
+    return this->Values[this->Index(channel, i, j, k)];
+  }
+  double At(int channel, long long i, long long j, long long k) const
+  {
+    return this->Values[this->Index(channel, i, j, k)];
+  }
+
+  std::array<int, 3> N{ { 0, 0, 0 } };
+  int Channels = 1;
+  std::vector<double> Values;
+};
+
 class VOLILLUMFILTERS_EXPORT CartesianSAT
 {
 public:
@@ -75,32 +122,54 @@ public:
 
   const SatFrame& GetFrame() const { return this->Frame; }
   double GetCellSize() const { return this->H; }
-  const std::array<int, 3>& GetDimensions() const { return this->N; }
-  int GetNumberOfChannels() const { return this->Channels; }
-  size_t GetMemoryBytes() const { return this->Table.size() * sizeof(double); }
+  const std::array<int, 3>& GetDimensions() const { return this->Table.GetDimensions(); }
+  int GetNumberOfChannels() const { return this->Table.GetNumberOfChannels(); }
+  size_t GetMemoryBytes() const { return this->Table.GetMemoryBytes(); }
 
 private:
-  double Cumulative(int channel, double x, double y, double z) const;
-  double& At(int channel, long long i, long long j, long long k)
-  {
-    return this->Table[this->Index(channel, i, j, k)];
-  }
-  double At(int channel, long long i, long long j, long long k) const
-  {
-    return this->Table[this->Index(channel, i, j, k)];
-  }
-  size_t Index(int channel, long long i, long long j, long long k) const
-  {
-    return static_cast<size_t>(
-      ((k * (this->N[1] + 1) + j) * (this->N[0] + 1) + i) * this->Channels + channel);
-  }
-
   SatFrame Frame;
   std::array<double, 3> Origin{ { 0.0, 0.0, 0.0 } };
   double H = 1.0;
-  std::array<int, 3> N{ { 0, 0, 0 } };
-  int Channels = 1;
-  std::vector<double> Table; // (N+1)^3 corners x channels, the zero planes included
+  RunningIntegralTable Table;
+};
+
+/**
+ * Spherical summed-area table around a point light (eq. 16-24). Cells are laid out in
+ * (phi, theta, r) about the axis from the light toward the volume's centre and hold
+ * extinction x dr x solid angle (the volume element divided by r^2), so the integral over
+ * the spherical pyramid from the light to a sample, divided by the pyramid's solid angle, is
+ * the optical depth averaged over the shadow rays through a patch of constant base area at
+ * the sample. Works for lights outside and inside the volume.
+ */
+class VOLILLUMFILTERS_EXPORT SphericalSAT
+{
+public:
+  /// Cells of about cellSize at the volume's far side (coarser when that would exceed
+  /// maxCells cells).
+  void Build(const ClassifiedVolume& data, const double light[3], double cellSize, int channels,
+    long long maxCells = 1LL << 25);
+
+  /// Filtered optical depth from the light to p over a square patch of half-width
+  /// halfWidth at p's distance.
+  double FilteredOpticalDepth(int channel, const double p[3], double halfWidth) const;
+
+  /// (phi, theta, r) of a world point.
+  void ToSpherical(const double p[3], double s[3]) const;
+
+  const RunningIntegralTable& GetTable() const { return this->Table; }
+  const std::array<double, 3>& GetLight() const { return this->Light; }
+  double GetCellSize() const { return this->H; }
+
+private:
+  double Integral(
+    int channel, double phi0, double phi1, double theta0, double theta1, double r) const;
+
+  std::array<double, 3> Light{ { 0.0, 0.0, 0.0 } };
+  SatFrame Frame; // third axis: from the light toward the volume's centre
+  double H = 1.0;
+  double ThetaMax = 0.0;
+  double DPhi = 1.0, DTheta = 1.0, DR = 1.0;
+  RunningIntegralTable Table;
 };
 
 }

@@ -10,13 +10,20 @@ vtkStandardNewMacro(vtkFilteredVolumetricShadows);
 
 namespace
 {
-// A light as a table lookup: which table, which of its axes, toward which end.
+// A directional light as a table lookup: which table, which of its axes, toward which end.
 struct ShadowLookup
 {
   size_t Table;
   int Axis;
   int Sign;
   std::array<double, 3> Radiance;
+};
+
+// A point or spot light and its spherical table.
+struct SphericalLookup
+{
+  size_t Table;
+  volillum::LightState Light;
 };
 
 bool SameFrame(const volillum::SatFrame& a, const volillum::SatFrame& b)
@@ -36,15 +43,6 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
     vtkErrorMacro("SATResolutionScale must be 1, 0.5 or 0.25; it is " << scale << ".");
     return false;
   }
-  for (const auto& light : lights)
-  {
-    if (light.On && light.Kind != volillum::LightKind::Directional)
-    {
-      vtkErrorMacro("Filtered Volumetric Shadows supports only directional lights so far; "
-                    "switch point and spot lights off or use another method.");
-      return false;
-    }
-  }
   const auto& sp = volume.Geometry.Spacing;
   const double minSpacing = std::min(sp[0], std::min(sp[1], sp[2]));
   const double cellSize = minSpacing / scale;
@@ -53,10 +51,16 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
   // Frames: a light joins the first frame that has its direction as an axis (eq. 14).
   std::vector<volillum::SatFrame> frames;
   std::vector<ShadowLookup> lookups;
+  std::vector<SphericalLookup> sphericalLookups;
   for (const auto& light : lights)
   {
     if (!light.On)
     {
+      continue;
+    }
+    if (light.Kind != volillum::LightKind::Directional)
+    {
+      sphericalLookups.push_back({ sphericalLookups.size(), light });
       continue;
     }
     // The table is read toward the light, against the direction light travels.
@@ -98,7 +102,29 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
       return false;
     }
   }
+  // One spherical table per point or spot light, kept while the light does not move.
+  std::vector<volillum::SphericalSAT> spherical(sphericalLookups.size());
+  for (size_t i = 0; i < sphericalLookups.size(); ++i)
+  {
+    const auto& position = sphericalLookups[i].Light.Position;
+    auto reuse = std::find_if(this->SphericalTables.begin(), this->SphericalTables.end(),
+      [&](const volillum::SphericalSAT& t) { return t.GetLight() == position; });
+    if (!inputModified && this->TablesScale == scale && reuse != this->SphericalTables.end() &&
+      reuse->GetTable().GetNumberOfChannels() == channels)
+    {
+      spherical[i] = std::move(*reuse);
+      continue;
+    }
+    spherical[i].Build(volume, position.data(), cellSize, channels);
+    ++report.Passes;
+    if (!this->ReportProgress(0.5))
+    {
+      this->SphericalTables.clear();
+      return false;
+    }
+  }
   this->Tables = std::move(tables);
+  this->SphericalTables = std::move(spherical);
   this->TablesScale = scale;
 
   // Half the patch side, at least half a table cell (hard shadows at the table's resolution).
@@ -134,6 +160,26 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
             for (int c = 0; c < 3; ++c)
             {
               sum[c] += l.Radiance[c] * transmittance[channels == 3 ? c : 0];
+            }
+          }
+          for (const auto& l : sphericalLookups)
+          {
+            const double cone = volillum::ComputeIncidence(l.Light, p).ConeFactor;
+            if (cone == 0.0)
+            {
+              continue;
+            }
+            const auto& table = this->SphericalTables[l.Table];
+            const auto radiance = l.Light.Radiance();
+            double transmittance[3];
+            for (int c = 0; c < channels; ++c)
+            {
+              transmittance[c] =
+                std::exp(-std::max(table.FilteredOpticalDepth(c, p, halfWidth), 0.0));
+            }
+            for (int c = 0; c < 3; ++c)
+            {
+              sum[c] += cone * radiance[c] * transmittance[channels == 3 ? c : 0];
             }
           }
           for (int c = 0; c < 3; ++c)

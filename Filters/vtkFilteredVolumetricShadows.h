@@ -13,8 +13,12 @@
  * Tables are kept while only the lights' colour, intensity or switch change.
  * PropagationPasses reports the number of tables built by the last update.
  *
- * Not yet supported: point and spot lights (spherical tables, eq. 16-24); they are
- * reported as errors.
+ *
+ * Point and spot lights, outside or inside the volume, read a spherical summed-area table
+ * centred on the light (eq. 16-24): the optical depth is averaged over the shadow rays
+ * through a patch of constant base area at the sample; a spot light's cone is applied on
+ * top. The Gaussian kernel applies to directional lights; point and spot lights use the
+ * box.
  */
 #ifndef vtkFilteredVolumetricShadows_h
 #define vtkFilteredVolumetricShadows_h
@@ -75,6 +79,7 @@ private:
 
   // Tables of the last update, reused while the classification and their frames hold.
   std::vector<volillum::CartesianSAT> Tables;
+  std::vector<volillum::SphericalSAT> SphericalTables;
   double TablesScale = 0.0;
 };
 

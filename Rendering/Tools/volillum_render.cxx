@@ -64,9 +64,8 @@ options:
   --config FILE      JSON settings (see below); flags given after it override it
   --output FILE      PNG to write (default volillum.png)
   --method NAME      illumination method: propagation (multi-light illumination
-                     volume, default), filtered (soft shadows from summed-area tables;
-                     directional lights only so far) or reference (brute-force ray
-                     marching)
+                     volume, default), filtered (soft shadows from summed-area tables)
+                     or reference (brute-force ray marching)
   --scale S          illumination resolution scale 1, 0.5 or 0.25 (default 1)
   --size W H         image size in pixels (default 512 512)
   --help             this text

@@ -165,14 +165,76 @@ TEST(FilteredVolumetricShadows, OnlyLightColourChangesReuseTheTables)
   EXPECT_EQ(Passes(filter), 1);
 }
 
-TEST(FilteredVolumetricShadows, PointLightsAreReportedAsUnsupported)
+TEST(FilteredVolumetricShadows, PointAndSpotLightsAgreeWithTheReference)
+{
+  auto image = Spheres(64);
+  auto otf = Opacity();
+  auto outside = PointLight(-40, 32, 40, 1, 1, 0);
+  auto inside = PointLight(32, 40, 8, 1, 1, 1);
+  auto spot = PointLight(32, 32, 110, 1, 0.5, 0);
+  spot->SetFocalPoint(32, 32, 0);
+  spot->SetConeAngle(25);
+  for (vtkLight* light : { outside.Get(), inside.Get(), spot.Get() })
+  {
+    vtkNew<vtkRayMarchedIllumination> reference;
+    vtkNew<vtkFilteredVolumetricShadows> filtered;
+    filtered->SetFilterWidth(0);
+    filtered->SetSATResolutionScale(1);
+    for (vtkIlluminationVolumeAlgorithm* f :
+      { static_cast<vtkIlluminationVolumeAlgorithm*>(reference),
+        static_cast<vtkIlluminationVolumeAlgorithm*>(filtered) })
+    {
+      f->SetInputData(image);
+      f->SetOpacityFunction(otf);
+      f->AddLight(light);
+      f->Update();
+    }
+    auto a = Result(filtered);
+    auto b = Result(reference);
+    double error = 0.0, norm = 0.0;
+    for (vtkIdType i = 0; i < a->GetNumberOfValues(); ++i)
+    {
+      error += std::pow(a->GetValue(i) - b->GetValue(i), 2);
+      norm += std::pow(b->GetValue(i), 2);
+    }
+    const double rms = std::sqrt(error / norm);
+    const char* name = light == outside ? "point light outside"
+      : light == inside                 ? "point light inside"
+                                        : "spot light";
+    std::cout << "FilterWidth 0, " << name << ": RMS relative difference to the reference " << rms
+              << ", tables built " << Passes(filtered) << std::endl;
+    EXPECT_EQ(Passes(filtered), 1);
+    EXPECT_LE(rms, 0.1) << name;
+  }
+}
+
+TEST(FilteredVolumetricShadows, PointLightTablesFollowTheLight)
+{
+  auto image = Spheres(32);
+  vtkNew<vtkFilteredVolumetricShadows> filter;
+  filter->SetInputData(image);
+  filter->SetOpacityFunction(Opacity());
+  auto light = PointLight(-20, 16, 16);
+  filter->AddLight(light);
+  filter->Update();
+  EXPECT_EQ(Passes(filter), 1);
+  light->SetDiffuseColor(0, 1, 0);
+  filter->Update();
+  EXPECT_EQ(Passes(filter), 0);
+  light->SetPosition(-20, 18, 16);
+  filter->Update();
+  EXPECT_EQ(Passes(filter), 1);
+}
+
+TEST(FilteredVolumetricShadows, BadTableResolutionIsAnError)
 {
   auto image = Spheres(16);
   vtkNew<vtkFilteredVolumetricShadows> filter;
   vtkNew<ErrorCounter> errors;
   filter->AddObserver(vtkCommand::ErrorEvent, errors);
   filter->SetInputData(image);
-  filter->AddLight(PointLight(-20, 8, 8));
+  filter->SetSATResolutionScale(0.3);
+  filter->AddLight(DirectionalLight(0, 0, -1));
   filter->Update();
   EXPECT_EQ(errors->Count, 1);
   EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0);
