@@ -1,10 +1,12 @@
 #include "vtkFilteredVolumetricShadows.h"
 
 #include "vtkObjectFactory.h"
+#include "vtkPointData.h"
 #include "vtkSMPTools.h"
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 vtkStandardNewMacro(vtkFilteredVolumetricShadows);
 
@@ -13,6 +15,7 @@ namespace
 // A directional light as a table lookup: which table, which of its axes, toward which end.
 struct ShadowLookup
 {
+  size_t Index; // of the light
   size_t Table;
   int Axis;
   int Sign;
@@ -22,9 +25,22 @@ struct ShadowLookup
 // A point or spot light and its spherical table.
 struct SphericalLookup
 {
+  size_t Index; // of the light
   size_t Table;
   volillum::LightState Light;
 };
+
+// Store a point's transmittance in a per-light array, when there is one.
+void Record(float* out, long long id, const double* transmittance, int channels)
+{
+  if (out)
+  {
+    for (int c = 0; c < channels; ++c)
+    {
+      out[channels * id + c] = static_cast<float>(transmittance[c]);
+    }
+  }
+}
 
 bool SameFrame(const volillum::SatFrame& a, const volillum::SatFrame& b)
 {
@@ -52,21 +68,22 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
   std::vector<volillum::SatFrame> frames;
   std::vector<ShadowLookup> lookups;
   std::vector<SphericalLookup> sphericalLookups;
-  for (const auto& light : lights)
+  for (size_t index = 0; index < lights.size(); ++index)
   {
+    const auto& light = lights[index];
     if (!light.On)
     {
       continue;
     }
     if (light.Kind != volillum::LightKind::Directional)
     {
-      sphericalLookups.push_back({ sphericalLookups.size(), light });
+      sphericalLookups.push_back({ index, sphericalLookups.size(), light });
       continue;
     }
     // The table is read toward the light, against the direction light travels.
     const auto travel = light.Direction();
     const double toward[3] = { -travel[0], -travel[1], -travel[2] };
-    ShadowLookup lookup{ frames.size(), -1, 0, light.Radiance() };
+    ShadowLookup lookup{ index, frames.size(), -1, 0, light.Radiance() };
     for (size_t f = 0; f < frames.size() && lookup.Axis < 0; ++f)
     {
       lookup.Axis = volillum::AxisOfDirection(frames[f], toward, lookup.Sign);
@@ -131,6 +148,24 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
   const double halfWidth = std::max(0.5 * this->FilterWidth * minSpacing, 0.5 * cellSize);
   const std::vector<double> gaussian =
     this->FilterKernel == Gaussian ? volillum::GaussianWeights(5) : std::vector<double>();
+  // Optional per-light transmittance arrays, indexed by light.
+  this->Transmittances.assign(lights.size(), nullptr);
+  std::vector<float*> transmittanceOut(lights.size(), nullptr);
+  if (this->PerLightTransmittance)
+  {
+    for (size_t i = 0; i < lights.size(); ++i)
+    {
+      if (lights[i].On)
+      {
+        auto array = vtkSmartPointer<vtkFloatArray>::New();
+        array->SetName(("Transmittance" + std::to_string(i)).c_str());
+        array->SetNumberOfComponents(channels);
+        array->SetNumberOfTuples(target.NumberOfPoints());
+        transmittanceOut[i] = array->GetPointer(0);
+        this->Transmittances[i] = array;
+      }
+    }
+  }
   const long long nx = target.Dimensions[0];
   const long long ny = target.Dimensions[1];
   const long long points = target.NumberOfPoints();
@@ -161,11 +196,12 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
             {
               sum[c] += l.Radiance[c] * transmittance[channels == 3 ? c : 0];
             }
+            Record(transmittanceOut[l.Index], id, transmittance, channels);
           }
           for (const auto& l : sphericalLookups)
           {
             const double cone = volillum::ComputeIncidence(l.Light, p).ConeFactor;
-            if (cone == 0.0)
+            if (cone == 0.0 && !transmittanceOut[l.Index])
             {
               continue;
             }
@@ -181,6 +217,7 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
             {
               sum[c] += cone * radiance[c] * transmittance[channels == 3 ? c : 0];
             }
+            Record(transmittanceOut[l.Index], id, transmittance, channels);
           }
           for (int c = 0; c < 3; ++c)
           {
@@ -198,10 +235,23 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
 }
 
 //------------------------------------------------------------------------------
+void vtkFilteredVolumetricShadows::AddOutputArrays(vtkPointData* pointData)
+{
+  for (const auto& array : this->Transmittances)
+  {
+    if (array)
+    {
+      pointData->AddArray(array);
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
 void vtkFilteredVolumetricShadows::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "FilterWidth: " << this->FilterWidth << "\n";
   os << indent << "FilterKernel: " << this->FilterKernel << "\n";
+  os << indent << "PerLightTransmittance: " << this->PerLightTransmittance << "\n";
   os << indent << "SATResolutionScale: " << this->SATResolutionScale << "\n";
 }

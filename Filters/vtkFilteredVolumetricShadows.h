@@ -26,6 +26,9 @@
 #include "SummedAreaTableKernel.h"
 #include "vtkIlluminationVolumeAlgorithm.h"
 
+#include "vtkFloatArray.h"
+#include "vtkSmartPointer.h"
+
 class VOLILLUMFILTERS_EXPORT vtkFilteredVolumetricShadows : public vtkIlluminationVolumeAlgorithm
 {
 public:
@@ -56,6 +59,17 @@ public:
   ///@}
 
   ///@{
+  /**
+   * Also output each light's transmittance (exp(-filtered depth), before any spot cone) as
+   * the point array "Transmittance<i>" for light i that is on: 3 components with chromatic
+   * attenuation, 1 without. Default off.
+   */
+  vtkSetMacro(PerLightTransmittance, bool);
+  vtkGetMacro(PerLightTransmittance, bool);
+  vtkBooleanMacro(PerLightTransmittance, bool);
+  ///@}
+
+  ///@{
   /** Resolution of the summed-area tables relative to the input: 1, 0.5 (default) or 0.25. */
   vtkSetMacro(SATResolutionScale, double);
   vtkGetMacro(SATResolutionScale, double);
@@ -71,6 +85,9 @@ protected:
 
   double FilterWidth = 3.0;
   int FilterKernel = Box;
+  bool PerLightTransmittance = false;
+
+  void AddOutputArrays(vtkPointData* pointData) override;
   double SATResolutionScale = 0.5;
 
 private:
@@ -81,6 +98,7 @@ private:
   std::vector<volillum::CartesianSAT> Tables;
   std::vector<volillum::SphericalSAT> SphericalTables;
   double TablesScale = 0.0;
+  std::vector<vtkSmartPointer<vtkFloatArray>> Transmittances;
 };
 
 #endif

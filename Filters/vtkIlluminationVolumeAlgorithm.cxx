@@ -411,6 +411,7 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
   output->SetOrigin(target.Origin.data());
   output->SetSpacing(target.Spacing.data());
   output->GetPointData()->SetScalars(illumination);
+  this->AddOutputArrays(output->GetPointData());
 
   const double seconds =
     std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -38,6 +38,7 @@
 class vtkColorTransferFunction;
 class vtkLight;
 class vtkPiecewiseFunction;
+class vtkPointData;
 
 class VOLILLUMFILTERS_EXPORT vtkIlluminationVolumeAlgorithm : public vtkImageAlgorithm
 {
@@ -140,6 +141,9 @@ protected:
   virtual bool ComputeIllumination(const volillum::ClassifiedVolume& volume,
     const std::vector<volillum::LightState>& lights, const volillum::GridGeometry& target,
     bool inputModified, float* rgb, UpdateReport& report) = 0;
+
+  /// Add any further point arrays of the last computation to the output (none by default).
+  virtual void AddOutputArrays(vtkPointData* vtkNotUsed(pointData)) {}
 
   /// Report progress; returns false when the update should stop.
   bool ReportProgress(double fraction);

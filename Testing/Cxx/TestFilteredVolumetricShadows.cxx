@@ -226,6 +226,44 @@ TEST(FilteredVolumetricShadows, PointLightTablesFollowTheLight)
   EXPECT_EQ(Passes(filter), 1);
 }
 
+TEST(FilteredVolumetricShadows, PerLightTransmittancesAddUpToTheIllumination)
+{
+  auto image = Spheres(32);
+  vtkNew<vtkFilteredVolumetricShadows> filter;
+  filter->SetInputData(image);
+  filter->SetOpacityFunction(Opacity());
+  filter->PerLightTransmittanceOn();
+  filter->AddLight(DirectionalLight(0.2, 0.1, -1, 1, 0.5, 0));
+  auto off = PointLight(50, 16, 16);
+  off->SwitchOff();
+  filter->AddLight(off);
+  auto point = PointLight(-20, 16, 16, 0, 0.5, 1);
+  point->SetIntensity(2);
+  filter->AddLight(point);
+  filter->Update();
+  vtkPointData* pd = filter->GetOutput()->GetPointData();
+  ASSERT_NE(pd->GetArray("Transmittance0"), nullptr);
+  EXPECT_EQ(pd->GetArray("Transmittance1"), nullptr); // switched off
+  ASSERT_NE(pd->GetArray("Transmittance2"), nullptr);
+  vtkDataArray* t0 = pd->GetArray("Transmittance0");
+  vtkDataArray* t2 = pd->GetArray("Transmittance2");
+  vtkDataArray* illumination = pd->GetArray("Illumination");
+  const double radiance0[3] = { 1, 0.5, 0 }, radiance2[3] = { 0, 1, 2 };
+  double worst = 0.0;
+  for (vtkIdType i = 0; i < illumination->GetNumberOfTuples(); ++i)
+  {
+    EXPECT_GE(t0->GetComponent(i, 0), 0.0);
+    EXPECT_LE(t0->GetComponent(i, 0), 1.0);
+    for (int c = 0; c < 3; ++c)
+    {
+      const double expected =
+        radiance0[c] * t0->GetComponent(i, 0) + radiance2[c] * t2->GetComponent(i, 0);
+      worst = std::max(worst, std::abs(illumination->GetComponent(i, c) - expected));
+    }
+  }
+  EXPECT_LE(worst, 1e-5);
+}
+
 TEST(FilteredVolumetricShadows, BadTableResolutionIsAnError)
 {
   auto image = Spheres(16);
