@@ -3,11 +3,13 @@
 #define IlluminationTestUtilities_h
 
 #include "vtkCommand.h"
+#include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkLight.h"
 #include "vtkNew.h"
 #include "vtkSmartPointer.h"
 
+#include <cmath>
 #include <string>
 
 namespace volillumtest
@@ -26,6 +28,19 @@ public:
   int Count = 0;
   std::string LastMessage;
 };
+
+/// Root-mean-square difference relative to the root-mean-square of the reference.
+inline double RmsRelative(vtkFloatArray* got, vtkFloatArray* reference)
+{
+  double error = 0.0, norm = 0.0;
+  for (vtkIdType i = 0; i < got->GetNumberOfValues(); ++i)
+  {
+    const double d = got->GetValue(i) - reference->GetValue(i);
+    error += d * d;
+    norm += reference->GetValue(i) * reference->GetValue(i);
+  }
+  return std::sqrt(error / norm);
+}
 
 inline vtkSmartPointer<vtkLight> DirectionalLight(
   double dx, double dy, double dz, double r = 1, double g = 1, double b = 1)

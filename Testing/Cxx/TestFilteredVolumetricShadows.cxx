@@ -19,6 +19,7 @@
 using volillumtest::DirectionalLight;
 using volillumtest::ErrorCounter;
 using volillumtest::PointLight;
+using volillumtest::RmsRelative;
 
 namespace
 {
@@ -79,15 +80,7 @@ double HardShadowDifference(
   {
     *tables = Passes(filtered);
   }
-  auto a = Result(filtered);
-  auto b = Result(reference);
-  double error = 0.0, norm = 0.0;
-  for (vtkIdType i = 0; i < a->GetNumberOfValues(); ++i)
-  {
-    error += std::pow(a->GetValue(i) - b->GetValue(i), 2);
-    norm += std::pow(b->GetValue(i), 2);
-  }
-  return std::sqrt(error / norm);
+  return RmsRelative(Result(filtered), Result(reference));
 }
 }
 

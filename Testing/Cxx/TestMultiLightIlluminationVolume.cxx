@@ -24,6 +24,7 @@
 using volillumtest::DirectionalLight;
 using volillumtest::ErrorCounter;
 using volillumtest::PointLight;
+using volillumtest::RmsRelative;
 
 // ---------------------------------------------------------------- allocation accounting
 // Every operator new of this test program is counted so that the peak memory of an update
@@ -93,18 +94,6 @@ vtkSmartPointer<vtkFloatArray> Result(vtkImageAlgorithm* filter)
   auto copy = vtkSmartPointer<vtkFloatArray>::New();
   copy->DeepCopy(filter->GetOutput()->GetPointData()->GetArray("Illumination"));
   return copy;
-}
-
-double RmsRelative(vtkFloatArray* got, vtkFloatArray* reference)
-{
-  double error = 0.0, norm = 0.0;
-  for (vtkIdType i = 0; i < got->GetNumberOfValues(); ++i)
-  {
-    const double d = got->GetValue(i) - reference->GetValue(i);
-    error += d * d;
-    norm += reference->GetValue(i) * reference->GetValue(i);
-  }
-  return std::sqrt(error / norm);
 }
 
 // Largest difference relative to the largest reference value.
