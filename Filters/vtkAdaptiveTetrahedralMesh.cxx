@@ -1,0 +1,209 @@
+#include "vtkAdaptiveTetrahedralMesh.h"
+
+#include "vtkCellArray.h"
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkImageData.h"
+#include "vtkInformation.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkUnstructuredGrid.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Labeled_mesh_domain_3.h>
+#include <CGAL/Mesh_complex_3_in_triangulation_3.h>
+#include <CGAL/Mesh_criteria_3.h>
+#include <CGAL/Mesh_triangulation_3.h>
+#include <CGAL/make_mesh_3.h>
+
+#include <cmath>
+#include <functional>
+#include <map>
+
+vtkStandardNewMacro(vtkAdaptiveTetrahedralMesh);
+
+namespace
+{
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+using Domain = CGAL::Labeled_mesh_domain_3<Kernel>;
+using Triangulation = CGAL::Mesh_triangulation_3<Domain, CGAL::Default, CGAL::Sequential_tag>::type;
+using Complex = CGAL::Mesh_complex_3_in_triangulation_3<Triangulation>;
+using Criteria = CGAL::Mesh_criteria_3<Triangulation>;
+
+// Trilinear interpolation of the image's scalars (component 0) at a world point; NaN
+// outside the image.
+double Interpolate(vtkImageData* image, vtkDataArray* scalars, const double p[3])
+{
+  int dims[3];
+  double origin[3], spacing[3];
+  image->GetDimensions(dims);
+  image->GetOrigin(origin);
+  image->GetSpacing(spacing);
+  const int* extent = image->GetExtent();
+  int i0[3];
+  double f[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    const double u = (p[a] - origin[a]) / spacing[a] - extent[2 * a];
+    if (u < 0.0 || u > dims[a] - 1)
+    {
+      return std::nan("");
+    }
+    i0[a] = std::min(static_cast<int>(u), dims[a] - 2);
+    f[a] = u - i0[a];
+  }
+  double value = 0.0;
+  for (int corner = 0; corner < 8; ++corner)
+  {
+    const int d[3] = { corner & 1, (corner >> 1) & 1, (corner >> 2) & 1 };
+    double w = 1.0;
+    for (int a = 0; a < 3; ++a)
+    {
+      w *= d[a] ? f[a] : 1.0 - f[a];
+    }
+    if (w != 0.0)
+    {
+      const vtkIdType id = (i0[0] + d[0]) +
+        dims[0] * ((i0[1] + d[1]) + static_cast<vtkIdType>(dims[1]) * (i0[2] + d[2]));
+      value += w * scalars->GetComponent(id, 0);
+    }
+  }
+  return value;
+}
+}
+
+//------------------------------------------------------------------------------
+vtkAdaptiveTetrahedralMesh::vtkAdaptiveTetrahedralMesh()
+{
+  this->SetInputArrayToProcess(
+    0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
+}
+
+//------------------------------------------------------------------------------
+int vtkAdaptiveTetrahedralMesh::FillInputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkImageData");
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkAdaptiveTetrahedralMesh::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkImageData* image = vtkImageData::GetData(inputVector[0]);
+  vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector);
+  output->Initialize();
+  int dims[3];
+  image->GetDimensions(dims);
+  if (dims[0] < 2 || dims[1] < 2 || dims[2] < 2)
+  {
+    vtkErrorMacro("Cannot mesh: the image must be 3D (at least 2 points along each axis).");
+    return 1;
+  }
+  vtkDataArray* scalars = this->GetInputArrayToProcess(0, inputVector);
+  if (!scalars)
+  {
+    scalars = image->GetPointData()->GetScalars();
+  }
+  if (!scalars || scalars->GetNumberOfTuples() != image->GetNumberOfPoints())
+  {
+    vtkErrorMacro("Cannot mesh: the image has no numeric point scalars.");
+    return 1;
+  }
+  double range[2];
+  scalars->GetRange(range, 0);
+  if (!(range[1] >= this->IsoValue))
+  {
+    vtkErrorMacro("Cannot mesh: no scalar reaches the iso-value "
+      << this->IsoValue << " (range " << range[0] << " .. " << range[1] << ").");
+    return 1;
+  }
+  double bounds[6], spacing[3];
+  image->GetBounds(bounds);
+  image->GetSpacing(spacing);
+  const double mean = (spacing[0] + spacing[1] + spacing[2]) / 3.0;
+  const double cellSize = this->CellSize > 0.0 ? this->CellSize : 4.0 * mean;
+  const double facetDistance = this->FacetDistance > 0.0 ? this->FacetDistance : 0.5 * mean;
+
+  // Negative inside: the scalar above the iso-value; positive outside the image.
+  const double iso = this->IsoValue;
+  std::function<double(const Point&)> inside = [&](const Point& q)
+  {
+    const double p[3] = { q.x(), q.y(), q.z() };
+    const double v = Interpolate(image, scalars, p);
+    return std::isnan(v) ? 1.0 : iso - v;
+  };
+  const Point centre(
+    0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]), 0.5 * (bounds[4] + bounds[5]));
+  double radius2 = 0.0;
+  for (int a = 0; a < 3; ++a)
+  {
+    const double half = 0.5 * (bounds[2 * a + 1] - bounds[2 * a]) + mean;
+    radius2 += half * half;
+  }
+  namespace params = CGAL::parameters;
+  Domain domain = Domain::create_implicit_mesh_domain(
+    inside, Kernel::Sphere_3(centre, radius2), params::relative_error_bound = 1e-6);
+  Criteria criteria(params::facet_angle = 25, params::facet_size = cellSize,
+    params::facet_distance = facetDistance, params::cell_radius_edge_ratio = 3,
+    params::cell_size = cellSize);
+  this->UpdateProgress(0.1);
+  Complex complex =
+    CGAL::make_mesh_3<Complex>(domain, criteria, params::no_perturb(), params::no_exude());
+  this->UpdateProgress(0.9);
+
+  const Triangulation& tr = complex.triangulation();
+  std::map<Triangulation::Vertex_handle, vtkIdType> ids;
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  vtkNew<vtkCellArray> cells;
+  for (auto c = complex.cells_in_complex_begin(); c != complex.cells_in_complex_end(); ++c)
+  {
+    vtkIdType tet[4];
+    for (int i = 0; i < 4; ++i)
+    {
+      const auto v = c->vertex(i);
+      auto found = ids.find(v);
+      if (found == ids.end())
+      {
+        const auto& wp = tr.point(c, i);
+        found = ids.emplace(v, points->InsertNextPoint(wp.x(), wp.y(), wp.z())).first;
+      }
+      tet[i] = found->second;
+    }
+    cells->InsertNextCell(4, tet);
+  }
+  if (cells->GetNumberOfCells() == 0)
+  {
+    vtkErrorMacro("Cannot mesh: CGAL produced no tetrahedra (region too thin for CellSize?).");
+    return 1;
+  }
+  // The input's scalars at the mesh points.
+  vtkSmartPointer<vtkDataArray> carried;
+  carried.TakeReference(scalars->NewInstance());
+  carried->SetName(scalars->GetName() ? scalars->GetName() : "Scalars");
+  carried->SetNumberOfComponents(1);
+  carried->SetNumberOfTuples(points->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < points->GetNumberOfPoints(); ++i)
+  {
+    double p[3];
+    points->GetPoint(i, p);
+    const double v = Interpolate(image, scalars, p);
+    carried->SetTuple1(i, std::isnan(v) ? iso : v);
+  }
+  output->SetPoints(points);
+  output->SetCells(VTK_TETRA, cells);
+  output->GetPointData()->SetScalars(carried);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkAdaptiveTetrahedralMesh::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "IsoValue: " << this->IsoValue << "\n";
+  os << indent << "CellSize: " << this->CellSize << "\n";
+  os << indent << "FacetDistance: " << this->FacetDistance << "\n";
+}

@@ -1,0 +1,138 @@
+// Tests of vtkAdaptiveTetrahedralMesh (CGAL Mesh_3): a ball from a distance image is
+// meshed with valid, conforming tetrahedra of the right total volume, the image's scalars
+// come along, and images it cannot mesh are errors.
+#include "IlluminationTestUtilities.h"
+#include "vtkAdaptiveTetrahedralMesh.h"
+
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkMath.h"
+#include "vtkPointData.h"
+#include "vtkUnstructuredGrid.h"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <map>
+
+using volillumtest::ErrorCounter;
+
+namespace
+{
+// Radius minus distance to the centre of a 32^3 image: positive inside a ball of radius 10.
+vtkSmartPointer<vtkImageData> Ball()
+{
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->SetDimensions(32, 32, 32);
+  vtkNew<vtkFloatArray> values;
+  values->SetName("Distance");
+  values->SetNumberOfTuples(32 * 32 * 32);
+  for (vtkIdType id = 0; id < values->GetNumberOfTuples(); ++id)
+  {
+    const double p[3] = { id % 32 - 15.5, (id / 32) % 32 - 15.5, id / 1024 - 15.5 };
+    values->SetValue(id, static_cast<float>(10.0 - vtkMath::Norm(p)));
+  }
+  image->GetPointData()->SetScalars(values);
+  return image;
+}
+}
+
+TEST(AdaptiveTetrahedralMesh, BallIsMeshedWithValidConformingTetrahedra)
+{
+  auto image = Ball();
+  vtkNew<vtkAdaptiveTetrahedralMesh> mesher;
+  mesher->SetInputData(image);
+  mesher->SetIsoValue(0.0);
+  mesher->SetCellSize(2.0);
+  mesher->SetFacetDistance(0.15);
+  mesher->Update();
+  vtkUnstructuredGrid* grid = mesher->GetOutput();
+  ASSERT_GT(grid->GetNumberOfCells(), 500);
+  double total = 0.0;
+  int positive = 0, negative = 0;
+  std::map<std::array<vtkIdType, 3>, int> faces;
+  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
+  {
+    vtkIdType n;
+    const vtkIdType* ids;
+    grid->GetCellPoints(c, n, ids);
+    double p[4][3];
+    for (int i = 0; i < 4; ++i)
+    {
+      grid->GetPoint(ids[i], p[i]);
+    }
+    double a[3], b[3], d[3], cross[3];
+    for (int k = 0; k < 3; ++k)
+    {
+      a[k] = p[1][k] - p[0][k];
+      b[k] = p[2][k] - p[0][k];
+      d[k] = p[3][k] - p[0][k];
+    }
+    vtkMath::Cross(b, d, cross);
+    const double volume = vtkMath::Dot(a, cross) / 6.0;
+    (volume > 1e-12 ? positive : negative)++;
+    total += std::abs(volume);
+    for (int skip = 0; skip < 4; ++skip)
+    {
+      std::array<vtkIdType, 3> face;
+      int k = 0;
+      for (int i = 0; i < 4; ++i)
+      {
+        if (i != skip)
+        {
+          face[k++] = ids[i];
+        }
+      }
+      std::sort(face.begin(), face.end());
+      ++faces[face];
+    }
+  }
+  EXPECT_TRUE(positive == 0 || negative == 0) << positive << " / " << negative;
+  for (const auto& f : faces)
+  {
+    EXPECT_LE(f.second, 2);
+  }
+  const double ball = 4.0 / 3.0 * vtkMath::Pi() * 1000.0;
+  std::cout << grid->GetNumberOfCells() << " tetrahedra, volume " << total << " (ball " << ball
+            << ")" << std::endl;
+  // Boundary facets lie inside the sphere, at most FacetDistance from it.
+  EXPECT_LE(total, ball);
+  EXPECT_GE(total, ball - 0.15 * 4.0 * vtkMath::Pi() * 100.0);
+  // The distance values came along: each point's value is its distance inside the ball
+  // (away from the centre, where the distance has a kink trilinear interpolation rounds).
+  vtkDataArray* carried = grid->GetPointData()->GetScalars();
+  ASSERT_NE(carried, nullptr);
+  EXPECT_STREQ(carried->GetName(), "Distance");
+  double worst = 0.0;
+  for (vtkIdType i = 0; i < grid->GetNumberOfPoints(); ++i)
+  {
+    double p[3];
+    grid->GetPoint(i, p);
+    const double q[3] = { p[0] - 15.5, p[1] - 15.5, p[2] - 15.5 };
+    if (vtkMath::Norm(q) > 3.0)
+    {
+      worst = std::max(worst, std::abs(carried->GetTuple1(i) - (10.0 - vtkMath::Norm(q))));
+    }
+  }
+  EXPECT_LE(worst, 0.1);
+}
+
+TEST(AdaptiveTetrahedralMesh, ImagesItCannotMeshAreErrors)
+{
+  vtkNew<vtkImageData> empty3D;
+  empty3D->SetDimensions(8, 8, 8);
+  auto ball = Ball();
+  for (int trial = 0; trial < 2; ++trial)
+  {
+    vtkNew<vtkAdaptiveTetrahedralMesh> mesher;
+    vtkNew<ErrorCounter> errors;
+    mesher->AddObserver(vtkCommand::ErrorEvent, errors);
+    mesher->SetInputData(trial == 0 ? empty3D.Get() : ball.Get());
+    mesher->SetIsoValue(trial == 0 ? 0.0 : 50.0); // the ball's values stay below 50
+    mesher->Update();
+    EXPECT_EQ(errors->Count, 1);
+    std::cout << errors->LastMessage << std::endl;
+    EXPECT_EQ(mesher->GetOutput()->GetNumberOfCells(), 0);
+  }
+}
