@@ -184,7 +184,7 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
           for (const auto& l : lookups)
           {
             const auto& table = this->Tables[l.Table];
-            double transmittance[3];
+            double transmittance[3] = { 1.0, 1.0, 1.0 };
             for (int c = 0; c < channels; ++c)
             {
               const double tau = gaussian.empty()
@@ -207,7 +207,7 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
             }
             const auto& table = this->SphericalTables[l.Table];
             const auto radiance = l.Light.Radiance();
-            double transmittance[3];
+            double transmittance[3] = { 1.0, 1.0, 1.0 };
             for (int c = 0; c < channels; ++c)
             {
               transmittance[c] =
