@@ -8,8 +8,12 @@
 #include "vtkLight.h"
 #include "vtkNew.h"
 #include "vtkSmartPointer.h"
+#include "vtkUnstructuredGrid.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
 #include <string>
 
 namespace volillumtest
@@ -40,6 +44,69 @@ inline double RmsRelative(vtkFloatArray* got, vtkFloatArray* reference)
     norm += reference->GetValue(i) * reference->GetValue(i);
   }
   return std::sqrt(error / norm);
+}
+
+/// What the mesh-validity tests check of a tetrahedral grid.
+struct TetrahedraSummary
+{
+  bool AllTetrahedra = true;
+  int Positive = 0; // tetrahedra with signed volume above 1e-12
+  int Negative = 0; // the others (inverted or degenerate)
+  double TotalVolume = 0.0;
+  double LargestVolume = 0.0;
+  int MostCellsPerFace = 0; // a conforming mesh has 1 (boundary) or 2 (interior)
+  int BoundaryFaces = 0;
+};
+
+inline TetrahedraSummary SummarizeTetrahedra(vtkUnstructuredGrid* grid)
+{
+  TetrahedraSummary summary;
+  std::map<std::array<vtkIdType, 3>, int> faces;
+  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
+  {
+    summary.AllTetrahedra = summary.AllTetrahedra && grid->GetCellType(c) == VTK_TETRA;
+    vtkIdType n;
+    const vtkIdType* ids;
+    grid->GetCellPoints(c, n, ids);
+    double p[4][3];
+    for (int i = 0; i < 4; ++i)
+    {
+      grid->GetPoint(ids[i], p[i]);
+    }
+    double a[3], b[3], d[3];
+    for (int k = 0; k < 3; ++k)
+    {
+      a[k] = p[1][k] - p[0][k];
+      b[k] = p[2][k] - p[0][k];
+      d[k] = p[3][k] - p[0][k];
+    }
+    const double volume = (a[0] * (b[1] * d[2] - b[2] * d[1]) - a[1] * (b[0] * d[2] - b[2] * d[0]) +
+                            a[2] * (b[0] * d[1] - b[1] * d[0])) /
+      6.0;
+    (volume > 1e-12 ? summary.Positive : summary.Negative)++;
+    summary.TotalVolume += std::abs(volume);
+    summary.LargestVolume = std::max(summary.LargestVolume, std::abs(volume));
+    for (int skip = 0; skip < 4; ++skip)
+    {
+      std::array<vtkIdType, 3> face;
+      int k = 0;
+      for (int i = 0; i < 4; ++i)
+      {
+        if (i != skip)
+        {
+          face[k++] = ids[i];
+        }
+      }
+      std::sort(face.begin(), face.end());
+      ++faces[face];
+    }
+  }
+  for (const auto& f : faces)
+  {
+    summary.MostCellsPerFace = std::max(summary.MostCellsPerFace, f.second);
+    summary.BoundaryFaces += f.second == 1 ? 1 : 0;
+  }
+  return summary;
 }
 
 inline vtkSmartPointer<vtkLight> DirectionalLight(

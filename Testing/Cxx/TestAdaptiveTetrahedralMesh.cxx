@@ -12,9 +12,8 @@
 
 #include <gtest/gtest.h>
 
-#include <array>
+#include <algorithm>
 #include <cmath>
-#include <map>
 
 using volillumtest::ErrorCounter;
 
@@ -49,50 +48,11 @@ TEST(AdaptiveTetrahedralMesh, BallIsMeshedWithValidConformingTetrahedra)
   mesher->Update();
   vtkUnstructuredGrid* grid = mesher->GetOutput();
   ASSERT_GT(grid->GetNumberOfCells(), 500);
-  double total = 0.0;
-  int positive = 0, negative = 0;
-  std::map<std::array<vtkIdType, 3>, int> faces;
-  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
-  {
-    vtkIdType n;
-    const vtkIdType* ids;
-    grid->GetCellPoints(c, n, ids);
-    double p[4][3];
-    for (int i = 0; i < 4; ++i)
-    {
-      grid->GetPoint(ids[i], p[i]);
-    }
-    double a[3], b[3], d[3], cross[3];
-    for (int k = 0; k < 3; ++k)
-    {
-      a[k] = p[1][k] - p[0][k];
-      b[k] = p[2][k] - p[0][k];
-      d[k] = p[3][k] - p[0][k];
-    }
-    vtkMath::Cross(b, d, cross);
-    const double volume = vtkMath::Dot(a, cross) / 6.0;
-    (volume > 1e-12 ? positive : negative)++;
-    total += std::abs(volume);
-    for (int skip = 0; skip < 4; ++skip)
-    {
-      std::array<vtkIdType, 3> face;
-      int k = 0;
-      for (int i = 0; i < 4; ++i)
-      {
-        if (i != skip)
-        {
-          face[k++] = ids[i];
-        }
-      }
-      std::sort(face.begin(), face.end());
-      ++faces[face];
-    }
-  }
-  EXPECT_TRUE(positive == 0 || negative == 0) << positive << " / " << negative;
-  for (const auto& f : faces)
-  {
-    EXPECT_LE(f.second, 2);
-  }
+  const auto mesh = volillumtest::SummarizeTetrahedra(grid);
+  EXPECT_TRUE(mesh.AllTetrahedra);
+  EXPECT_TRUE(mesh.Positive == 0 || mesh.Negative == 0) << mesh.Positive << " / " << mesh.Negative;
+  EXPECT_LE(mesh.MostCellsPerFace, 2);
+  const double total = mesh.TotalVolume;
   const double ball = 4.0 / 3.0 * vtkMath::Pi() * 1000.0;
   std::cout << grid->GetNumberOfCells() << " tetrahedra, volume " << total << " (ball " << ball
             << ")" << std::endl;

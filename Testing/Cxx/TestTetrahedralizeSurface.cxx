@@ -12,11 +12,6 @@
 #include "vtkUnstructuredGrid.h"
 
 #include <gtest/gtest.h>
-
-#include <algorithm>
-#include <array>
-#include <map>
-
 using volillumtest::ErrorCounter;
 
 namespace
@@ -31,28 +26,6 @@ vtkSmartPointer<vtkPolyData> Sphere(double x, double radius)
   sphere->Update();
   return sphere->GetOutput();
 }
-
-double SignedVolume(vtkUnstructuredGrid* grid, vtkIdType cell)
-{
-  vtkIdType n;
-  const vtkIdType* ids;
-  grid->GetCellPoints(cell, n, ids);
-  double p[4][3];
-  for (int i = 0; i < 4; ++i)
-  {
-    grid->GetPoint(ids[i], p[i]);
-  }
-  double a[3], b[3], c[3];
-  for (int k = 0; k < 3; ++k)
-  {
-    a[k] = p[1][k] - p[0][k];
-    b[k] = p[2][k] - p[0][k];
-    c[k] = p[3][k] - p[0][k];
-  }
-  return (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-           a[2] * (b[0] * c[1] - b[1] * c[0])) /
-    6.0;
-}
 }
 
 TEST(TetrahedralizeSurface, MeshIsValidConformingAndFillsTheSurface)
@@ -65,53 +38,21 @@ TEST(TetrahedralizeSurface, MeshIsValidConformingAndFillsTheSurface)
   vtkUnstructuredGrid* grid = mesher->GetOutput();
   ASSERT_GT(grid->GetNumberOfCells(), 100);
 
-  double total = 0.0;
-  int positive = 0, negative = 0;
-  double largest = 0.0;
-  std::map<std::array<vtkIdType, 3>, int> faces;
-  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
-  {
-    ASSERT_EQ(grid->GetCellType(c), VTK_TETRA);
-    const double v = SignedVolume(grid, c);
-    (v > 0 ? positive : negative)++;
-    total += std::abs(v);
-    largest = std::max(largest, std::abs(v));
-    vtkIdType n;
-    const vtkIdType* ids;
-    grid->GetCellPoints(c, n, ids);
-    for (int skip = 0; skip < 4; ++skip)
-    {
-      std::array<vtkIdType, 3> face;
-      int k = 0;
-      for (int i = 0; i < 4; ++i)
-      {
-        if (i != skip)
-        {
-          face[k++] = ids[i];
-        }
-      }
-      std::sort(face.begin(), face.end());
-      ++faces[face];
-    }
-  }
+  const auto mesh = volillumtest::SummarizeTetrahedra(grid);
+  EXPECT_TRUE(mesh.AllTetrahedra);
   // Every tetrahedron has volume, all with the same orientation.
-  EXPECT_TRUE(positive == 0 || negative == 0);
-  EXPECT_LE(largest, 0.002 * (1 + 1e-9));
+  EXPECT_TRUE(mesh.Positive == 0 || mesh.Negative == 0);
+  EXPECT_LE(mesh.LargestVolume, 0.002 * (1 + 1e-9));
   // Conforming: a face belongs to one tetrahedron (boundary) or two (interior).
-  int boundary = 0;
-  for (const auto& f : faces)
-  {
-    EXPECT_LE(f.second, 2);
-    boundary += f.second == 1 ? 1 : 0;
-  }
-  EXPECT_GE(boundary, surface->GetNumberOfPolys());
+  EXPECT_LE(mesh.MostCellsPerFace, 2);
+  EXPECT_GE(mesh.BoundaryFaces, surface->GetNumberOfPolys());
   // The tetrahedra fill exactly the polyhedron the surface encloses.
   vtkNew<vtkMassProperties> mass;
   mass->SetInputData(surface);
   mass->Update();
-  std::cout << grid->GetNumberOfCells() << " tetrahedra, volume " << total << " vs "
+  std::cout << grid->GetNumberOfCells() << " tetrahedra, volume " << mesh.TotalVolume << " vs "
             << mass->GetVolume() << std::endl;
-  EXPECT_NEAR(total, mass->GetVolume(), 1e-9 * mass->GetVolume());
+  EXPECT_NEAR(mesh.TotalVolume, mass->GetVolume(), 1e-9 * mass->GetVolume());
 }
 
 TEST(TetrahedralizeSurface, OpenAndSelfIntersectingSurfacesAreErrors)
