@@ -12,6 +12,7 @@
 #include "vtkUnstructuredGrid.h"
 
 #include <gtest/gtest.h>
+
 using volillumtest::ErrorCounter;
 
 namespace
