@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 namespace volillum
 {
@@ -163,6 +164,126 @@ std::vector<int> LightChangeTracker::ChangedLights(const std::vector<LightState>
     }
   }
   return changed;
+}
+
+//------------------------------------------------------------------------------
+bool LightList::Add(vtkLight* light)
+{
+  if (!light)
+  {
+    return false;
+  }
+  this->Lights.emplace_back(light);
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool LightList::Clear()
+{
+  const bool had = !this->Lights.empty();
+  this->Lights.clear();
+  return had;
+}
+
+//------------------------------------------------------------------------------
+vtkLight* LightList::Get(int index) const
+{
+  return index >= 0 && index < this->Size() ? this->Lights[index].Get() : nullptr;
+}
+
+//------------------------------------------------------------------------------
+bool LightList::SetNumberOfParameters(int count, bool& changed)
+{
+  changed = false;
+  if (count < 0 || count % LightParameterCount != 0)
+  {
+    return false;
+  }
+  const size_t lights = static_cast<size_t>(count / LightParameterCount);
+  changed = lights != this->Lights.size();
+  while (this->Lights.size() < lights)
+  {
+    this->Lights.push_back(vtkSmartPointer<vtkLight>::New());
+  }
+  this->Lights.resize(lights);
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool LightList::SetParameter(int index, double value)
+{
+  const int light = index / LightParameterCount;
+  if (index < 0 || light >= this->Size())
+  {
+    return false;
+  }
+  double p[LightParameterCount];
+  GetLightParameters(this->Lights[light], p);
+  p[index % LightParameterCount] = value;
+  // vtkLight marks itself modified only for values that change.
+  ApplyLightParameters(this->Lights[light], p);
+  return true;
+}
+
+//------------------------------------------------------------------------------
+double LightList::GetParameter(int index) const
+{
+  const int light = index / LightParameterCount;
+  if (index < 0 || light >= this->Size())
+  {
+    return 0.0;
+  }
+  double p[LightParameterCount];
+  GetLightParameters(this->Lights[light], p);
+  return p[index % LightParameterCount];
+}
+
+//------------------------------------------------------------------------------
+std::vector<LightState> LightList::States() const
+{
+  std::vector<LightState> states;
+  states.reserve(this->Lights.size());
+  for (const auto& light : this->Lights)
+  {
+    states.push_back(CaptureLight(light));
+  }
+  return states;
+}
+
+//------------------------------------------------------------------------------
+vtkMTimeType LightList::GetMTime() const
+{
+  vtkMTimeType t = 0;
+  for (const auto& light : this->Lights)
+  {
+    t = std::max(t, light->GetMTime());
+  }
+  return t;
+}
+
+//------------------------------------------------------------------------------
+std::string LightList::Validate() const
+{
+  std::ostringstream message;
+  for (int i = 0; i < this->Size(); ++i)
+  {
+    double p[LightParameterCount];
+    GetLightParameters(this->Lights[i], p);
+    for (double v : p)
+    {
+      if (!std::isfinite(v))
+      {
+        message << "Light " << i << " has a parameter that is not a finite number.";
+        return message.str();
+      }
+    }
+    if (CaptureLight(this->Lights[i]).Intensity < 0.0)
+    {
+      message << "Light " << i << " has a negative intensity.";
+      return message.str();
+    }
+  }
+  return std::string();
 }
 
 }

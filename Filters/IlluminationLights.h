@@ -14,7 +14,11 @@
 
 #include "VolIllumFiltersModule.h"
 
+#include "vtkSmartPointer.h"
+#include "vtkType.h"
+
 #include <array>
+#include <string>
 #include <vector>
 
 class vtkLight;
@@ -99,6 +103,41 @@ public:
 
 private:
   std::vector<LightState> Applied;
+};
+
+/**
+ * The lights of one filter: vtkLight objects held by reference, editable one by one or
+ * through the flat list of LightParameterCount numbers per light that ParaView's "Lights"
+ * property sends. Every illumination filter forwards its light API to one of these.
+ */
+class VOLILLUMFILTERS_EXPORT LightList
+{
+public:
+  /// Add a light; returns false for a null light.
+  bool Add(vtkLight* light);
+  /// Remove every light; returns whether there were any.
+  bool Clear();
+  int Size() const { return static_cast<int>(this->Lights.size()); }
+  vtkLight* Get(int index) const;
+
+  /// Create or remove lights so that there are count / LightParameterCount of them.
+  /// Returns false (and changes nothing) when count is not a multiple of it; changed
+  /// tells whether lights were added or removed.
+  bool SetNumberOfParameters(int count, bool& changed);
+  int GetNumberOfParameters() const { return this->Size() * LightParameterCount; }
+  /// Edit one value of the flat list; returns false when the index is out of range.
+  bool SetParameter(int index, double value);
+  double GetParameter(int index) const;
+
+  std::vector<LightState> States() const;
+  /// Latest modification time of the lights (0 without lights).
+  vtkMTimeType GetMTime() const;
+  /// Empty when every light is usable, otherwise what is wrong (non-finite parameter,
+  /// negative intensity).
+  std::string Validate() const;
+
+private:
+  std::vector<vtkSmartPointer<vtkLight>> Lights;
 };
 
 }

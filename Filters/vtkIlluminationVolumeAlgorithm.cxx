@@ -35,18 +35,7 @@ bool vtkIlluminationVolumeAlgorithm::ClassificationKey::operator==(const Classif
 //------------------------------------------------------------------------------
 vtkIlluminationVolumeAlgorithm::vtkIlluminationVolumeAlgorithm()
 {
-  // Debian's ParaView defaults to the Sequential SMP backend; unless the user chose one
-  // with VTK_SMP_BACKEND_IN_USE, the illumination filters run on every core.
-  static const bool backendChosen = []
-  {
-    if (!std::getenv("VTK_SMP_BACKEND_IN_USE") &&
-      std::string(vtkSMPTools::GetBackend()) == "Sequential")
-    {
-      vtkSMPTools::SetBackend("STDThread");
-    }
-    return true;
-  }();
-  (void)backendChosen;
+  volillum::UseThreadedBackend();
   this->SetInputArrayToProcess(
     0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
 }
@@ -61,9 +50,8 @@ vtkIlluminationVolumeAlgorithm::~vtkIlluminationVolumeAlgorithm()
 //------------------------------------------------------------------------------
 void vtkIlluminationVolumeAlgorithm::AddLight(vtkLight* light)
 {
-  if (light)
+  if (this->Lights.Add(light))
   {
-    this->Lights.emplace_back(light);
     this->Modified();
   }
 }
@@ -71,9 +59,8 @@ void vtkIlluminationVolumeAlgorithm::AddLight(vtkLight* light)
 //------------------------------------------------------------------------------
 void vtkIlluminationVolumeAlgorithm::RemoveAllLights()
 {
-  if (!this->Lights.empty())
+  if (this->Lights.Clear())
   {
-    this->Lights.clear();
     this->Modified();
   }
 }
@@ -81,86 +68,55 @@ void vtkIlluminationVolumeAlgorithm::RemoveAllLights()
 //------------------------------------------------------------------------------
 vtkLight* vtkIlluminationVolumeAlgorithm::GetLight(int index) const
 {
-  return index >= 0 && index < this->GetNumberOfLights() ? this->Lights[index].Get() : nullptr;
+  return this->Lights.Get(index);
 }
 
 //------------------------------------------------------------------------------
 void vtkIlluminationVolumeAlgorithm::SetNumberOfLightParameters(int count)
 {
-  if (count < 0 || count % volillum::LightParameterCount != 0)
+  bool changed = false;
+  if (!this->Lights.SetNumberOfParameters(count, changed))
   {
     vtkErrorMacro("The light list needs " << volillum::LightParameterCount
                                           << " numbers per light, got " << count << ".");
-    return;
   }
-  const size_t lights = static_cast<size_t>(count / volillum::LightParameterCount);
-  if (lights == this->Lights.size())
+  if (changed)
   {
-    return;
+    this->Modified();
   }
-  while (this->Lights.size() < lights)
-  {
-    this->Lights.push_back(vtkSmartPointer<vtkLight>::New());
-  }
-  this->Lights.resize(lights);
-  this->Modified();
 }
 
 //------------------------------------------------------------------------------
 int vtkIlluminationVolumeAlgorithm::GetNumberOfLightParameters() const
 {
-  return this->GetNumberOfLights() * volillum::LightParameterCount;
+  return this->Lights.GetNumberOfParameters();
 }
 
 //------------------------------------------------------------------------------
 void vtkIlluminationVolumeAlgorithm::SetLightParameter(int index, double value)
 {
-  const int light = index / volillum::LightParameterCount;
-  if (index < 0 || light >= this->GetNumberOfLights())
+  if (!this->Lights.SetParameter(index, value))
   {
     vtkErrorMacro("Light parameter " << index << " is out of range.");
-    return;
   }
-  double p[volillum::LightParameterCount];
-  volillum::GetLightParameters(this->Lights[light], p);
-  p[index % volillum::LightParameterCount] = value;
-  // vtkLight marks itself modified only for values that change.
-  volillum::ApplyLightParameters(this->Lights[light], p);
 }
 
 //------------------------------------------------------------------------------
 double vtkIlluminationVolumeAlgorithm::GetLightParameter(int index) const
 {
-  const int light = index / volillum::LightParameterCount;
-  if (index < 0 || light >= this->GetNumberOfLights())
-  {
-    return 0.0;
-  }
-  double p[volillum::LightParameterCount];
-  volillum::GetLightParameters(this->Lights[light], p);
-  return p[index % volillum::LightParameterCount];
+  return this->Lights.GetParameter(index);
 }
 
 //------------------------------------------------------------------------------
 std::vector<volillum::LightState> vtkIlluminationVolumeAlgorithm::GetLightStates() const
 {
-  std::vector<volillum::LightState> states;
-  states.reserve(this->Lights.size());
-  for (const auto& light : this->Lights)
-  {
-    states.push_back(volillum::CaptureLight(light));
-  }
-  return states;
+  return this->Lights.States();
 }
 
 //------------------------------------------------------------------------------
 vtkMTimeType vtkIlluminationVolumeAlgorithm::GetMTime()
 {
-  vtkMTimeType t = this->Superclass::GetMTime();
-  for (const auto& light : this->Lights)
-  {
-    t = std::max(t, light->GetMTime());
-  }
+  vtkMTimeType t = std::max(this->Superclass::GetMTime(), this->Lights.GetMTime());
   if (this->ColorTransferFunction)
   {
     t = std::max(t, this->ColorTransferFunction->GetMTime());
@@ -303,58 +259,20 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
   {
     return 1;
   }
-  vtkDataArray* scalars = this->GetInputArrayToProcess(0, inputVector);
-  vtkInformation* arrayInfo = this->GetInputArrayInformation(0);
-  const char* requested = arrayInfo->Has(vtkDataObject::FIELD_NAME())
-    ? arrayInfo->Get(vtkDataObject::FIELD_NAME())
-    : nullptr;
-  if (!scalars && (!requested || !*requested))
-  {
-    // No array chosen (ParaView leaves the name empty when the input was not updated yet):
-    // use the active point scalars.
-    scalars = input->GetPointData()->GetScalars();
-  }
+  std::string error;
+  vtkDataArray* scalars = volillum::FindPointScalars(this, input, error);
   if (!scalars)
   {
-    vtkAbstractArray* named = nullptr;
-    int association = 0;
-    named = this->GetInputAbstractArrayToProcess(0, input, association);
-    if (named)
-    {
-      vtkErrorMacro("The array '" << (named->GetName() ? named->GetName() : "")
-                                  << "' is not numeric; choose a numeric point array.");
-    }
-    else
-    {
-      vtkErrorMacro("The input has no point scalars to illuminate.");
-    }
-    return 1;
-  }
-  if (scalars->GetNumberOfTuples() != input->GetNumberOfPoints())
-  {
-    vtkErrorMacro("The scalars '" << (scalars->GetName() ? scalars->GetName() : "")
-                                  << "' are not point data; choose a point array.");
+    vtkErrorMacro(<< error);
     return 1;
   }
 
   const std::vector<volillum::LightState> lights = this->GetLightStates();
-  for (size_t i = 0; i < lights.size(); ++i)
+  error = this->Lights.Validate();
+  if (!error.empty())
   {
-    double p[volillum::LightParameterCount];
-    volillum::GetLightParameters(this->Lights[i], p);
-    for (double v : p)
-    {
-      if (!std::isfinite(v))
-      {
-        vtkErrorMacro("Light " << i << " has a parameter that is not a finite number.");
-        return 1;
-      }
-    }
-    if (lights[i].Intensity < 0.0)
-    {
-      vtkErrorMacro("Light " << i << " has a negative intensity.");
-      return 1;
-    }
+    vtkErrorMacro(<< error);
+    return 1;
   }
 
   ClassificationKey key;
@@ -375,7 +293,6 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
     settings.Opacity = this->OpacityFunction;
     settings.UnitDistance = this->ScalarOpacityUnitDistance;
     settings.Chromatic = this->ChromaticAttenuation;
-    std::string error;
     long long nans = 0;
     this->HasClassification = false;
     if (!volillum::Classify(scalars, data, settings, this->Classified, error, &nans))
@@ -415,22 +332,7 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
 
   const double seconds =
     std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  vtkNew<vtkIntArray> mode;
-  mode->SetName("UpdateMode");
-  mode->InsertNextValue(report.Mode);
-  vtkNew<vtkIntArray> passes;
-  passes->SetName("PropagationPasses");
-  passes->InsertNextValue(report.Passes);
-  vtkNew<vtkDoubleArray> time;
-  time->SetName("UpdateSeconds");
-  time->InsertNextValue(seconds);
-  vtkNew<vtkIntArray> pending;
-  pending->SetName("PendingPasses");
-  pending->InsertNextValue(report.PendingPasses);
-  output->GetFieldData()->AddArray(mode);
-  output->GetFieldData()->AddArray(passes);
-  output->GetFieldData()->AddArray(pending);
-  output->GetFieldData()->AddArray(time);
+  volillum::AddUpdateFieldData(output->GetFieldData(), report, seconds);
   this->LastOutput = vtkSmartPointer<vtkImageData>::New();
   this->LastOutput->ShallowCopy(output);
   return 1;
@@ -440,7 +342,7 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
 void vtkIlluminationVolumeAlgorithm::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "Lights: " << this->Lights.size() << "\n";
+  os << indent << "Lights: " << this->Lights.Size() << "\n";
   os << indent << "ResolutionScale: " << this->ResolutionScale << "\n";
   os << indent << "ScalarOpacityUnitDistance: " << this->ScalarOpacityUnitDistance << "\n";
   os << indent << "ChromaticAttenuation: " << this->ChromaticAttenuation << "\n";

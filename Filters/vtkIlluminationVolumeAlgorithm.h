@@ -27,6 +27,7 @@
 #define vtkIlluminationVolumeAlgorithm_h
 
 #include "IlluminationClassification.h"
+#include "IlluminationFilterSupport.h"
 #include "IlluminationLights.h"
 #include "VolIllumFiltersModule.h"
 #include "vtkImageAlgorithm.h"
@@ -53,7 +54,7 @@ public:
    */
   void AddLight(vtkLight* light);
   void RemoveAllLights();
-  int GetNumberOfLights() const { return static_cast<int>(this->Lights.size()); }
+  int GetNumberOfLights() const { return this->Lights.Size(); }
   vtkLight* GetLight(int index) const;
   ///@}
 
@@ -124,13 +125,7 @@ protected:
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  /// What one update did, reported in the output's field data.
-  struct UpdateReport
-  {
-    int Mode = 0;
-    int Passes = 0;
-    int PendingPasses = 0;
-  };
+  using UpdateReport = volillum::UpdateReport;
 
   /**
    * Compute the illumination of all lights on the illumination grid into rgb (3 floats a
@@ -148,7 +143,7 @@ protected:
   /// Report progress; returns false when the update should stop.
   bool ReportProgress(double fraction);
 
-  std::vector<vtkSmartPointer<vtkLight>> Lights;
+  volillum::LightList Lights;
   double ResolutionScale = 1.0;
   vtkColorTransferFunction* ColorTransferFunction = nullptr;
   vtkPiecewiseFunction* OpacityFunction = nullptr;

@@ -1,0 +1,88 @@
+#include "IlluminationFilterSupport.h"
+
+#include "vtkAlgorithm.h"
+#include "vtkCellData.h"
+#include "vtkDataArray.h"
+#include "vtkDataObject.h"
+#include "vtkDataSet.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkInformation.h"
+#include "vtkIntArray.h"
+#include "vtkNew.h"
+#include "vtkPointData.h"
+#include "vtkSMPTools.h"
+
+#include <cstdlib>
+
+namespace volillum
+{
+
+//------------------------------------------------------------------------------
+void UseThreadedBackend()
+{
+  static const bool chosen = []
+  {
+    if (!std::getenv("VTK_SMP_BACKEND_IN_USE") &&
+      std::string(vtkSMPTools::GetBackend()) == "Sequential")
+    {
+      vtkSMPTools::SetBackend("STDThread");
+    }
+    return true;
+  }();
+  (void)chosen;
+}
+
+//------------------------------------------------------------------------------
+vtkDataArray* FindPointScalars(vtkAlgorithm* algorithm, vtkDataSet* input, std::string& error)
+{
+  vtkInformation* arrayInfo = algorithm->GetInputArrayInformation(0);
+  const char* requested = arrayInfo && arrayInfo->Has(vtkDataObject::FIELD_NAME())
+    ? arrayInfo->Get(vtkDataObject::FIELD_NAME())
+    : nullptr;
+  if (!requested || !*requested)
+  {
+    vtkDataArray* active = input->GetPointData()->GetScalars();
+    if (!active)
+    {
+      error = "The input has no point scalars to illuminate.";
+    }
+    return active;
+  }
+  const std::string name(requested);
+  vtkAbstractArray* named = input->GetPointData()->GetAbstractArray(requested);
+  if (!named)
+  {
+    error = input->GetCellData()->GetAbstractArray(requested)
+      ? "The scalars '" + name + "' are not point data; choose a point array."
+      : "The input has no point array '" + name + "' to illuminate.";
+    return nullptr;
+  }
+  vtkDataArray* scalars = vtkDataArray::SafeDownCast(named);
+  if (!scalars)
+  {
+    error = "The array '" + name + "' is not numeric; choose a numeric point array.";
+  }
+  return scalars;
+}
+
+//------------------------------------------------------------------------------
+void AddUpdateFieldData(vtkFieldData* fieldData, const UpdateReport& report, double seconds)
+{
+  const auto addInt = [fieldData](const char* name, int value)
+  {
+    vtkNew<vtkIntArray> array;
+    array->SetName(name);
+    array->InsertNextValue(value);
+    fieldData->AddArray(array);
+  };
+  addInt("UpdateMode", report.Mode);
+  addInt("PropagationPasses", report.Passes);
+  addInt("PendingPasses", report.PendingPasses);
+  vtkNew<vtkDoubleArray> time;
+  time->SetName("UpdateSeconds");
+  time->InsertNextValue(seconds);
+  fieldData->AddArray(time);
+}
+
+}

@@ -1,0 +1,48 @@
+/**
+ * @file IlluminationFilterSupport.h
+ * @brief Pieces every illumination filter shares whatever its data type: the SMP backend
+ * choice, finding the point scalars to classify and the field arrays that report an
+ * update.
+ */
+#ifndef IlluminationFilterSupport_h
+#define IlluminationFilterSupport_h
+
+#include "VolIllumFiltersModule.h"
+
+#include <string>
+
+class vtkAlgorithm;
+class vtkDataArray;
+class vtkDataSet;
+class vtkFieldData;
+
+namespace volillum
+{
+
+/// Debian's ParaView defaults to the Sequential SMP backend; unless the user chose one
+/// with VTK_SMP_BACKEND_IN_USE, switch to STDThread so the filters use every core.
+VOLILLUMFILTERS_EXPORT void UseThreadedBackend();
+
+/**
+ * The point array the algorithm's input array 0 names (SetInputArrayToProcess); the active point scalars when
+ * no array was chosen (ParaView leaves the name empty before the input first updated).
+ * Returns nullptr with the reason in error when there are none usable.
+ */
+VOLILLUMFILTERS_EXPORT vtkDataArray* FindPointScalars(
+  vtkAlgorithm* algorithm, vtkDataSet* input, std::string& error);
+
+/// What one update did, reported in the output's field data.
+struct UpdateReport
+{
+  int Mode = 0;          // 0 full, 1 selective
+  int Passes = 0;        // propagation passes, sweeps or lights the update propagated
+  int PendingPasses = 0; // passes left for a later update
+};
+
+/// Add the field arrays UpdateMode, PropagationPasses, PendingPasses and UpdateSeconds.
+VOLILLUMFILTERS_EXPORT void AddUpdateFieldData(
+  vtkFieldData* fieldData, const UpdateReport& report, double seconds);
+
+}
+
+#endif
