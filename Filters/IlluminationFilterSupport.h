@@ -24,8 +24,8 @@ namespace volillum
 VOLILLUMFILTERS_EXPORT void UseThreadedBackend();
 
 /**
- * The point array the algorithm's input array 0 names (SetInputArrayToProcess); the active point scalars when
- * no array was chosen (ParaView leaves the name empty before the input first updated).
+ * The point array the algorithm's input array 0 names (SetInputArrayToProcess); the active point
+ * scalars when no array was chosen (ParaView leaves the name empty before the input first updated).
  * Returns nullptr with the reason in error when there are none usable.
  */
 VOLILLUMFILTERS_EXPORT vtkDataArray* FindPointScalars(

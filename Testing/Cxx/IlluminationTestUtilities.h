@@ -9,10 +9,13 @@
 #include "vtkNew.h"
 #include "vtkSmartPointer.h"
 #include "vtkUnstructuredGrid.h"
+#include "vtkUnstructuredGridReader.h"
+#include "vtkXMLUnstructuredGridReader.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <fstream>
 #include <map>
 #include <string>
 
@@ -107,6 +110,26 @@ inline TetrahedraSummary SummarizeTetrahedra(vtkUnstructuredGrid* grid)
     summary.BoundaryFaces += f.second == 1 ? 1 : 0;
   }
   return summary;
+}
+
+/// Read a .vtu or legacy .vtk unstructured grid; nullptr when the file is missing.
+inline vtkSmartPointer<vtkUnstructuredGrid> ReadUnstructuredGrid(const std::string& path)
+{
+  if (!std::ifstream(path).good())
+  {
+    return nullptr;
+  }
+  if (path.size() > 4 && path.compare(path.size() - 4, 4, ".vtu") == 0)
+  {
+    vtkNew<vtkXMLUnstructuredGridReader> reader;
+    reader->SetFileName(path.c_str());
+    reader->Update();
+    return reader->GetOutput();
+  }
+  vtkNew<vtkUnstructuredGridReader> reader;
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  return reader->GetOutput();
 }
 
 inline vtkSmartPointer<vtkLight> DirectionalLight(

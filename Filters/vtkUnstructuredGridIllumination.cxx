@@ -1,0 +1,421 @@
+#include "vtkUnstructuredGridIllumination.h"
+
+#include "IlluminationFilterSupport.h"
+#include "vtkCellArray.h"
+#include "vtkCellArrayIterator.h"
+#include "vtkCellTypes.h"
+#include "vtkColorTransferFunction.h"
+#include "vtkDataArray.h"
+#include "vtkDataSetTriangleFilter.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkFloatArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkLight.h"
+#include "vtkObjectFactory.h"
+#include "vtkPiecewiseFunction.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkSMPTools.h"
+#include "vtkUnstructuredGrid.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+
+vtkStandardNewMacro(vtkUnstructuredGridIllumination);
+vtkCxxSetObjectMacro(
+  vtkUnstructuredGridIllumination, ColorTransferFunction, vtkColorTransferFunction);
+vtkCxxSetObjectMacro(vtkUnstructuredGridIllumination, OpacityFunction, vtkPiecewiseFunction);
+
+namespace
+{
+using Clock = std::chrono::steady_clock;
+
+double SecondsSince(Clock::time_point start)
+{
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// The transmittance of a light depends on where light comes from, not on its colour,
+// intensity, switch or spot cone (the cone is applied when lights are combined).
+bool SameGeometry(const volillum::LightState& a, const volillum::LightState& b)
+{
+  const bool positional = a.Kind != volillum::LightKind::Directional;
+  if (positional != (b.Kind != volillum::LightKind::Directional))
+  {
+    return false;
+  }
+  return positional ? a.Position == b.Position : a.Direction() == b.Direction();
+}
+
+void AddSeconds(vtkFieldData* fieldData, const char* name, double seconds)
+{
+  vtkNew<vtkDoubleArray> array;
+  array->SetName(name);
+  array->InsertNextValue(seconds);
+  fieldData->AddArray(array);
+}
+}
+
+//------------------------------------------------------------------------------
+vtkUnstructuredGridIllumination::vtkUnstructuredGridIllumination()
+{
+  volillum::UseThreadedBackend();
+  this->SetInputArrayToProcess(
+    0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
+}
+
+//------------------------------------------------------------------------------
+vtkUnstructuredGridIllumination::~vtkUnstructuredGridIllumination()
+{
+  this->SetColorTransferFunction(nullptr);
+  this->SetOpacityFunction(nullptr);
+}
+
+//------------------------------------------------------------------------------
+void vtkUnstructuredGridIllumination::AddLight(vtkLight* light)
+{
+  if (this->Lights.Add(light))
+  {
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkUnstructuredGridIllumination::RemoveAllLights()
+{
+  if (this->Lights.Clear())
+  {
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkUnstructuredGridIllumination::SetNumberOfLightParameters(int count)
+{
+  bool changed = false;
+  if (!this->Lights.SetNumberOfParameters(count, changed))
+  {
+    vtkErrorMacro("The light list needs " << volillum::LightParameterCount
+                                          << " numbers per light, got " << count << ".");
+  }
+  if (changed)
+  {
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkUnstructuredGridIllumination::SetLightParameter(int index, double value)
+{
+  if (!this->Lights.SetParameter(index, value))
+  {
+    vtkErrorMacro("Light parameter " << index << " is out of range.");
+  }
+}
+
+//------------------------------------------------------------------------------
+vtkMTimeType vtkUnstructuredGridIllumination::GetMTime()
+{
+  vtkMTimeType t = std::max(this->Superclass::GetMTime(), this->Lights.GetMTime());
+  if (this->ColorTransferFunction)
+  {
+    t = std::max(t, this->ColorTransferFunction->GetMTime());
+  }
+  if (this->OpacityFunction)
+  {
+    t = std::max(t, this->OpacityFunction->GetMTime());
+  }
+  return t;
+}
+
+//------------------------------------------------------------------------------
+bool vtkUnstructuredGridIllumination::PrepareMesh(vtkUnstructuredGrid* input)
+{
+  const vtkMTimeType key = std::max(input->GetPoints()->GetMTime(), input->GetCells()->GetMTime());
+  if (key == this->MeshKey && this->Mesh.NumberOfPoints() == input->GetNumberOfPoints())
+  {
+    return true;
+  }
+  this->MeshKey = 0;
+  this->SolutionKey.clear();
+  this->Cache.clear();
+
+  vtkSmartPointer<vtkUnstructuredGrid> tetrahedra = input;
+  bool onlyTetrahedra = true;
+  bool any3D = false;
+  for (vtkIdType c = 0; c < input->GetNumberOfCells(); ++c)
+  {
+    const int type = input->GetCellType(c);
+    onlyTetrahedra = onlyTetrahedra && type == VTK_TETRA;
+    any3D = any3D || vtkCellTypes::GetDimension(type) == 3;
+  }
+  if (!any3D)
+  {
+    vtkErrorMacro("The input has no 3D cells to light.");
+    return false;
+  }
+  if (!onlyTetrahedra)
+  {
+    vtkNew<vtkUnstructuredGrid> copy;
+    copy->CopyStructure(input);
+    vtkNew<vtkDataSetTriangleFilter> split;
+    split->TetrahedraOnlyOn();
+    split->SetInputData(copy);
+    split->Update();
+    tetrahedra = split->GetOutput();
+    if (tetrahedra->GetNumberOfPoints() != input->GetNumberOfPoints())
+    {
+      vtkErrorMacro("Splitting the cells into tetrahedra changed the points; cannot light "
+                    "this grid.");
+      return false;
+    }
+  }
+
+  std::vector<double> points(3 * static_cast<size_t>(input->GetNumberOfPoints()));
+  for (vtkIdType p = 0; p < input->GetNumberOfPoints(); ++p)
+  {
+    input->GetPoint(p, points.data() + 3 * p);
+  }
+  std::vector<long long> tets;
+  tets.reserve(4 * static_cast<size_t>(tetrahedra->GetNumberOfCells()));
+  auto cells = vtk::TakeSmartPointer(tetrahedra->GetCells()->NewIterator());
+  vtkIdType c = 0;
+  for (cells->GoToFirstCell(); !cells->IsDoneWithTraversal(); cells->GoToNextCell(), ++c)
+  {
+    vtkIdType n;
+    const vtkIdType* ids;
+    cells->GetCurrentCell(n, ids);
+    if (tetrahedra->GetCellType(c) == VTK_TETRA && n == 4)
+    {
+      tets.insert(tets.end(), ids, ids + 4);
+    }
+  }
+  std::string error;
+  if (!volillum::BuildTetrahedralMesh(std::move(points), tets, this->Mesh, error))
+  {
+    vtkErrorMacro("Cannot light the grid: " << error << ".");
+    return false;
+  }
+  this->Coloring = volillum::ColorVertices(this->Mesh);
+  this->MeshKey = key;
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkUnstructuredGridIllumination::Classify(vtkDataArray* scalars)
+{
+  volillum::ClassificationSettings settings;
+  settings.Color = this->ColorTransferFunction;
+  settings.Opacity = this->OpacityFunction;
+  settings.UnitDistance = this->ScalarOpacityUnitDistance;
+  settings.Chromatic = this->ChromaticAttenuation;
+  // One "grid point" per vertex: the classification is pointwise.
+  volillum::GridGeometry vertices;
+  vertices.Dimensions = { { static_cast<int>(scalars->GetNumberOfTuples()), 1, 1 } };
+  volillum::ClassifiedVolume classified;
+  std::string error;
+  long long nans = 0;
+  if (!volillum::Classify(scalars, vertices, settings, classified, error, &nans))
+  {
+    vtkErrorMacro("Cannot classify the input: " << error << ".");
+    return false;
+  }
+  if (nans > 0)
+  {
+    vtkWarningMacro(<< nans << " scalar values are NaN; they are treated as empty space.");
+  }
+  const int nc = this->ChromaticAttenuation ? 3 : 1;
+  const size_t np = static_cast<size_t>(scalars->GetNumberOfTuples());
+  this->Channels = nc;
+  this->Extinction.resize(np * nc);
+  for (size_t p = 0; p < np; ++p)
+  {
+    const float* props = classified.Properties.data() + 4 * p;
+    for (int c = 0; c < nc; ++c)
+    {
+      this->Extinction[nc * p + c] =
+        static_cast<float>(this->Absorption * props[0] * (nc == 3 ? props[1 + c] : 1.0f));
+    }
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+int vtkUnstructuredGridIllumination::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  const auto start = Clock::now();
+  vtkUnstructuredGrid* input = vtkUnstructuredGrid::GetData(inputVector[0]);
+  vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector);
+  output->Initialize();
+  if (!input || input->GetNumberOfPoints() == 0 || input->GetNumberOfCells() == 0)
+  {
+    vtkErrorMacro("The input grid is empty.");
+    return 1;
+  }
+  std::string error;
+  vtkDataArray* scalars = volillum::FindPointScalars(this, input, error);
+  if (!scalars)
+  {
+    vtkErrorMacro(<< error);
+    return 1;
+  }
+  error = this->Lights.Validate();
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+    return 1;
+  }
+  for (int r : this->Level0Resolution)
+  {
+    if (r < 2 || r > 1024)
+    {
+      vtkErrorMacro("Level0Resolution must be 2 to 1024 points per axis; it is "
+        << this->Level0Resolution[0] << " x " << this->Level0Resolution[1] << " x "
+        << this->Level0Resolution[2] << ".");
+      return 1;
+    }
+  }
+  if (!this->PrepareMesh(input))
+  {
+    return 1;
+  }
+  this->UpdateProgress(0.1);
+
+  const std::vector<double> solutionKey = { static_cast<double>(this->MeshKey),
+    static_cast<double>(scalars->GetMTime()),
+    static_cast<double>(this->ColorTransferFunction ? this->ColorTransferFunction->GetMTime() : 0),
+    static_cast<double>(this->OpacityFunction ? this->OpacityFunction->GetMTime() : 0),
+    this->ScalarOpacityUnitDistance, this->ChromaticAttenuation ? 1.0 : 0.0, this->Absorption,
+    static_cast<double>(this->Level0Resolution[0]), static_cast<double>(this->Level0Resolution[1]),
+    static_cast<double>(this->Level0Resolution[2]), static_cast<double>(this->Level1Iterations),
+    static_cast<double>(reinterpret_cast<std::uintptr_t>(scalars)) };
+  volillum::UpdateReport report;
+  report.Mode = 1;
+  if (solutionKey != this->SolutionKey)
+  {
+    this->SolutionKey.clear();
+    this->Cache.clear();
+    report.Mode = 0;
+    if (!this->Classify(scalars))
+    {
+      return 1;
+    }
+    const std::array<int, 3> dims = { { this->Level0Resolution[0], this->Level0Resolution[1],
+      this->Level0Resolution[2] } };
+    volillum::ResampleLevel0(this->Mesh, this->Extinction, this->Channels, dims, this->Level0);
+    this->SolutionKey = solutionKey;
+  }
+
+  // Lights whose transmittance is missing or was computed for another geometry.
+  const std::vector<volillum::LightState> lights = this->Lights.States();
+  this->Cache.resize(lights.size());
+  std::vector<int> stale;
+  for (size_t l = 0; l < lights.size(); ++l)
+  {
+    LightCache& cache = this->Cache[l];
+    if (lights[l].On && !(cache.Valid && SameGeometry(cache.State, lights[l])))
+    {
+      stale.push_back(static_cast<int>(l));
+    }
+  }
+  if (stale.size() == lights.size())
+  {
+    report.Mode = 0;
+  }
+  report.Passes = static_cast<int>(stale.size());
+
+  // Level 0 of the stale lights, several lights at a time; then level 1 of each light,
+  // parallel over its vertices.
+  const auto level0Start = Clock::now();
+  std::vector<std::vector<float>> level0(stale.size());
+  vtkSMPTools::For(0, static_cast<int>(stale.size()),
+    [&](int begin, int end)
+    {
+      for (int s = begin; s < end; ++s)
+      {
+        volillum::PropagateLevel0(this->Level0, lights[stale[s]], level0[s]);
+      }
+    });
+  const double level0Seconds = SecondsSince(level0Start);
+  const int iterations = this->Level1Iterations >= 0
+    ? this->Level1Iterations
+    : volillum::AutomaticLevel1Iterations(this->Mesh, this->Level0);
+  const auto level1Start = Clock::now();
+  for (size_t s = 0; s < stale.size(); ++s)
+  {
+    this->UpdateProgress(0.1 + 0.8 * s / stale.size());
+    if (this->GetAbortExecute())
+    {
+      if (this->LastOutput)
+      {
+        output->ShallowCopy(this->LastOutput);
+      }
+      return 1;
+    }
+    LightCache& cache = this->Cache[stale[s]];
+    cache.Valid = false;
+    volillum::PropagateLevel1(this->Mesh, this->Extinction, this->Level0, level0[s],
+      lights[stale[s]], 0.0, iterations, cache.Rho);
+    cache.State = lights[stale[s]];
+    cache.Valid = true;
+    level0[s].clear();
+    level0[s].shrink_to_fit();
+  }
+  const double level1Seconds = SecondsSince(level1Start);
+
+  std::vector<const std::vector<float>*> rho(lights.size(), nullptr);
+  for (size_t l = 0; l < lights.size(); ++l)
+  {
+    if (lights[l].On)
+    {
+      rho[l] = &this->Cache[l].Rho;
+    }
+  }
+  std::vector<float> rgb;
+  volillum::CombineLights(this->Mesh, lights, rho, this->Channels, rgb);
+  const auto scatterStart = Clock::now();
+  volillum::Scatter(this->Mesh, this->Coloring,
+    { { this->ScatteringStrength[0], this->ScatteringStrength[1], this->ScatteringStrength[2] } },
+    this->ScatteringIterations, rgb);
+  const double scatterSeconds = SecondsSince(scatterStart);
+
+  vtkNew<vtkFloatArray> illumination;
+  illumination->SetName("Illumination");
+  illumination->SetNumberOfComponents(3);
+  illumination->SetNumberOfTuples(input->GetNumberOfPoints());
+  std::copy(rgb.begin(), rgb.end(), illumination->GetPointer(0));
+  output->ShallowCopy(input);
+  output->GetPointData()->AddArray(illumination);
+  vtkFieldData* fieldData = vtkFieldData::New();
+  fieldData->ShallowCopy(input->GetFieldData());
+  output->SetFieldData(fieldData);
+  fieldData->Delete();
+  volillum::AddUpdateFieldData(output->GetFieldData(), report, SecondsSince(start));
+  AddSeconds(output->GetFieldData(), "Level0Seconds", level0Seconds);
+  AddSeconds(output->GetFieldData(), "Level1Seconds", level1Seconds);
+  AddSeconds(output->GetFieldData(), "ScatteringSeconds", scatterSeconds);
+  this->LastOutput = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  this->LastOutput->ShallowCopy(output);
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkUnstructuredGridIllumination::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Lights: " << this->Lights.Size() << "\n";
+  os << indent << "Level0Resolution: " << this->Level0Resolution[0] << " "
+     << this->Level0Resolution[1] << " " << this->Level0Resolution[2] << "\n";
+  os << indent << "Absorption: " << this->Absorption << "\n";
+  os << indent << "Level1Iterations: " << this->Level1Iterations << "\n";
+  os << indent << "ScatteringStrength: " << this->ScatteringStrength[0] << " "
+     << this->ScatteringStrength[1] << " " << this->ScatteringStrength[2] << "\n";
+  os << indent << "ScatteringIterations: " << this->ScatteringIterations << "\n";
+  os << indent << "ScalarOpacityUnitDistance: " << this->ScalarOpacityUnitDistance << "\n";
+  os << indent << "ChromaticAttenuation: " << this->ChromaticAttenuation << "\n";
+}

@@ -1,0 +1,179 @@
+/**
+ * @class vtkUnstructuredGridIllumination
+ * @brief Illumination of an unstructured grid by many coloured lights with a two-level
+ * light solver (Shih, Zhang and Ma).
+ *
+ * Input: a vtkUnstructuredGrid with a point scalar array (SetInputArrayToProcess; the
+ * active scalars by default). Cells other than tetrahedra (hexahedra, wedges, pyramids,
+ * voxels) are split into tetrahedra with vtkDataSetTriangleFilter; 2D cells are ignored;
+ * tetrahedra of (near) zero volume are left out of the light walk and inverted ones are
+ * reoriented. Output: the input with the point array "Illumination" (3-component float,
+ * the units of the image filters: an unoccluded white light of intensity 1 gives (1,1,1)),
+ * and the field arrays UpdateMode (0 full, 1 selective), PropagationPasses (lights
+ * propagated), PendingPasses (0), UpdateSeconds, Level0Seconds, Level1Seconds and
+ * ScatteringSeconds.
+ *
+ * Per light: level 0 resamples the classified extinction onto a Level0Resolution grid
+ * over the mesh bounds (blank points transparent) and solves light transport there by
+ * first-order upwinding; the result is interpolated onto the vertices (fixed on boundary
+ * vertices, initial values inside); level 1 refines it with Level1Iterations
+ * semi-Lagrangian steps of one mean edge length on the tetrahedra (see
+ * TetrahedralLightKernel.h). The lights are summed with their colours and a
+ * Gauss-Seidel diffusion step (ScatteringStrength per channel, ScatteringIterations)
+ * approximates multiple scattering.
+ *
+ * Updates are selective: each light's transmittance is kept with the light geometry it was
+ * computed for, so moving one light recomputes that light only, and changing colours,
+ * intensities, switches, cone angles or scattering recomputes none (only the combination
+ * and the scattering). The data, the transfer functions, Absorption, Level0Resolution and
+ * Level1Iterations make every light recompute. Aborting keeps the previous output.
+ *
+ * Bad input (no or non-numeric scalars, no 3D cells, no cell with a volume, non-finite
+ * light parameters, absurd resolutions) gives a vtkErrorMacro and an empty output.
+ */
+#ifndef vtkUnstructuredGridIllumination_h
+#define vtkUnstructuredGridIllumination_h
+
+#include "IlluminationLights.h"
+#include "TetrahedralLightKernel.h"
+#include "VolIllumFiltersModule.h"
+#include "vtkSmartPointer.h"
+#include "vtkUnstructuredGridAlgorithm.h"
+
+#include <vector>
+
+class vtkColorTransferFunction;
+class vtkLight;
+class vtkPiecewiseFunction;
+class vtkUnstructuredGrid;
+
+class VOLILLUMFILTERS_EXPORT vtkUnstructuredGridIllumination : public vtkUnstructuredGridAlgorithm
+{
+public:
+  static vtkUnstructuredGridIllumination* New();
+  vtkTypeMacro(vtkUnstructuredGridIllumination, vtkUnstructuredGridAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * The lights, as for the image filters (vtkIlluminationVolumeAlgorithm): vtkLight
+   * objects held by reference, or the flat list of 14 numbers per light.
+   */
+  void AddLight(vtkLight* light);
+  void RemoveAllLights();
+  int GetNumberOfLights() const { return this->Lights.Size(); }
+  vtkLight* GetLight(int index) const { return this->Lights.Get(index); }
+  void SetNumberOfLightParameters(int count);
+  int GetNumberOfLightParameters() const { return this->Lights.GetNumberOfParameters(); }
+  void SetLightParameter(int index, double value);
+  double GetLightParameter(int index) const { return this->Lights.GetParameter(index); }
+  ///@}
+
+  ///@{
+  /**
+   * Transfer functions (a grey ramp over the scalar range without them), the scalar
+   * opacity unit distance and chromatic attenuation, as for the image filters.
+   */
+  void SetColorTransferFunction(vtkColorTransferFunction* ctf);
+  vtkGetObjectMacro(ColorTransferFunction, vtkColorTransferFunction);
+  void SetOpacityFunction(vtkPiecewiseFunction* otf);
+  vtkGetObjectMacro(OpacityFunction, vtkPiecewiseFunction);
+  vtkSetMacro(ScalarOpacityUnitDistance, double);
+  vtkGetMacro(ScalarOpacityUnitDistance, double);
+  vtkSetMacro(ChromaticAttenuation, bool);
+  vtkGetMacro(ChromaticAttenuation, bool);
+  vtkBooleanMacro(ChromaticAttenuation, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Points of the level-0 grid along x, y and z (2 to 1024 each). Default 128^3.
+   */
+  vtkSetVector3Macro(Level0Resolution, int);
+  vtkGetVector3Macro(Level0Resolution, int);
+  ///@}
+
+  ///@{
+  /**
+   * Absorption strength sigma_a: light crossing a segment of opacity alpha keeps
+   * (1 - alpha)^sigma_a of itself. 1 (default) is the physical attenuation of the image
+   * filters; larger values darken shadows, 0 switches them off.
+   */
+  vtkSetClampMacro(Absorption, double, 0.0, 1e6);
+  vtkGetMacro(Absorption, double);
+  ///@}
+
+  ///@{
+  /**
+   * Semi-Lagrangian steps on the tetrahedra: -1 (default) chooses the ratio of the
+   * level-0 cell size to the mean edge length, so light is refined over the last level-0
+   * cell it crossed; 0 keeps the level-0 solution.
+   */
+  vtkSetClampMacro(Level1Iterations, int, -1, 100000);
+  vtkGetMacro(Level1Iterations, int);
+  ///@}
+
+  ///@{
+  /**
+   * Scattering strength per channel (sigma_s dt of eq. 12, relative to the mean edge
+   * length so that it does not depend on the mesh's units). Default 0 0 0: no scattering.
+   */
+  vtkSetVector3Macro(ScatteringStrength, double);
+  vtkGetVector3Macro(ScatteringStrength, double);
+  ///@}
+
+  ///@{
+  /**
+   * Gauss-Seidel iterations of the scattering step. Default 10.
+   */
+  vtkSetClampMacro(ScatteringIterations, int, 0, 100000);
+  vtkGetMacro(ScatteringIterations, int);
+  ///@}
+
+  vtkMTimeType GetMTime() override;
+
+protected:
+  vtkUnstructuredGridIllumination();
+  ~vtkUnstructuredGridIllumination() override;
+
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+private:
+  vtkUnstructuredGridIllumination(const vtkUnstructuredGridIllumination&) = delete;
+  void operator=(const vtkUnstructuredGridIllumination&) = delete;
+
+  bool PrepareMesh(vtkUnstructuredGrid* input);
+  bool Classify(vtkDataArray* scalars);
+
+  volillum::LightList Lights;
+  vtkColorTransferFunction* ColorTransferFunction = nullptr;
+  vtkPiecewiseFunction* OpacityFunction = nullptr;
+  double ScalarOpacityUnitDistance = 1.0;
+  bool ChromaticAttenuation = false;
+  int Level0Resolution[3] = { 128, 128, 128 };
+  double Absorption = 1.0;
+  int Level1Iterations = -1;
+  double ScatteringStrength[3] = { 0.0, 0.0, 0.0 };
+  int ScatteringIterations = 10;
+
+  // Caches: the mesh (keyed by the input geometry), the per-vertex extinction and level-0
+  // grid (keyed by everything a transmittance depends on but the light), and each light's
+  // transmittance with the light geometry it was computed for.
+  vtkMTimeType MeshKey = 0;
+  volillum::TetrahedralMesh Mesh;
+  volillum::VertexColoring Coloring;
+  std::vector<double> SolutionKey;
+  int Channels = 1;
+  std::vector<float> Extinction;
+  volillum::Level0Grid Level0;
+  struct LightCache
+  {
+    bool Valid = false;
+    volillum::LightState State;
+    std::vector<float> Rho;
+  };
+  std::vector<LightCache> Cache;
+  vtkSmartPointer<vtkUnstructuredGrid> LastOutput;
+};
+
+#endif

@@ -1,0 +1,560 @@
+// Two-level unstructured-grid illumination against analytic and brute-force references.
+#include "IlluminationLights.h"
+#include "IlluminationTestUtilities.h"
+#include "vtkUnstructuredGridIllumination.h"
+
+#include "vtkCellData.h"
+#include "vtkDataSetTriangleFilter.h"
+#include "vtkDoubleArray.h"
+#include "vtkExtractCells.h"
+#include "vtkFieldData.h"
+#include "vtkGenericCell.h"
+#include "vtkIdList.h"
+#include "vtkPiecewiseFunction.h"
+#include "vtkPointData.h"
+#include "vtkRectilinearGrid.h"
+#include "vtkStaticCellLocator.h"
+#include "vtkTetra.h"
+
+#include <gtest/gtest.h>
+
+#include <functional>
+#include <iostream>
+#include <limits>
+#include <vector>
+
+namespace
+{
+using volillumtest::DirectionalLight;
+using volillumtest::PointLight;
+using Field = std::function<double(const double*)>;
+
+std::vector<double> Uniform(double lo, double hi, int n)
+{
+  std::vector<double> v(n);
+  for (int i = 0; i < n; ++i)
+  {
+    v[i] = lo + (hi - lo) * i / (n - 1);
+  }
+  return v;
+}
+
+// Tetrahedral grid of a rectilinear box with the point array "density" = field(x).
+vtkSmartPointer<vtkUnstructuredGrid> TetBox(const std::vector<double>& xs,
+  const std::vector<double>& ys, const std::vector<double>& zs, const Field& field)
+{
+  vtkNew<vtkRectilinearGrid> grid;
+  grid->SetDimensions(
+    static_cast<int>(xs.size()), static_cast<int>(ys.size()), static_cast<int>(zs.size()));
+  vtkNew<vtkDoubleArray> x, y, z;
+  for (double v : xs)
+  {
+    x->InsertNextValue(v);
+  }
+  for (double v : ys)
+  {
+    y->InsertNextValue(v);
+  }
+  for (double v : zs)
+  {
+    z->InsertNextValue(v);
+  }
+  grid->SetXCoordinates(x);
+  grid->SetYCoordinates(y);
+  grid->SetZCoordinates(z);
+  vtkNew<vtkDataSetTriangleFilter> split;
+  split->TetrahedraOnlyOn();
+  split->SetInputData(grid);
+  split->Update();
+  vtkSmartPointer<vtkUnstructuredGrid> mesh = split->GetOutput();
+  vtkNew<vtkDoubleArray> density;
+  density->SetName("density");
+  density->SetNumberOfTuples(mesh->GetNumberOfPoints());
+  for (vtkIdType p = 0; p < mesh->GetNumberOfPoints(); ++p)
+  {
+    density->SetValue(p, field(mesh->GetPoint(p)));
+  }
+  mesh->GetPointData()->SetScalars(density);
+  return mesh;
+}
+
+// Opacity function under which a density value is the extinction coefficient
+// (unit distance 1): opacity = 1 - exp(-density), sampled finely over [0, maximum].
+vtkSmartPointer<vtkPiecewiseFunction> ExtinctionOpacity(double maximum)
+{
+  auto otf = vtkSmartPointer<vtkPiecewiseFunction>::New();
+  for (int i = 0; i <= 256; ++i)
+  {
+    const double s = maximum * i / 256.0;
+    otf->AddPoint(s, 1.0 - std::exp(-s));
+  }
+  return otf;
+}
+
+vtkSmartPointer<vtkUnstructuredGridIllumination> MakeFilter(
+  vtkUnstructuredGrid* mesh, double maximumDensity, int level0 = 64)
+{
+  auto filter = vtkSmartPointer<vtkUnstructuredGridIllumination>::New();
+  filter->SetInputData(mesh);
+  filter->SetOpacityFunction(ExtinctionOpacity(maximumDensity));
+  filter->SetLevel0Resolution(level0, level0, level0);
+  return filter;
+}
+
+vtkFloatArray* Illumination(vtkUnstructuredGridIllumination* filter)
+{
+  return vtkFloatArray::SafeDownCast(filter->GetOutput()->GetPointData()->GetArray("Illumination"));
+}
+
+// Transmittance at every vertex by marching toward the light through the mesh: extinction
+// interpolated in the cell found by a cell locator (0 outside every cell), trapezoid rule.
+std::vector<double> BruteForce(
+  vtkUnstructuredGrid* mesh, const volillum::LightState& light, double step)
+{
+  vtkNew<vtkStaticCellLocator> locator;
+  locator->SetDataSet(mesh);
+  locator->BuildLocator();
+  vtkDataArray* density = mesh->GetPointData()->GetScalars();
+  double bounds[6];
+  mesh->GetBounds(bounds);
+  vtkNew<vtkGenericCell> cell;
+  const auto sigmaAt = [&](double* x)
+  {
+    int subId;
+    double pcoords[3], weights[8];
+    const vtkIdType c = locator->FindCell(x, 1e-12, cell, subId, pcoords, weights);
+    if (c < 0)
+    {
+      return 0.0;
+    }
+    double s = 0.0;
+    for (vtkIdType i = 0; i < cell->GetNumberOfPoints(); ++i)
+    {
+      s += weights[i] * density->GetTuple1(cell->GetPointId(i));
+    }
+    return s;
+  };
+  std::vector<double> t(mesh->GetNumberOfPoints());
+  for (vtkIdType p = 0; p < mesh->GetNumberOfPoints(); ++p)
+  {
+    double x[3];
+    mesh->GetPoint(p, x);
+    const volillum::Incidence inc = volillum::ComputeIncidence(light, x);
+    const double length =
+      std::min(inc.Distance, volillum::DistanceToBoxExit(x, inc.ToLight.data(), bounds));
+    const int n = std::max(1, static_cast<int>(std::ceil(length / step)));
+    const double h = length / n;
+    double depth = 0.0;
+    double previous = sigmaAt(x);
+    for (int k = 1; k <= n; ++k)
+    {
+      double q[3] = { x[0] + k * h * inc.ToLight[0], x[1] + k * h * inc.ToLight[1],
+        x[2] + k * h * inc.ToLight[2] };
+      const double s = sigmaAt(q);
+      depth += 0.5 * h * (previous + s);
+      previous = s;
+    }
+    t[p] = std::exp(-depth);
+  }
+  return t;
+}
+
+struct Errors
+{
+  double Rms = 0.0; // RMS difference relative to the RMS of the reference
+  double Max = 0.0; // largest absolute difference
+};
+
+Errors Compare(vtkFloatArray* got, const std::vector<double>& reference, int channel = 0)
+{
+  double error = 0.0, norm = 0.0;
+  Errors e;
+  for (size_t p = 0; p < reference.size(); ++p)
+  {
+    const double d = got->GetComponent(static_cast<vtkIdType>(p), channel) - reference[p];
+    error += d * d;
+    norm += reference[p] * reference[p];
+    e.Max = std::max(e.Max, std::abs(d));
+  }
+  e.Rms = std::sqrt(error / norm);
+  return e;
+}
+
+int FieldInt(vtkUnstructuredGridIllumination* filter, const char* name)
+{
+  return static_cast<int>(filter->GetOutput()->GetFieldData()->GetArray(name)->GetTuple1(0));
+}
+}
+
+TEST(UnstructuredGridIllumination, HomogeneousMediumMatchesAnalyticTransmittance)
+{
+  // Extinction 2 in the unit cube: light travelling a distance d inside keeps exp(-2 d).
+  auto mesh = TetBox(
+    Uniform(0, 1, 17), Uniform(0, 1, 17), Uniform(0, 1, 17), [](const double*) { return 2.0; });
+  const double bounds[6] = { 0, 1, 0, 1, 0, 1 };
+  const std::vector<vtkSmartPointer<vtkLight>> lights = { DirectionalLight(0, 0, -1),
+    DirectionalLight(0.3, -0.2, -1), PointLight(0.5, 0.4, 2.0), PointLight(0.3, 0.5, 0.6) };
+  const char* names[] = { "directional -z", "directional oblique", "point outside",
+    "point inside" };
+  // Level 0 is first-order upwinding: its error shrinks in proportion to the grid
+  // spacing, and level 1 keeps it (it refines the last level-0 cell of the path).
+  for (size_t l = 0; l < lights.size(); ++l)
+  {
+    const volillum::LightState state = volillum::CaptureLight(lights[l]);
+    std::vector<double> analytic(mesh->GetNumberOfPoints());
+    for (vtkIdType p = 0; p < mesh->GetNumberOfPoints(); ++p)
+    {
+      double x[3];
+      mesh->GetPoint(p, x);
+      const volillum::Incidence inc = volillum::ComputeIncidence(state, x);
+      analytic[p] = std::exp(
+        -2.0 * std::min(inc.Distance, volillum::DistanceToBoxExit(x, inc.ToLight.data(), bounds)));
+    }
+    Errors e[2];
+    const int resolutions[2] = { 32, 128 };
+    for (int r = 0; r < 2; ++r)
+    {
+      auto filter = MakeFilter(mesh, 4.0, resolutions[r]);
+      filter->AddLight(lights[l]);
+      filter->Update();
+      e[r] = Compare(Illumination(filter), analytic);
+      std::cout << names[l] << ", level 0 " << resolutions[r] << "^3: RMS relative " << e[r].Rms
+                << ", max absolute " << e[r].Max << "\n";
+    }
+    EXPECT_LT(e[1].Rms, 0.05) << names[l];
+    EXPECT_LT(e[1].Max, 0.1) << names[l];
+    EXPECT_LT(e[1].Rms, 0.5 * e[0].Rms + 2e-3) << names[l];
+  }
+}
+
+TEST(UnstructuredGridIllumination, LightCrossesTheGapOfANonConvexMesh)
+{
+  // A U: two arms x in [0,1] and [2,3] joined below z = 0.4; light travelling along +x
+  // and slightly up crosses the left arm, the empty gap and then the right arm.
+  auto box = TetBox(Uniform(0, 3, 31), Uniform(0, 1, 9), Uniform(0, 1, 11),
+    [](const double* x) { return 1.0 + 0.5 * x[2]; });
+  vtkNew<vtkIdList> keep;
+  for (vtkIdType c = 0; c < box->GetNumberOfCells(); ++c)
+  {
+    double centre[3] = { 0, 0, 0 };
+    vtkIdType n;
+    const vtkIdType* ids;
+    box->GetCellPoints(c, n, ids);
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      const double* p = box->GetPoint(ids[i]);
+      for (int a = 0; a < 3; ++a)
+      {
+        centre[a] += p[a] / n;
+      }
+    }
+    if (!(centre[0] > 1 && centre[0] < 2 && centre[2] > 0.4))
+    {
+      keep->InsertNextId(c);
+    }
+  }
+  vtkNew<vtkExtractCells> extract;
+  extract->SetInputData(box);
+  extract->SetCellList(keep);
+  extract->Update();
+  vtkUnstructuredGrid* u = extract->GetOutput();
+  auto light = DirectionalLight(1, 0, 0.25);
+  auto filter = MakeFilter(u, 2.0, 128);
+  filter->AddLight(light);
+  filter->Update();
+  const auto reference = BruteForce(u, volillum::CaptureLight(light), 0.005);
+  const Errors e = Compare(Illumination(filter), reference);
+  std::cout << "U-shaped mesh: RMS relative " << e.Rms << ", max absolute " << e.Max << "\n";
+  EXPECT_LT(e.Rms, 0.06);
+  // The right arm's upper part is lit only through the gap, after the whole left arm.
+  double rightArm = 0.0, leftArmFaceDepth = 0.0;
+  int count = 0;
+  for (vtkIdType p = 0; p < u->GetNumberOfPoints(); ++p)
+  {
+    const double* x = u->GetPoint(p);
+    if (std::abs(x[0] - 2.0) < 1e-9 && x[2] > 0.75)
+    {
+      rightArm += Illumination(filter)->GetComponent(p, 0);
+      leftArmFaceDepth += reference[p];
+      ++count;
+    }
+  }
+  ASSERT_GT(count, 0);
+  EXPECT_NEAR(rightArm / count, leftArmFaceDepth / count, 0.03);
+  EXPECT_LT(rightArm / count, 0.5); // shadowed by the left arm, not lit as if outside
+  EXPECT_GT(rightArm / count, 0.1); // but light did cross the gap
+}
+
+TEST(UnstructuredGridIllumination, TwoLevelsBeatLevelZeroOnAnAdaptiveMesh)
+{
+  // A small dense blob inside a thin medium, the mesh graded to be fine around it and a
+  // coarse level-0 grid (8^3) that cannot resolve it.
+  std::vector<double> c;
+  for (int i = 0; i <= 24; ++i)
+  {
+    const double u = -1.0 + 2.0 * i / 24.0;
+    c.push_back(0.5 + 0.5 * u * std::abs(u)); // spacing shrinks toward the centre 0.5
+  }
+  const Field blob = [](const double* x)
+  {
+    const double r2 =
+      (x[0] - 0.5) * (x[0] - 0.5) + (x[1] - 0.5) * (x[1] - 0.5) + (x[2] - 0.55) * (x[2] - 0.55);
+    return 0.2 + 40.0 * std::exp(-r2 / (0.04 * 0.04));
+  };
+  auto mesh = TetBox(c, c, c, blob);
+  auto light = DirectionalLight(0.1, 0.05, -1);
+  const auto reference = BruteForce(mesh, volillum::CaptureLight(light), 0.004);
+  double error[2];
+  for (int levels = 0; levels < 2; ++levels)
+  {
+    auto filter = MakeFilter(mesh, 42.0, 8);
+    filter->SetLevel1Iterations(levels == 0 ? 0 : -1);
+    filter->AddLight(light);
+    filter->Update();
+    error[levels] = Compare(Illumination(filter), reference).Rms;
+  }
+  std::cout << "adaptive mesh, RMS relative to brute force: level 0 only " << error[0]
+            << ", level 0 + level 1 " << error[1] << "\n";
+  EXPECT_LT(error[1], error[0]);
+}
+
+TEST(UnstructuredGridIllumination, ScatteringKeepsTheEnergyWithoutAbsorption)
+{
+  auto mesh = TetBox(Uniform(0, 1, 15), Uniform(0, 1, 15), Uniform(0, 1, 15),
+    [](const double* x) { return 1.0 + x[0]; });
+  auto spot = PointLight(0.5, 0.5, 2.0);
+  spot->SetFocalPoint(0.5, 0.5, 0.0);
+  spot->SetConeAngle(10);
+  auto filter = MakeFilter(mesh, 3.0);
+  filter->SetAbsorption(0.0);
+  filter->AddLight(spot);
+  filter->Update();
+  vtkNew<vtkFloatArray> before;
+  before->DeepCopy(Illumination(filter));
+  filter->SetScatteringStrength(2.0, 1.0, 0.5);
+  filter->SetScatteringIterations(60);
+  filter->Update();
+  vtkFloatArray* after = Illumination(filter);
+  for (int c = 0; c < 3; ++c)
+  {
+    double e0 = 0.0, e1 = 0.0, change = 0.0;
+    for (vtkIdType p = 0; p < before->GetNumberOfTuples(); ++p)
+    {
+      e0 += before->GetComponent(p, c);
+      e1 += after->GetComponent(p, c);
+      change = std::max(change, std::abs(before->GetComponent(p, c) - after->GetComponent(p, c)));
+    }
+    std::cout << "channel " << c << ": energy " << e0 << " -> " << e1 << " ("
+              << 100.0 * (e1 - e0) / e0 << " %), largest change " << change << "\n";
+    EXPECT_LT(std::abs(e1 - e0) / e0, 0.01);
+    EXPECT_GT(change, 0.05); // the light did spread out of the cone
+  }
+  EXPECT_EQ(FieldInt(filter, "PropagationPasses"), 0); // scattering alone propagates nothing
+}
+
+TEST(UnstructuredGridIllumination, OneChangedLightEqualsAFullRecompute)
+{
+  auto mesh = TetBox(Uniform(0, 1, 13), Uniform(0, 2, 17), Uniform(0, 1, 13),
+    [](const double* x) { return 0.5 + 2.0 * x[1] * x[2]; });
+  auto a = DirectionalLight(0, 0, -1, 1, 0.8, 0.2);
+  auto b = PointLight(-0.5, 1.0, 0.5, 0.2, 0.4, 1.0);
+  auto c = DirectionalLight(1, 1, 0, 0.5, 1, 0.5);
+  auto selective = MakeFilter(mesh, 3.0, 48);
+  selective->SetChromaticAttenuation(true);
+  selective->SetScatteringStrength(0.3, 0.3, 0.3);
+  for (auto* l : { a.Get(), b.Get(), c.Get() })
+  {
+    selective->AddLight(l);
+  }
+  selective->Update();
+  EXPECT_EQ(FieldInt(selective, "UpdateMode"), 0);
+  b->SetPosition(1.5, 0.5, 0.7);
+  selective->Update();
+  EXPECT_EQ(FieldInt(selective, "UpdateMode"), 1);
+  EXPECT_EQ(FieldInt(selective, "PropagationPasses"), 1);
+  a->SetDiffuseColor(0.1, 0.9, 0.3);
+  selective->Update();
+  EXPECT_EQ(FieldInt(selective, "PropagationPasses"), 0);
+
+  auto full = MakeFilter(mesh, 3.0, 48);
+  full->SetChromaticAttenuation(true);
+  full->SetScatteringStrength(0.3, 0.3, 0.3);
+  for (auto* l : { a.Get(), b.Get(), c.Get() })
+  {
+    full->AddLight(l);
+  }
+  full->Update();
+  EXPECT_EQ(FieldInt(full, "PropagationPasses"), 3);
+  vtkFloatArray* got = Illumination(selective);
+  vtkFloatArray* want = Illumination(full);
+  double worst = 0.0;
+  for (vtkIdType i = 0; i < want->GetNumberOfValues(); ++i)
+  {
+    worst = std::max<double>(worst,
+      std::abs(got->GetValue(i) - want->GetValue(i)) / std::max(1.0f, std::abs(want->GetValue(i))));
+  }
+  std::cout << "selective vs full recompute: largest difference " << worst << "\n";
+  EXPECT_LE(worst, 1e-5);
+}
+
+TEST(UnstructuredGridIllumination, InvertedAndNonTetrahedralCellsGiveTheSameLight)
+{
+  auto mesh = TetBox(Uniform(0, 1, 11), Uniform(0, 1, 11), Uniform(0, 1, 11),
+    [](const double* x) { return 1.0 + x[0] + x[2]; });
+  // Every other tetrahedron listed with two vertices swapped (negative volume).
+  vtkNew<vtkUnstructuredGrid> flipped;
+  flipped->SetPoints(mesh->GetPoints());
+  flipped->GetPointData()->ShallowCopy(mesh->GetPointData());
+  for (vtkIdType c = 0; c < mesh->GetNumberOfCells(); ++c)
+  {
+    vtkIdType n;
+    const vtkIdType* ids;
+    mesh->GetCellPoints(c, n, ids);
+    vtkIdType v[4] = { ids[0], ids[1], ids[2], ids[3] };
+    if (c % 2)
+    {
+      std::swap(v[0], v[1]);
+    }
+    flipped->InsertNextCell(VTK_TETRA, 4, v);
+  }
+  // The same box as voxels (hexahedral cells), split by the filter itself.
+  vtkNew<vtkRectilinearGrid> rect;
+  rect->SetDimensions(11, 11, 11);
+  vtkNew<vtkDoubleArray> coords;
+  for (double v : Uniform(0, 1, 11))
+  {
+    coords->InsertNextValue(v);
+  }
+  rect->SetXCoordinates(coords);
+  rect->SetYCoordinates(coords);
+  rect->SetZCoordinates(coords);
+  vtkNew<vtkUnstructuredGrid> voxels;
+  vtkNew<vtkPoints> points;
+  for (vtkIdType p = 0; p < rect->GetNumberOfPoints(); ++p)
+  {
+    points->InsertNextPoint(rect->GetPoint(p));
+  }
+  voxels->SetPoints(points);
+  vtkNew<vtkGenericCell> cell;
+  for (vtkIdType c = 0; c < rect->GetNumberOfCells(); ++c)
+  {
+    rect->GetCell(c, cell);
+    voxels->InsertNextCell(cell->GetCellType(), cell->GetPointIds());
+  }
+  vtkNew<vtkDoubleArray> density;
+  density->SetName("density");
+  for (vtkIdType p = 0; p < voxels->GetNumberOfPoints(); ++p)
+  {
+    const double* x = voxels->GetPoint(p);
+    density->InsertNextValue(1.0 + x[0] + x[2]);
+  }
+  voxels->GetPointData()->SetScalars(density);
+
+  auto light = DirectionalLight(0.2, 0.3, -1);
+  vtkSmartPointer<vtkFloatArray> results[3];
+  vtkUnstructuredGrid* inputs[3] = { mesh, flipped, voxels };
+  for (int i = 0; i < 3; ++i)
+  {
+    auto filter = MakeFilter(inputs[i], 3.0, 128);
+    filter->AddLight(light);
+    filter->Update();
+    results[i] = Illumination(filter);
+    ASSERT_NE(results[i], nullptr);
+  }
+  EXPECT_LT(volillumtest::RmsRelative(results[1], results[0]), 1e-6);
+  // The voxels are split differently from the rectilinear grid's tetrahedra, so the
+  // light differs by the discretisation only; both agree with the brute-force march.
+  const auto reference = BruteForce(mesh, volillum::CaptureLight(light), 0.005);
+  const double voxelError = Compare(results[2], reference).Rms;
+  const double tetError = Compare(results[0], reference).Rms;
+  std::cout << "voxels " << voxelError << ", tetrahedra " << tetError << " RMS relative\n";
+  EXPECT_LT(voxelError, 0.05);
+  EXPECT_LT(tetError, 0.05);
+}
+
+TEST(UnstructuredGridIllumination, DegenerateAndMixedOrientationMeshesFromDisk)
+{
+  // 80 of tetraMesh.vtk's 160 tetrahedra are inverted; bluntfin has 77 of zero volume.
+  const std::string data = VOLILLUM_SHARED_DATA;
+  for (const char* name : { "/tetmeshes/tetraMesh.vtk", "/tetmeshes/bluntfin_tets.vtu" })
+  {
+    auto mesh = volillumtest::ReadUnstructuredGrid(data + name);
+    if (!mesh)
+    {
+      GTEST_SKIP() << "../shared/data is not beside the clone";
+    }
+    auto filter = vtkSmartPointer<vtkUnstructuredGridIllumination>::New();
+    filter->SetInputData(mesh);
+    filter->SetLevel0Resolution(32, 32, 32);
+    filter->AddLight(DirectionalLight(0.3, 0.2, -1));
+    filter->Update();
+    vtkFloatArray* light = Illumination(filter);
+    ASSERT_NE(light, nullptr) << name;
+    double lo = 1e30, hi = -1e30;
+    for (vtkIdType i = 0; i < light->GetNumberOfValues(); ++i)
+    {
+      ASSERT_TRUE(std::isfinite(light->GetValue(i))) << name;
+      lo = std::min<double>(lo, light->GetValue(i));
+      hi = std::max<double>(hi, light->GetValue(i));
+    }
+    EXPECT_GE(lo, 0.0) << name;
+    EXPECT_LE(hi, 1.0 + 1e-5) << name;
+    EXPECT_LT(lo, hi) << name; // something casts a shadow
+  }
+}
+
+TEST(UnstructuredGridIllumination, BadInputGivesAnErrorAndAnEmptyOutput)
+{
+  auto good =
+    TetBox(Uniform(0, 1, 5), Uniform(0, 1, 5), Uniform(0, 1, 5), [](const double*) { return 1.0; });
+  vtkNew<vtkUnstructuredGrid> empty;
+  vtkNew<vtkUnstructuredGrid> triangles;
+  triangles->SetPoints(good->GetPoints());
+  triangles->GetPointData()->ShallowCopy(good->GetPointData());
+  const vtkIdType tri[3] = { 0, 1, 2 };
+  triangles->InsertNextCell(VTK_TRIANGLE, 3, tri);
+  vtkNew<vtkUnstructuredGrid> noScalars;
+  noScalars->ShallowCopy(good);
+  noScalars->GetPointData()->Initialize();
+  vtkNew<vtkUnstructuredGrid> flat; // tetrahedra of zero volume only
+  flat->ShallowCopy(good);
+  vtkNew<vtkPoints> flatPoints;
+  for (vtkIdType p = 0; p < good->GetNumberOfPoints(); ++p)
+  {
+    const double* x = good->GetPoint(p);
+    flatPoints->InsertNextPoint(x[0], x[1], 0.0);
+  }
+  flat->SetPoints(flatPoints);
+
+  struct Case
+  {
+    const char* What;
+    vtkUnstructuredGrid* Input;
+    std::function<void(vtkUnstructuredGridIllumination*)> Configure;
+  };
+  const std::vector<Case> cases = {
+    { "empty grid", empty, [](vtkUnstructuredGridIllumination*) {} },
+    { "2D cells only", triangles, [](vtkUnstructuredGridIllumination*) {} },
+    { "no scalars", noScalars, [](vtkUnstructuredGridIllumination*) {} },
+    { "zero-volume cells", flat, [](vtkUnstructuredGridIllumination*) {} },
+    { "NaN light", good,
+      [](vtkUnstructuredGridIllumination* f) { f->SetLightParameter(1, std::nan("")); } },
+    { "level-0 resolution 1", good,
+      [](vtkUnstructuredGridIllumination* f) { f->SetLevel0Resolution(1, 64, 64); } },
+    { "level-0 resolution 5000", good,
+      [](vtkUnstructuredGridIllumination* f) { f->SetLevel0Resolution(5000, 5000, 5000); } },
+  };
+  for (const Case& c : cases)
+  {
+    vtkNew<vtkUnstructuredGridIllumination> filter;
+    vtkNew<volillumtest::ErrorCounter> errors;
+    filter->AddObserver(vtkCommand::ErrorEvent, errors);
+    filter->SetInputData(c.Input);
+    filter->SetNumberOfLightParameters(volillum::LightParameterCount);
+    c.Configure(filter);
+    filter->Update();
+    EXPECT_GE(errors->Count, 1) << c.What;
+    EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0) << c.What;
+    std::cout << c.What << ": " << errors->LastMessage;
+  }
+}
