@@ -18,6 +18,7 @@
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkSMPTools.h"
+#include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 
 #include <chrono>
@@ -244,6 +245,49 @@ bool vtkUnstructuredGridIllumination::Classify(vtkDataArray* scalars)
 }
 
 //------------------------------------------------------------------------------
+vtkSmartPointer<vtkUnsignedCharArray> vtkUnstructuredGridIllumination::ShadeVertices(
+  vtkDataArray* scalars, const std::vector<float>& rgb)
+{
+  double range[2];
+  scalars->GetRange(range);
+  const double width = range[1] > range[0] ? range[1] - range[0] : 1.0;
+  auto colors = vtkSmartPointer<vtkUnsignedCharArray>::New();
+  colors->SetName("LitColors");
+  colors->SetNumberOfComponents(4);
+  colors->SetNumberOfTuples(scalars->GetNumberOfTuples());
+  const auto toByte = [](double v)
+  { return static_cast<unsigned char>(std::lround(255.0 * std::min(std::max(v, 0.0), 1.0))); };
+  for (vtkIdType p = 0; p < scalars->GetNumberOfTuples(); ++p)
+  {
+    const double s = scalars->GetComponent(p, 0);
+    double color[3];
+    double opacity = 0.0;
+    if (std::isnan(s))
+    {
+      color[0] = color[1] = color[2] = 0.0;
+    }
+    else if (this->ColorTransferFunction)
+    {
+      this->ColorTransferFunction->GetColor(s, color);
+    }
+    else
+    {
+      color[0] = color[1] = color[2] = (s - range[0]) / width; // the grey default ramp
+    }
+    if (!std::isnan(s))
+    {
+      opacity = this->OpacityFunction ? this->OpacityFunction->GetValue(s) : (s - range[0]) / width;
+    }
+    for (int c = 0; c < 3; ++c)
+    {
+      colors->SetTypedComponent(p, c, toByte(color[c] * rgb[3 * p + c]));
+    }
+    colors->SetTypedComponent(p, 3, toByte(opacity));
+  }
+  return colors;
+}
+
+//------------------------------------------------------------------------------
 int vtkUnstructuredGridIllumination::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -390,6 +434,10 @@ int vtkUnstructuredGridIllumination::RequestData(
   std::copy(rgb.begin(), rgb.end(), illumination->GetPointer(0));
   output->ShallowCopy(input);
   output->GetPointData()->AddArray(illumination);
+  if (this->LitColors)
+  {
+    output->GetPointData()->AddArray(this->ShadeVertices(scalars, rgb));
+  }
   vtkFieldData* fieldData = vtkFieldData::New();
   fieldData->ShallowCopy(input->GetFieldData());
   output->SetFieldData(fieldData);
@@ -418,4 +466,5 @@ void vtkUnstructuredGridIllumination::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ScatteringIterations: " << this->ScatteringIterations << "\n";
   os << indent << "ScalarOpacityUnitDistance: " << this->ScalarOpacityUnitDistance << "\n";
   os << indent << "ChromaticAttenuation: " << this->ChromaticAttenuation << "\n";
+  os << indent << "LitColors: " << this->LitColors << "\n";
 }

@@ -9,9 +9,9 @@
  * tetrahedra of (near) zero volume are left out of the light walk and inverted ones are
  * reoriented. Output: the input with the point array "Illumination" (3-component float,
  * the units of the image filters: an unoccluded white light of intensity 1 gives (1,1,1)),
- * and the field arrays UpdateMode (0 full, 1 selective), PropagationPasses (lights
- * propagated), PendingPasses (0), UpdateSeconds, Level0Seconds, Level1Seconds and
- * ScatteringSeconds.
+ * optionally "LitColors" (see SetLitColors), and the field arrays UpdateMode (0 full, 1 selective),
+ * PropagationPasses (lights propagated), PendingPasses (0), UpdateSeconds, Level0Seconds,
+ * Level1Seconds and ScatteringSeconds.
  *
  * Per light: level 0 resamples the classified extinction onto a Level0Resolution grid
  * over the mesh bounds (blank points transparent) and solves light transport there by
@@ -45,6 +45,7 @@
 class vtkColorTransferFunction;
 class vtkLight;
 class vtkPiecewiseFunction;
+class vtkUnsignedCharArray;
 class vtkUnstructuredGrid;
 
 class VOLILLUMFILTERS_EXPORT vtkUnstructuredGridIllumination : public vtkUnstructuredGridAlgorithm
@@ -130,6 +131,19 @@ public:
   vtkGetMacro(ScatteringIterations, int);
   ///@}
 
+  ///@{
+  /**
+   * When on (default), also add the point array "LitColors": RGBA bytes, the colour
+   * transfer function's colour times the Illumination (clamped to 1) and the opacity
+   * function's opacity. Volume rendering of the grid with this array as direct colours
+   * (vtkVolumeProperty IndependentComponents off, ParaView's Map Scalars off) shows the
+   * lit volume with per-vertex lighting.
+   */
+  vtkSetMacro(LitColors, bool);
+  vtkGetMacro(LitColors, bool);
+  vtkBooleanMacro(LitColors, bool);
+  ///@}
+
   vtkMTimeType GetMTime() override;
 
 protected:
@@ -144,6 +158,8 @@ private:
 
   bool PrepareMesh(vtkUnstructuredGrid* input);
   bool Classify(vtkDataArray* scalars);
+  vtkSmartPointer<vtkUnsignedCharArray> ShadeVertices(
+    vtkDataArray* scalars, const std::vector<float>& rgb);
 
   volillum::LightList Lights;
   vtkColorTransferFunction* ColorTransferFunction = nullptr;
@@ -155,6 +171,7 @@ private:
   int Level1Iterations = -1;
   double ScatteringStrength[3] = { 0.0, 0.0, 0.0 };
   int ScatteringIterations = 10;
+  bool LitColors = true;
 
   // Caches: the mesh (keyed by the input geometry), the per-vertex extinction and level-0
   // grid (keyed by everything a transmittance depends on but the light), and each light's

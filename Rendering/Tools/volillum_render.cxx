@@ -10,11 +10,16 @@
 #include "vtkIlluminationPhantomSource.h"
 #include "vtkMultiLightIlluminationVolume.h"
 #include "vtkRayMarchedIllumination.h"
+#include "vtkUnstructuredGridIllumination.h"
 
+#include "vtkAppendFilter.h"
 #include "vtkCamera.h"
 #include "vtkColorTransferFunction.h"
+#include "vtkCompositeDataIterator.h"
+#include "vtkCompositeDataSet.h"
 #include "vtkDataArray.h"
 #include "vtkDataSetReader.h"
+#include "vtkExodusIIReader.h"
 #include "vtkFieldData.h"
 #include "vtkImageData.h"
 #include "vtkLight.h"
@@ -26,21 +31,25 @@
 #include "vtkPNGWriter.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
+#include "vtkProjectedTetrahedraMapper.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
 #include "vtkSLCReader.h"
 #include "vtkSMPTools.h"
 #include "vtkSmartPointer.h"
 #include "vtkTimerLog.h"
+#include "vtkUnstructuredGrid.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 #include "vtkWindowToImageFilter.h"
 #include "vtkXMLImageDataReader.h"
+#include "vtkXMLUnstructuredGridReader.h"
 
 #include "vtk_nlohmannjson.h"
 #include VTK_NLOHMANN_JSON(json.hpp)
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
@@ -220,19 +229,53 @@ vtkSmartPointer<vtkAlgorithm> MakeReader(const std::string& fileName)
   return reader;
 }
 
+vtkSmartPointer<vtkAlgorithm> MakeExodusReader(const std::string& fileName)
+{
+  auto reader = vtkSmartPointer<vtkExodusIIReader>::New();
+  reader->SetFileName(fileName.c_str());
+  reader->UpdateInformation();
+  reader->SetAllArrayStatus(vtkExodusIIReader::NODAL, 1);
+  return reader;
+}
+
+// The unstructured grids of a composite dataset (an Exodus file's blocks) as one grid,
+// points shared between blocks merged.
+vtkSmartPointer<vtkUnstructuredGrid> MergeBlocks(vtkCompositeDataSet* blocks)
+{
+  vtkNew<vtkAppendFilter> append;
+  append->MergePointsOn();
+  auto it = vtk::TakeSmartPointer(blocks->NewIterator());
+  for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+  {
+    if (auto grid = vtkUnstructuredGrid::SafeDownCast(it->GetCurrentDataObject()))
+    {
+      append->AddInputData(grid);
+    }
+  }
+  if (append->GetNumberOfInputConnections(0) == 0)
+  {
+    return nullptr;
+  }
+  append->Update();
+  return append->GetOutput();
+}
+
 // The reader for each file ending (lower case).
 const struct
 {
   const char* Extension;
   vtkSmartPointer<vtkAlgorithm> (*Make)(const std::string&);
 } ReaderFormats[] = { { ".vti", &MakeReader<vtkXMLImageDataReader> },
+  { ".vtu", &MakeReader<vtkXMLUnstructuredGridReader> }, { ".ex2", &MakeExodusReader },
+  { ".exo", &MakeExodusReader }, { ".e", &MakeExodusReader },
   { ".vtk", &MakeReader<vtkDataSetReader> }, { ".mha", &MakeReader<vtkMetaImageReader> },
   { ".mhd", &MakeReader<vtkMetaImageReader> }, { ".nrrd", &MakeReader<vtkNrrdReader> },
   { ".nhdr", &MakeReader<vtkNrrdReader> }, { ".slc", &MakeReader<vtkSLCReader> },
   { ".nii", &MakeReader<vtkNIFTIImageReader> }, { ".nii.gz", &MakeReader<vtkNIFTIImageReader> } };
 
-// Reads the volume (or generates the phantom); fails with one line on any problem.
-vtkSmartPointer<vtkImageData> LoadVolume(const Options& o)
+// Reads the volume or unstructured grid (or generates the phantom); fails with one line on
+// any problem.
+vtkSmartPointer<vtkDataSet> LoadData(const Options& o)
 {
   vtkSmartPointer<vtkAlgorithm> reader;
   if (o.Input.empty())
@@ -287,14 +330,23 @@ vtkSmartPointer<vtkImageData> LoadVolume(const Options& o)
     if (!reader)
     {
       Fail("unsupported file type: " + o.Input +
-        " (.vti .vtk .mha .mhd .nrrd .nhdr .slc .nii .nii.gz)");
+        " (.vti .vtk .mha .mhd .nrrd .nhdr .slc .nii .nii.gz .vtu .ex2 .exo .e)");
     }
   }
   reader->Update();
-  auto image = vtkImageData::SafeDownCast(reader->GetOutputDataObject(0));
-  if (!image || image->GetNumberOfPoints() == 0)
+  vtkSmartPointer<vtkDataSet> image = vtkDataSet::SafeDownCast(reader->GetOutputDataObject(0));
+  if (auto blocks = vtkCompositeDataSet::SafeDownCast(reader->GetOutputDataObject(0)))
   {
-    Fail("no image data could be read from " + (o.Input.empty() ? o.Phantom : o.Input));
+    image = MergeBlocks(blocks);
+  }
+  if (!vtkImageData::SafeDownCast(image) && !vtkUnstructuredGrid::SafeDownCast(image))
+  {
+    Fail("no image data or unstructured grid could be read from " +
+      (o.Input.empty() ? o.Phantom : o.Input));
+  }
+  if (image->GetNumberOfPoints() == 0)
+  {
+    Fail((o.Input.empty() ? o.Phantom : o.Input) + " is empty");
   }
   if (!image->GetPointData()->GetScalars())
   {
@@ -465,27 +517,11 @@ void BuildTransferFunctions(const json& config, const double range[2],
 }
 }
 
-int main(int argc, char* argv[])
+// Computes the illumination volume of an image and sets up the lit ray-cast mapper.
+double LightImage(const json& config, const std::string& method, vtkImageData* image,
+  const std::vector<vtkSmartPointer<vtkLight>>& lights, vtkColorTransferFunction* ctf,
+  vtkPiecewiseFunction* otf, double unitDistance, vtkVolume* volume)
 {
-  vtkSMPTools::SetBackend("STDThread");
-  const Options options = ParseArguments(argc, argv);
-  const json& config = options.Config;
-
-  // VTK's own warnings still reach stderr; its error pop-ups do not exist here.
-  vtkSmartPointer<vtkImageData> image = LoadVolume(options);
-  double bounds[6], range[2], spacing[3];
-  image->GetBounds(bounds);
-  image->GetSpacing(spacing);
-  image->GetPointData()->GetScalars()->GetRange(range);
-  const double minSpacing = std::min(spacing[0], std::min(spacing[1], spacing[2]));
-
-  vtkNew<vtkColorTransferFunction> ctf;
-  vtkNew<vtkPiecewiseFunction> otf;
-  double unitDistance = 1.0;
-  BuildTransferFunctions(config, range, ctf, otf, unitDistance, minSpacing);
-  const auto lights = BuildLights(config, bounds);
-
-  const std::string method = config.value("method", std::string("propagation"));
   vtkSmartPointer<vtkIlluminationVolumeAlgorithm> illumination;
   if (method == "propagation")
   {
@@ -519,11 +555,119 @@ int main(int argc, char* argv[])
   timer->StartTimer();
   illumination->Update();
   timer->StopTimer();
-  const double illuminationSeconds = timer->GetElapsedTime();
   vtkImageData* lit = illumination->GetOutput();
   if (!lit || !lit->GetPointData()->GetArray("Illumination"))
   {
     Fail("the illumination could not be computed (see the message above)");
+  }
+  vtkNew<vtkIlluminatedVolumeMapper> mapper;
+  mapper->SetInputData(image);
+  mapper->SetIlluminationData(lit);
+  mapper->SetAmbient(Number(config, "ambient", 0.1));
+  mapper->SetDiffuse(Number(config, "diffuse", 1.0));
+  mapper->SetGradientShading(config.value("gradient_shading", false));
+  volume->SetMapper(mapper);
+  return timer->GetElapsedTime();
+}
+
+// Lights an unstructured grid with the two-level solver and sets up projected tetrahedra
+// on its lit vertex colours (per-vertex lighting).
+double LightGrid(const json& config, vtkUnstructuredGrid* grid,
+  const std::vector<vtkSmartPointer<vtkLight>>& lights, vtkColorTransferFunction* ctf,
+  vtkPiecewiseFunction* otf, double unitDistance, vtkVolume* volume)
+{
+  vtkNew<vtkUnstructuredGridIllumination> illumination;
+  illumination->SetInputData(grid);
+  for (const auto& l : lights)
+  {
+    illumination->AddLight(l);
+  }
+  illumination->SetColorTransferFunction(ctf);
+  illumination->SetOpacityFunction(otf);
+  illumination->SetScalarOpacityUnitDistance(unitDistance);
+  illumination->SetChromaticAttenuation(config.value("chromatic_attenuation", false));
+  const int resolution = static_cast<int>(Number(config, "level0_resolution", 128));
+  illumination->SetLevel0Resolution(resolution, resolution, resolution);
+  illumination->SetAbsorption(Number(config, "absorption", 1.0));
+  if (config.contains("scattering"))
+  {
+    const auto s = Numbers(config["scattering"], 3, "scattering");
+    illumination->SetScatteringStrength(s[0], s[1], s[2]);
+  }
+  vtkNew<vtkTimerLog> timer;
+  timer->StartTimer();
+  illumination->Update();
+  timer->StopTimer();
+  vtkUnstructuredGrid* lit = illumination->GetOutput();
+  if (!lit || !lit->GetPointData()->GetArray("LitColors"))
+  {
+    Fail("the illumination could not be computed (see the message above)");
+  }
+  // The lit colours are direct RGBA: dependent components, no transfer-function lookup.
+  vtkNew<vtkProjectedTetrahedraMapper> mapper;
+  mapper->SetInputData(lit);
+  mapper->SetScalarModeToUsePointFieldData();
+  mapper->SelectScalarArray("LitColors");
+  volume->SetMapper(mapper);
+  volume->GetProperty()->IndependentComponentsOff();
+  return timer->GetElapsedTime();
+}
+
+int main(int argc, char* argv[])
+{
+  vtkSMPTools::SetBackend("STDThread");
+  const Options options = ParseArguments(argc, argv);
+  const json& config = options.Config;
+
+  // VTK's own warnings still reach stderr; its error pop-ups do not exist here.
+  vtkSmartPointer<vtkDataSet> data = LoadData(options);
+  double bounds[6], range[2];
+  data->GetBounds(bounds);
+  data->GetPointData()->GetScalars()->GetRange(range);
+  auto image = vtkImageData::SafeDownCast(data);
+  double minSpacing = 0.0;
+  if (image)
+  {
+    double spacing[3];
+    image->GetSpacing(spacing);
+    minSpacing = std::min(spacing[0], std::min(spacing[1], spacing[2]));
+  }
+  else
+  {
+    // A grid has no spacing: the default unit distance is 1/128 of its diagonal.
+    minSpacing = std::sqrt((bounds[1] - bounds[0]) * (bounds[1] - bounds[0]) +
+                   (bounds[3] - bounds[2]) * (bounds[3] - bounds[2]) +
+                   (bounds[5] - bounds[4]) * (bounds[5] - bounds[4])) /
+      128.0;
+  }
+
+  vtkNew<vtkColorTransferFunction> ctf;
+  vtkNew<vtkPiecewiseFunction> otf;
+  double unitDistance = 1.0;
+  BuildTransferFunctions(config, range, ctf, otf, unitDistance, minSpacing);
+  const auto lights = BuildLights(config, bounds);
+
+  vtkNew<vtkVolumeProperty> property;
+  property->SetColor(ctf);
+  property->SetScalarOpacity(otf);
+  property->SetScalarOpacityUnitDistance(unitDistance);
+  property->SetInterpolationTypeToLinear();
+  property->ShadeOff();
+  vtkNew<vtkVolume> volume;
+  volume->SetProperty(property);
+  vtkNew<vtkTimerLog> timer;
+  std::string method;
+  double illuminationSeconds = 0.0;
+  if (image)
+  {
+    method = config.value("method", std::string("propagation"));
+    illuminationSeconds = LightImage(config, method, image, lights, ctf, otf, unitDistance, volume);
+  }
+  else
+  {
+    method = "two-level";
+    illuminationSeconds = LightGrid(
+      config, vtkUnstructuredGrid::SafeDownCast(data), lights, ctf, otf, unitDistance, volume);
   }
 
   const json size =
@@ -533,22 +677,6 @@ int main(int argc, char* argv[])
   {
     Fail("image_size must be between 16 and 8192 pixels per side");
   }
-
-  vtkNew<vtkIlluminatedVolumeMapper> mapper;
-  mapper->SetInputData(image);
-  mapper->SetIlluminationData(lit);
-  mapper->SetAmbient(Number(config, "ambient", 0.1));
-  mapper->SetDiffuse(Number(config, "diffuse", 1.0));
-  mapper->SetGradientShading(config.value("gradient_shading", false));
-  vtkNew<vtkVolumeProperty> property;
-  property->SetColor(ctf);
-  property->SetScalarOpacity(otf);
-  property->SetScalarOpacityUnitDistance(unitDistance);
-  property->SetInterpolationTypeToLinear();
-  property->ShadeOff();
-  vtkNew<vtkVolume> volume;
-  volume->SetMapper(mapper);
-  volume->SetProperty(property);
 
   vtkNew<vtkRenderer> renderer;
   renderer->AddVolume(volume);
