@@ -53,6 +53,7 @@ case "${1:-}" in
     build
     (cd build && xvfb-run -a ctest --output-on-failure)
     xvfb-run -a build/bin/volillum-benchmark --smoke --json build/benchmark-smoke.json
+    xvfb-run -a build/bin/volillum-unstructured-benchmark --smoke
     ;;
   build)
     build
