@@ -23,7 +23,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <cstdint>
 
 vtkStandardNewMacro(vtkUnstructuredGridIllumination);
 vtkCxxSetObjectMacro(
@@ -313,13 +312,15 @@ int vtkUnstructuredGridIllumination::RequestData(
     vtkErrorMacro(<< error);
     return 1;
   }
+  const long long level0Points = static_cast<long long>(this->Level0Resolution[0]) *
+    this->Level0Resolution[1] * this->Level0Resolution[2];
   for (int r : this->Level0Resolution)
   {
-    if (r < 2 || r > 1024)
+    if (r < 2 || r > 1024 || level0Points > MaximumLevel0Points)
     {
-      vtkErrorMacro("Level0Resolution must be 2 to 1024 points per axis; it is "
-        << this->Level0Resolution[0] << " x " << this->Level0Resolution[1] << " x "
-        << this->Level0Resolution[2] << ".");
+      vtkErrorMacro("Level0Resolution must be 2 to 1024 points per axis and at most "
+        << MaximumLevel0Points << " points in all; it is " << this->Level0Resolution[0] << " x "
+        << this->Level0Resolution[1] << " x " << this->Level0Resolution[2] << ".");
       return 1;
     }
   }
@@ -335,8 +336,7 @@ int vtkUnstructuredGridIllumination::RequestData(
     static_cast<double>(this->OpacityFunction ? this->OpacityFunction->GetMTime() : 0),
     this->ScalarOpacityUnitDistance, this->ChromaticAttenuation ? 1.0 : 0.0, this->Absorption,
     static_cast<double>(this->Level0Resolution[0]), static_cast<double>(this->Level0Resolution[1]),
-    static_cast<double>(this->Level0Resolution[2]), static_cast<double>(this->Level1Iterations),
-    static_cast<double>(reinterpret_cast<std::uintptr_t>(scalars)) };
+    static_cast<double>(this->Level0Resolution[2]), static_cast<double>(this->Level1Iterations) };
   volillum::UpdateReport report;
   report.Mode = 1;
   if (solutionKey != this->SolutionKey)
@@ -372,44 +372,49 @@ int vtkUnstructuredGridIllumination::RequestData(
   }
   report.Passes = static_cast<int>(stale.size());
 
-  // Level 0 of the stale lights, several lights at a time; then level 1 of each light,
-  // parallel over its vertices.
-  const auto level0Start = Clock::now();
-  std::vector<std::vector<float>> level0(stale.size());
-  vtkSMPTools::For(0, static_cast<int>(stale.size()),
-    [&](int begin, int end)
-    {
-      for (int s = begin; s < end; ++s)
-      {
-        volillum::PropagateLevel0(this->Level0, lights[stale[s]], level0[s]);
-      }
-    });
-  const double level0Seconds = SecondsSince(level0Start);
+  // Lights in batches of as many as there are threads: level 0 of a batch runs one light
+  // per thread (the upwind pass of one light is sequential), then level 1 of each light
+  // runs in parallel over its vertices. Batches bound the memory of level-0 solutions.
   const int iterations = this->Level1Iterations >= 0
     ? this->Level1Iterations
     : volillum::AutomaticLevel1Iterations(this->Mesh, this->Level0);
-  const auto level1Start = Clock::now();
-  for (size_t s = 0; s < stale.size(); ++s)
+  const size_t batch = static_cast<size_t>(std::max(1, vtkSMPTools::GetEstimatedNumberOfThreads()));
+  double level0Seconds = 0.0, level1Seconds = 0.0;
+  std::vector<std::vector<float>> level0(batch);
+  for (size_t first = 0; first < stale.size(); first += batch)
   {
-    this->UpdateProgress(0.1 + 0.8 * s / stale.size());
-    if (this->GetAbortExecute())
-    {
-      if (this->LastOutput)
+    const int count = static_cast<int>(std::min(batch, stale.size() - first));
+    const auto level0Start = Clock::now();
+    vtkSMPTools::For(0, count,
+      [&](int begin, int end)
       {
-        output->ShallowCopy(this->LastOutput);
+        for (int b = begin; b < end; ++b)
+        {
+          volillum::PropagateLevel0(this->Level0, lights[stale[first + b]], level0[b]);
+        }
+      });
+    level0Seconds += SecondsSince(level0Start);
+    const auto level1Start = Clock::now();
+    for (int b = 0; b < count; ++b)
+    {
+      this->UpdateProgress(0.1 + 0.8 * (first + b) / stale.size());
+      if (this->GetAbortExecute())
+      {
+        if (this->LastOutput)
+        {
+          output->ShallowCopy(this->LastOutput);
+        }
+        return 1;
       }
-      return 1;
+      LightCache& cache = this->Cache[stale[first + b]];
+      cache.Valid = false;
+      volillum::PropagateLevel1(this->Mesh, this->Extinction, this->Level0, level0[b],
+        lights[stale[first + b]], 0.0, iterations, cache.Rho);
+      cache.State = lights[stale[first + b]];
+      cache.Valid = true;
     }
-    LightCache& cache = this->Cache[stale[s]];
-    cache.Valid = false;
-    volillum::PropagateLevel1(this->Mesh, this->Extinction, this->Level0, level0[s],
-      lights[stale[s]], 0.0, iterations, cache.Rho);
-    cache.State = lights[stale[s]];
-    cache.Valid = true;
-    level0[s].clear();
-    level0[s].shrink_to_fit();
+    level1Seconds += SecondsSince(level1Start);
   }
-  const double level1Seconds = SecondsSince(level1Start);
 
   std::vector<const std::vector<float>*> rho(lights.size(), nullptr);
   for (size_t l = 0; l < lights.size(); ++l)

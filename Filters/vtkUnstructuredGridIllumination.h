@@ -88,7 +88,8 @@ public:
 
   ///@{
   /**
-   * Points of the level-0 grid along x, y and z (2 to 1024 each). Default 128^3.
+   * Points of the level-0 grid along x, y and z (2 to 1024 each, at most
+   * MaximumLevel0Points in all). Default 128^3.
    */
   vtkSetVector3Macro(Level0Resolution, int);
   vtkGetVector3Macro(Level0Resolution, int);
@@ -145,6 +146,9 @@ public:
   ///@}
 
   vtkMTimeType GetMTime() override;
+
+  /// Largest level-0 grid (512^3 points).
+  static constexpr long long MaximumLevel0Points = 1LL << 27;
 
 protected:
   vtkUnstructuredGridIllumination();

@@ -2,6 +2,7 @@
 #ifndef IlluminationTestUtilities_h
 #define IlluminationTestUtilities_h
 
+#include "vtkAlgorithm.h"
 #include "vtkCommand.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
@@ -34,6 +35,22 @@ public:
   }
   int Count = 0;
   std::string LastMessage;
+};
+
+/// Aborts the algorithm it observes (ProgressEvent) once progress passes one half.
+class AbortHalfway : public vtkCommand
+{
+public:
+  static AbortHalfway* New() { return new AbortHalfway; }
+  void Execute(vtkObject* caller, unsigned long, void* data) override
+  {
+    if (this->Armed && *static_cast<double*>(data) > 0.5)
+    {
+      static_cast<vtkAlgorithm*>(caller)->SetAbortExecute(1);
+      this->Armed = false;
+    }
+  }
+  bool Armed = false;
 };
 
 /// Root-mean-square difference relative to the root-mean-square of the reference.

@@ -360,25 +360,6 @@ TEST(MultiLightIlluminationVolume, PassBudgetContinuesOnTheNextUpdate)
   EXPECT_LE(MaxRelative(Result(budgeted), Result(complete)), 1e-6);
 }
 
-namespace
-{
-// Aborts the filter once its progress passes one half.
-class AbortHalfway : public vtkCommand
-{
-public:
-  static AbortHalfway* New() { return new AbortHalfway; }
-  void Execute(vtkObject* caller, unsigned long, void* data) override
-  {
-    if (this->Armed && *static_cast<double*>(data) > 0.5)
-    {
-      static_cast<vtkAlgorithm*>(caller)->SetAbortExecute(1);
-      this->Armed = false;
-    }
-  }
-  bool Armed = false;
-};
-}
-
 TEST(MultiLightIlluminationVolume, AbortKeepsThePreviousOutput)
 {
   auto image = Scene(vtkIlluminationPhantomSource::ThreeSpheres, 32);
@@ -388,7 +369,7 @@ TEST(MultiLightIlluminationVolume, AbortKeepsThePreviousOutput)
   filter->AddLight(light);
   filter->Update();
   auto before = Result(filter);
-  vtkNew<AbortHalfway> abort;
+  vtkNew<volillumtest::AbortHalfway> abort;
   filter->AddObserver(vtkCommand::ProgressEvent, abort);
   abort->Armed = true;
   light->SetPosition(50, 16, 16);

@@ -193,9 +193,13 @@ TEST(UnstructuredGridIllumination, HomogeneousMediumMatchesAnalyticTransmittance
     Uniform(0, 1, 17), Uniform(0, 1, 17), Uniform(0, 1, 17), [](const double*) { return 2.0; });
   const double bounds[6] = { 0, 1, 0, 1, 0, 1 };
   const std::vector<vtkSmartPointer<vtkLight>> lights = { DirectionalLight(0, 0, -1),
-    DirectionalLight(0.3, -0.2, -1), PointLight(0.5, 0.4, 2.0), PointLight(0.3, 0.5, 0.6) };
-  const char* names[] = { "directional -z", "directional oblique", "point outside",
-    "point inside" };
+    DirectionalLight(0.3, -0.2, -1), PointLight(0.5, 0.4, 2.0), PointLight(0.3, 0.5, 0.6),
+    PointLight(0.4, 0.5, 1.8) };
+  lights[4]->SetFocalPoint(0.5, 0.5, 0.0); // a spot light: the cone factor applies on top
+  lights[4]->SetConeAngle(25);
+  lights[4]->SetExponent(2);
+  const char* names[] = { "directional -z", "directional oblique", "point outside", "point inside",
+    "spot" };
   // Level 0 is first-order upwinding: its error shrinks in proportion to the grid
   // spacing, and level 1 keeps it (it refines the last level-0 cell of the path).
   for (size_t l = 0; l < lights.size(); ++l)
@@ -207,8 +211,9 @@ TEST(UnstructuredGridIllumination, HomogeneousMediumMatchesAnalyticTransmittance
       double x[3];
       mesh->GetPoint(p, x);
       const volillum::Incidence inc = volillum::ComputeIncidence(state, x);
-      analytic[p] = std::exp(
-        -2.0 * std::min(inc.Distance, volillum::DistanceToBoxExit(x, inc.ToLight.data(), bounds)));
+      analytic[p] = inc.ConeFactor *
+        std::exp(-2.0 *
+          std::min(inc.Distance, volillum::DistanceToBoxExit(x, inc.ToLight.data(), bounds)));
     }
     Errors e[2];
     const int resolutions[2] = { 32, 128 };
@@ -397,6 +402,44 @@ TEST(UnstructuredGridIllumination, OneChangedLightEqualsAFullRecompute)
   EXPECT_LE(worst, 1e-5);
 }
 
+TEST(UnstructuredGridIllumination, AbortKeepsThePreviousOutput)
+{
+  auto mesh = TetBox(Uniform(0, 1, 11), Uniform(0, 1, 11), Uniform(0, 1, 11),
+    [](const double* x) { return 1.0 + x[1]; });
+  std::vector<vtkSmartPointer<vtkLight>> lights = { DirectionalLight(0, 0, -1),
+    DirectionalLight(1, 0, 0), PointLight(0.5, 0.5, 1.5) };
+  auto filter = MakeFilter(mesh, 2.0, 32);
+  for (auto& l : lights)
+  {
+    filter->AddLight(l);
+  }
+  filter->Update();
+  vtkNew<vtkFloatArray> before;
+  before->DeepCopy(Illumination(filter));
+  vtkNew<volillumtest::AbortHalfway> abort;
+  filter->AddObserver(vtkCommand::ProgressEvent, abort);
+  abort->Armed = true;
+  lights[0]->SetFocalPoint(0.3, 0, -1);
+  lights[1]->SetFocalPoint(1, 0.2, 0);
+  lights[2]->SetPosition(0.2, 0.5, 1.5);
+  filter->Update();
+  ASSERT_NE(Illumination(filter), nullptr);
+  EXPECT_EQ(volillumtest::RmsRelative(Illumination(filter), before), 0.0);
+  // The next update finishes the lights the aborted one did not reach.
+  filter->SetAbortExecute(0);
+  filter->Modified();
+  filter->Update();
+  EXPECT_EQ(FieldInt(filter, "UpdateMode"), 1);
+  EXPECT_LT(FieldInt(filter, "PropagationPasses"), 3);
+  auto fresh = MakeFilter(mesh, 2.0, 32);
+  for (auto& l : lights)
+  {
+    fresh->AddLight(l);
+  }
+  fresh->Update();
+  EXPECT_LE(volillumtest::RmsRelative(Illumination(filter), Illumination(fresh)), 1e-7);
+}
+
 TEST(UnstructuredGridIllumination, InvertedAndNonTetrahedralCellsGiveTheSameLight)
 {
   auto mesh = TetBox(Uniform(0, 1, 11), Uniform(0, 1, 11), Uniform(0, 1, 11),
@@ -543,6 +586,8 @@ TEST(UnstructuredGridIllumination, BadInputGivesAnErrorAndAnEmptyOutput)
       [](vtkUnstructuredGridIllumination* f) { f->SetLevel0Resolution(1, 64, 64); } },
     { "level-0 resolution 5000", good,
       [](vtkUnstructuredGridIllumination* f) { f->SetLevel0Resolution(5000, 5000, 5000); } },
+    { "level-0 grid of 1024^3 points", good,
+      [](vtkUnstructuredGridIllumination* f) { f->SetLevel0Resolution(1024, 1024, 1024); } },
   };
   for (const Case& c : cases)
   {
