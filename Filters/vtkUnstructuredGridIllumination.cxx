@@ -324,10 +324,12 @@ int vtkUnstructuredGridIllumination::RequestData(
       return 1;
     }
   }
+  const auto meshStart = Clock::now();
   if (!this->PrepareMesh(input))
   {
     return 1;
   }
+  const double meshSeconds = SecondsSince(meshStart);
   this->UpdateProgress(0.1);
 
   const std::vector<double> solutionKey = { static_cast<double>(this->MeshKey),
@@ -339,6 +341,7 @@ int vtkUnstructuredGridIllumination::RequestData(
     static_cast<double>(this->Level0Resolution[2]), static_cast<double>(this->Level1Iterations) };
   volillum::UpdateReport report;
   report.Mode = 1;
+  const auto resampleStart = Clock::now();
   if (solutionKey != this->SolutionKey)
   {
     this->SolutionKey.clear();
@@ -353,6 +356,7 @@ int vtkUnstructuredGridIllumination::RequestData(
     volillum::ResampleLevel0(this->Mesh, this->Extinction, this->Channels, dims, this->Level0);
     this->SolutionKey = solutionKey;
   }
+  const double resampleSeconds = SecondsSince(resampleStart);
 
   // Lights whose transmittance is missing or was computed for another geometry.
   const std::vector<volillum::LightState> lights = this->Lights.States();
@@ -448,6 +452,8 @@ int vtkUnstructuredGridIllumination::RequestData(
   output->SetFieldData(fieldData);
   fieldData->Delete();
   volillum::AddUpdateFieldData(output->GetFieldData(), report, SecondsSince(start));
+  AddSeconds(output->GetFieldData(), "MeshSeconds", meshSeconds);
+  AddSeconds(output->GetFieldData(), "ResampleSeconds", resampleSeconds);
   AddSeconds(output->GetFieldData(), "Level0Seconds", level0Seconds);
   AddSeconds(output->GetFieldData(), "Level1Seconds", level1Seconds);
   AddSeconds(output->GetFieldData(), "ScatteringSeconds", scatterSeconds);

@@ -4,7 +4,9 @@ The three-spheres phantom, split into tetrahedra by ParaView's Tetrahedralize, i
 two lights. Moving one light through the Lights property must recompute that light only
 (UpdateMode 1, PropagationPasses 1) and give what a fresh filter computes in full (1e-5);
 a colour change must propagate no light at all; LitColors must be the transfer-function
-colour times the Illumination.
+colour times the Illumination; and ParaView's own volume representation, coloured by
+LitColors with Map Scalars off, must show the lights' colours (orange key light: red
+exceeds blue; switched to blue: the other way round).
 Usage: pvpython TestUnstructuredGridIlluminationSimple.py PLUGIN
 """
 import sys
@@ -63,6 +65,49 @@ for i in range(0, data.GetNumberOfPoints(), 97):
     if abs(colors.GetComponent(i, 0) - want) > 1:
         failures.append("LitColors red at %d is %g, expected %g" % (i, colors.GetComponent(i, 0), want))
         break
+
+
+
+def mean_red_blue(path):
+    from vtkmodules.vtkIOImage import vtkPNGReader
+    reader = vtkPNGReader()
+    reader.SetFileName(path)
+    reader.Update()
+    pixels = reader.GetOutput().GetPointData().GetScalars()
+    red = blue = 0.0
+    for i in range(pixels.GetNumberOfTuples()):
+        red += pixels.GetComponent(i, 0)
+        blue += pixels.GetComponent(i, 2)
+    return red, blue
+
+
+view = CreateRenderView()
+view.ViewSize = [160, 160]
+view.UseColorPaletteForBackground = 0
+view.Background = [0, 0, 0]
+view.OrientationAxesVisibility = 0
+shown = UnstructuredGridIllumination(Input=mesh, Level0Resolution=[32, 32, 32])
+display = Show(shown, view)
+display.SetRepresentationType("Volume")
+ColorBy(display, ("POINTS", "LitColors"))
+display.MapScalars = 0
+display.MultiComponentsMapping = 1
+view.ResetCamera()
+balance = []
+for colour in ([1, 0.5, 0.1], [0.1, 0.5, 1]):
+    shown.Lights = [0, 0, 0, 0, 0.2, 0.1, -1] + colour + [1, 30, 1, 1]
+    Render(view)
+    path = "volillum-ugrid-%d.png" % len(balance)
+    SaveScreenshot(path, view)
+    balance.append(mean_red_blue(path))
+print("rendered red/blue sums: orange light %s, blue light %s" % (balance[0], balance[1]))
+if not (balance[0][0] > 1.5 * balance[0][1] and balance[1][1] > 1.5 * balance[1][0]):
+    failures.append("the volume rendering does not show the lights' colours: %s" % balance)
+
+# Release the render window before the interpreter exits (otherwise the GLX context is
+# torn down after the X connection and the process dies with an X error).
+Delete(view)
+del view
 
 for f in failures:
     print("FAIL: " + f)
