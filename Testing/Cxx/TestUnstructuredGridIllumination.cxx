@@ -1,6 +1,7 @@
 // Two-level unstructured-grid illumination against analytic and brute-force references.
 #include "IlluminationLights.h"
 #include "IlluminationTestUtilities.h"
+#include "TetrahedralLightKernel.h"
 #include "vtkUnstructuredGridIllumination.h"
 
 #include "vtkCellData.h"
@@ -184,6 +185,73 @@ int FieldInt(vtkUnstructuredGridIllumination* filter, const char* name)
 {
   return static_cast<int>(filter->GetOutput()->GetFieldData()->GetArray(name)->GetTuple1(0));
 }
+}
+
+TEST(UnstructuredGridIllumination, LevelZeroResamplingAndMask)
+{
+  // An L-shaped mesh (the unit cube minus the quarter x > 0.5, z > 0.5): the level-0 mask
+  // covers 3/4 of the grid's cells, and a linear field is reproduced exactly inside.
+  auto box = TetBox(Uniform(0, 1, 9), Uniform(0, 1, 9), Uniform(0, 1, 9),
+    [](const double* x) { return 1.0 + 2.0 * x[0] - x[1] + 3.0 * x[2]; });
+  std::vector<double> points(3 * box->GetNumberOfPoints());
+  std::vector<float> extinction(box->GetNumberOfPoints());
+  for (vtkIdType p = 0; p < box->GetNumberOfPoints(); ++p)
+  {
+    box->GetPoint(p, points.data() + 3 * p);
+    extinction[p] = static_cast<float>(box->GetPointData()->GetScalars()->GetTuple1(p));
+  }
+  std::vector<long long> tets;
+  for (vtkIdType c = 0; c < box->GetNumberOfCells(); ++c)
+  {
+    vtkIdType n;
+    const vtkIdType* ids;
+    box->GetCellPoints(c, n, ids);
+    double centre[3] = { 0, 0, 0 };
+    for (int i = 0; i < 4; ++i)
+    {
+      for (int a = 0; a < 3; ++a)
+      {
+        centre[a] += 0.25 * points[3 * ids[i] + a];
+      }
+    }
+    if (!(centre[0] > 0.5 && centre[2] > 0.5))
+    {
+      tets.insert(tets.end(), ids, ids + 4);
+    }
+  }
+  volillum::TetrahedralMesh mesh;
+  std::string error;
+  ASSERT_TRUE(volillum::BuildTetrahedralMesh(points, tets, mesh, error)) << error;
+  volillum::Level0Grid grid;
+  volillum::ResampleLevel0(mesh, extinction, 1, { { 41, 41, 41 } }, grid);
+  long long inside = 0;
+  double worst = 0.0;
+  for (int k = 0; k < 41; ++k)
+  {
+    for (int j = 0; j < 41; ++j)
+    {
+      for (int i = 0; i < 41; ++i)
+      {
+        const long long id = i + 41 * (j + 41LL * k);
+        double x[3];
+        grid.Geometry.PointPosition(i, j, k, x);
+        const bool expected = !(x[0] > 0.5 + 1e-9 && x[2] > 0.5 + 1e-9);
+        EXPECT_EQ(grid.Inside[id] != 0, expected) << x[0] << " " << x[1] << " " << x[2];
+        if (expected)
+        {
+          ++inside;
+          worst =
+            std::max(worst, std::abs(grid.Extinction[id] - (1.0 + 2.0 * x[0] - x[1] + 3.0 * x[2])));
+        }
+        else
+        {
+          EXPECT_EQ(grid.Extinction[id], 0.0f); // blank: transparent
+        }
+      }
+    }
+  }
+  EXPECT_LT(worst, 1e-5);
+  EXPECT_GT(inside, 41 * 41 * 41 * 3 / 4);
 }
 
 TEST(UnstructuredGridIllumination, HomogeneousMediumMatchesAnalyticTransmittance)
