@@ -51,9 +51,12 @@ case "${1:-}" in
     ;;
   test)
     build
-    (cd build && xvfb-run -a ctest --output-on-failure)
-    xvfb-run -a build/bin/volillum-benchmark --smoke --json build/benchmark-smoke.json
-    xvfb-run -a build/bin/volillum-unstructured-benchmark --smoke
+    # One X server for the tests and the benchmark smoke runs (each xvfb-run start is a
+    # chance for a display race).
+    xvfb-run -a bash -c 'set -e
+      (cd build && ctest --output-on-failure)
+      build/bin/volillum-benchmark --smoke --json build/benchmark-smoke.json
+      build/bin/volillum-unstructured-benchmark --smoke'
     ;;
   build)
     build
