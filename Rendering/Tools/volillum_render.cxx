@@ -19,6 +19,7 @@
 #include "vtkCompositeDataSet.h"
 #include "vtkDataArray.h"
 #include "vtkDataSetReader.h"
+#include "vtkDataSetTriangleFilter.h"
 #include "vtkExodusIIReader.h"
 #include "vtkFieldData.h"
 #include "vtkImageData.h"
@@ -576,8 +577,19 @@ double LightGrid(const json& config, vtkUnstructuredGrid* grid,
   const std::vector<vtkSmartPointer<vtkLight>>& lights, vtkColorTransferFunction* ctf,
   vtkPiecewiseFunction* otf, double unitDistance, vtkVolume* volume)
 {
+  // Projected tetrahedra draw tetrahedra only: split other cells first (the filter would
+  // split them the same way, but its output keeps the input's cells).
+  vtkSmartPointer<vtkUnstructuredGrid> tetrahedra = grid;
+  if (!grid->IsHomogeneous() || (grid->GetNumberOfCells() > 0 && grid->GetCellType(0) != VTK_TETRA))
+  {
+    vtkNew<vtkDataSetTriangleFilter> split;
+    split->TetrahedraOnlyOn();
+    split->SetInputData(grid);
+    split->Update();
+    tetrahedra = split->GetOutput();
+  }
   vtkNew<vtkUnstructuredGridIllumination> illumination;
-  illumination->SetInputData(grid);
+  illumination->SetInputData(tetrahedra);
   for (const auto& l : lights)
   {
     illumination->AddLight(l);

@@ -2,8 +2,8 @@
 
   run_cli.py --cli EXE [--expect-error TEXT] [--compare EXE BASELINE THRESHOLD] -- ARGS...
 
-Without --expect-error the command must exit 0, print the illumination and frame times
-and write its PNG (the --output argument); with --compare the PNG is then compared to
+Without --expect-error the command must exit 0, print the illumination and frame times,
+print no VTK error and write its PNG (the --output argument); with --compare the PNG is then compared to
 the baseline. With --expect-error it must exit 1 and print exactly one line on stderr,
 "volillum-render: error: ..." containing TEXT.
 """
@@ -34,6 +34,9 @@ def main():
         return 0 if ok else 1
     if run.returncode != 0:
         print("FAILED: exit status %d" % run.returncode)
+        return 1
+    if "ERR|" in run.stderr or "ERROR:" in run.stderr:
+        print("FAILED: VTK reported an error")
         return 1
     for pattern in (r"illumination \(.*\): [0-9.e-]+ s", r"^frame: [0-9.e-]+ s", r"^wrote (.+)$"):
         if not re.search(pattern, run.stdout, re.M):
