@@ -62,11 +62,12 @@ using json = nlohmann::json;
 
 namespace
 {
-const char* const Usage = R"(usage: volillum-render [options] [volume]
+const char* const Usage = R"(usage: volillum-render [options] [volume or grid]
 
-Reads a volume (.vti .vtk .mha .mhd .nrrd .nhdr .slc .nii .nii.gz), computes its
-illumination volume, renders it lit and writes a PNG. Without a volume, --phantom
-chooses a generated one.
+Reads a volume (.vti .vtk .mha .mhd .nrrd .nhdr .slc .nii .nii.gz) or an unstructured
+grid (.vtu .vtk .ex2 .exo .e), computes its illumination, renders it lit and writes a
+PNG. Volumes use --method; grids the two-level unstructured solver and projected
+tetrahedra. Without an input, --phantom chooses a generated volume.
 
 options:
   --phantom NAME     ct (default), spheres, slab or chirp: generate the volume instead
@@ -90,7 +91,8 @@ JSON (every key optional):
                "on": true}],
    "transfer_function": {"color": [[s,r,g,b], ...], "opacity": [[s,a], ...],
                          "unit_distance": 1, "relative": true},
-   "camera": {"azimuth": 30, "elevation": 20, "zoom": 1.0}}
+   "camera": {"azimuth": 30, "elevation": 20, "zoom": 1.0},
+   grids only: "level0_resolution": 128, "absorption": 1, "scattering": [r,g,b]}
 "relative" positions are fractions of the volume's bounding box (0..1 inside, outside
 beyond); relative transfer-function scalars are fractions of the scalar range. Without
 lights, three coloured lights are used (a warm key, a cool fill and a white rim light).
