@@ -468,6 +468,12 @@ TEST(UnstructuredGridIllumination, OneChangedLightEqualsAFullRecompute)
   }
   std::cout << "selective vs full recompute: largest difference " << worst << "\n";
   EXPECT_LE(worst, 1e-5);
+
+  // A transfer-function change recomputes every light.
+  selective->GetOpacityFunction()->AddPoint(1.51, 0.9);
+  selective->Update();
+  EXPECT_EQ(FieldInt(selective, "UpdateMode"), 0);
+  EXPECT_EQ(FieldInt(selective, "PropagationPasses"), 3);
 }
 
 TEST(UnstructuredGridIllumination, AbortKeepsThePreviousOutput)
