@@ -67,6 +67,18 @@ vtkDataArray* FindPointScalars(vtkAlgorithm* algorithm, vtkDataSet* input, std::
 }
 
 //------------------------------------------------------------------------------
+vtkDataArray* CheckScalarsAndLights(
+  vtkAlgorithm* algorithm, vtkDataSet* input, const LightList& lights, std::string& error)
+{
+  vtkDataArray* scalars = FindPointScalars(algorithm, input, error);
+  if (scalars)
+  {
+    error = lights.Validate();
+  }
+  return error.empty() ? scalars : nullptr;
+}
+
+//------------------------------------------------------------------------------
 void AddUpdateFieldData(vtkFieldData* fieldData, const UpdateReport& report, double seconds)
 {
   const auto addInt = [fieldData](const char* name, int value)

@@ -7,6 +7,7 @@
 #ifndef IlluminationFilterSupport_h
 #define IlluminationFilterSupport_h
 
+#include "IlluminationLights.h"
 #include "VolIllumFiltersModule.h"
 
 #include <string>
@@ -30,6 +31,11 @@ VOLILLUMFILTERS_EXPORT void UseThreadedBackend();
  */
 VOLILLUMFILTERS_EXPORT vtkDataArray* FindPointScalars(
   vtkAlgorithm* algorithm, vtkDataSet* input, std::string& error);
+
+/// FindPointScalars, then the lights' own check (LightList::Validate): nullptr with the
+/// reason in error when either fails.
+VOLILLUMFILTERS_EXPORT vtkDataArray* CheckScalarsAndLights(
+  vtkAlgorithm* algorithm, vtkDataSet* input, const LightList& lights, std::string& error);
 
 /// What one update did, reported in the output's field data.
 struct UpdateReport

@@ -1,5 +1,7 @@
 #include "vtkIlluminationVolumeAlgorithm.h"
 
+#include "IlluminationLightingMacros.h"
+
 #include "vtkColorTransferFunction.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
@@ -20,9 +22,7 @@
 #include <cstdlib>
 #include <string>
 
-vtkCxxSetObjectMacro(
-  vtkIlluminationVolumeAlgorithm, ColorTransferFunction, vtkColorTransferFunction);
-vtkCxxSetObjectMacro(vtkIlluminationVolumeAlgorithm, OpacityFunction, vtkPiecewiseFunction);
+volillumLightingImplementationMacro(vtkIlluminationVolumeAlgorithm);
 
 //------------------------------------------------------------------------------
 bool vtkIlluminationVolumeAlgorithm::ClassificationKey::operator==(const ClassificationKey& o) const
@@ -48,84 +48,9 @@ vtkIlluminationVolumeAlgorithm::~vtkIlluminationVolumeAlgorithm()
 }
 
 //------------------------------------------------------------------------------
-void vtkIlluminationVolumeAlgorithm::AddLight(vtkLight* light)
-{
-  if (this->Lights.Add(light))
-  {
-    this->Modified();
-  }
-}
-
-//------------------------------------------------------------------------------
-void vtkIlluminationVolumeAlgorithm::RemoveAllLights()
-{
-  if (this->Lights.Clear())
-  {
-    this->Modified();
-  }
-}
-
-//------------------------------------------------------------------------------
-vtkLight* vtkIlluminationVolumeAlgorithm::GetLight(int index) const
-{
-  return this->Lights.Get(index);
-}
-
-//------------------------------------------------------------------------------
-void vtkIlluminationVolumeAlgorithm::SetNumberOfLightParameters(int count)
-{
-  bool changed = false;
-  if (!this->Lights.SetNumberOfParameters(count, changed))
-  {
-    vtkErrorMacro("The light list needs " << volillum::LightParameterCount
-                                          << " numbers per light, got " << count << ".");
-  }
-  if (changed)
-  {
-    this->Modified();
-  }
-}
-
-//------------------------------------------------------------------------------
-int vtkIlluminationVolumeAlgorithm::GetNumberOfLightParameters() const
-{
-  return this->Lights.GetNumberOfParameters();
-}
-
-//------------------------------------------------------------------------------
-void vtkIlluminationVolumeAlgorithm::SetLightParameter(int index, double value)
-{
-  if (!this->Lights.SetParameter(index, value))
-  {
-    vtkErrorMacro("Light parameter " << index << " is out of range.");
-  }
-}
-
-//------------------------------------------------------------------------------
-double vtkIlluminationVolumeAlgorithm::GetLightParameter(int index) const
-{
-  return this->Lights.GetParameter(index);
-}
-
-//------------------------------------------------------------------------------
 std::vector<volillum::LightState> vtkIlluminationVolumeAlgorithm::GetLightStates() const
 {
   return this->Lights.States();
-}
-
-//------------------------------------------------------------------------------
-vtkMTimeType vtkIlluminationVolumeAlgorithm::GetMTime()
-{
-  vtkMTimeType t = std::max(this->Superclass::GetMTime(), this->Lights.GetMTime());
-  if (this->ColorTransferFunction)
-  {
-    t = std::max(t, this->ColorTransferFunction->GetMTime());
-  }
-  if (this->OpacityFunction)
-  {
-    t = std::max(t, this->OpacityFunction->GetMTime());
-  }
-  return t;
 }
 
 //------------------------------------------------------------------------------
@@ -260,20 +185,13 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
     return 1;
   }
   std::string error;
-  vtkDataArray* scalars = volillum::FindPointScalars(this, input, error);
+  vtkDataArray* scalars = volillum::CheckScalarsAndLights(this, input, this->Lights, error);
   if (!scalars)
   {
     vtkErrorMacro(<< error);
     return 1;
   }
-
   const std::vector<volillum::LightState> lights = this->GetLightStates();
-  error = this->Lights.Validate();
-  if (!error.empty())
-  {
-    vtkErrorMacro(<< error);
-    return 1;
-  }
 
   ClassificationKey key;
   key.Scalars = scalars->GetMTime();

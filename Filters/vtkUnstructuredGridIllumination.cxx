@@ -1,6 +1,7 @@
 #include "vtkUnstructuredGridIllumination.h"
 
 #include "IlluminationFilterSupport.h"
+#include "IlluminationLightingMacros.h"
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
 #include "vtkCellTypes.h"
@@ -25,9 +26,7 @@
 #include <cmath>
 
 vtkStandardNewMacro(vtkUnstructuredGridIllumination);
-vtkCxxSetObjectMacro(
-  vtkUnstructuredGridIllumination, ColorTransferFunction, vtkColorTransferFunction);
-vtkCxxSetObjectMacro(vtkUnstructuredGridIllumination, OpacityFunction, vtkPiecewiseFunction);
+volillumLightingImplementationMacro(vtkUnstructuredGridIllumination);
 
 namespace
 {
@@ -72,63 +71,6 @@ vtkUnstructuredGridIllumination::~vtkUnstructuredGridIllumination()
 {
   this->SetColorTransferFunction(nullptr);
   this->SetOpacityFunction(nullptr);
-}
-
-//------------------------------------------------------------------------------
-void vtkUnstructuredGridIllumination::AddLight(vtkLight* light)
-{
-  if (this->Lights.Add(light))
-  {
-    this->Modified();
-  }
-}
-
-//------------------------------------------------------------------------------
-void vtkUnstructuredGridIllumination::RemoveAllLights()
-{
-  if (this->Lights.Clear())
-  {
-    this->Modified();
-  }
-}
-
-//------------------------------------------------------------------------------
-void vtkUnstructuredGridIllumination::SetNumberOfLightParameters(int count)
-{
-  bool changed = false;
-  if (!this->Lights.SetNumberOfParameters(count, changed))
-  {
-    vtkErrorMacro("The light list needs " << volillum::LightParameterCount
-                                          << " numbers per light, got " << count << ".");
-  }
-  if (changed)
-  {
-    this->Modified();
-  }
-}
-
-//------------------------------------------------------------------------------
-void vtkUnstructuredGridIllumination::SetLightParameter(int index, double value)
-{
-  if (!this->Lights.SetParameter(index, value))
-  {
-    vtkErrorMacro("Light parameter " << index << " is out of range.");
-  }
-}
-
-//------------------------------------------------------------------------------
-vtkMTimeType vtkUnstructuredGridIllumination::GetMTime()
-{
-  vtkMTimeType t = std::max(this->Superclass::GetMTime(), this->Lights.GetMTime());
-  if (this->ColorTransferFunction)
-  {
-    t = std::max(t, this->ColorTransferFunction->GetMTime());
-  }
-  if (this->OpacityFunction)
-  {
-    t = std::max(t, this->OpacityFunction->GetMTime());
-  }
-  return t;
 }
 
 //------------------------------------------------------------------------------
@@ -300,14 +242,8 @@ int vtkUnstructuredGridIllumination::RequestData(
     return 1;
   }
   std::string error;
-  vtkDataArray* scalars = volillum::FindPointScalars(this, input, error);
+  vtkDataArray* scalars = volillum::CheckScalarsAndLights(this, input, this->Lights, error);
   if (!scalars)
-  {
-    vtkErrorMacro(<< error);
-    return 1;
-  }
-  error = this->Lights.Validate();
-  if (!error.empty())
   {
     vtkErrorMacro(<< error);
     return 1;

@@ -63,11 +63,11 @@ public:
   void AddLight(vtkLight* light);
   void RemoveAllLights();
   int GetNumberOfLights() const { return this->Lights.Size(); }
-  vtkLight* GetLight(int index) const { return this->Lights.Get(index); }
+  vtkLight* GetLight(int index) const;
   void SetNumberOfLightParameters(int count);
-  int GetNumberOfLightParameters() const { return this->Lights.GetNumberOfParameters(); }
+  int GetNumberOfLightParameters() const;
   void SetLightParameter(int index, double value);
-  double GetLightParameter(int index) const { return this->Lights.GetParameter(index); }
+  double GetLightParameter(int index) const;
   ///@}
 
   ///@{
