@@ -137,8 +137,8 @@ public:
    * When on (default), also add the point array "LitColors": RGBA bytes, the colour
    * transfer function's colour times the Illumination (clamped to 1) and the opacity
    * function's opacity. Volume rendering of the grid with this array as direct colours
-   * (vtkVolumeProperty IndependentComponents off, ParaView's Map Scalars off) shows the
-   * lit volume with per-vertex lighting.
+   * (vtkVolumeProperty IndependentComponents off; in ParaView Map Scalars off and Multi
+   * Components Mapping on) shows the lit volume with per-vertex lighting.
    */
   vtkSetMacro(LitColors, bool);
   vtkGetMacro(LitColors, bool);
