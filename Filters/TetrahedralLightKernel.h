@@ -42,7 +42,6 @@
 #include "VolIllumFiltersModule.h"
 
 #include <array>
-#include <functional>
 #include <string>
 #include <vector>
 
