@@ -46,9 +46,9 @@ GridGeometry ScaledGeometry(const GridGeometry& data, double scale)
   return g;
 }
 
-void ClassifiedVolume::Sample(const double p[3], float out[4]) const
+void TrilinearSample(
+  const GridGeometry& g, const float* field, int channels, const double p[3], float* out)
 {
-  const auto& g = this->Geometry;
   int i0[3];
   double f[3];
   for (int a = 0; a < 3; ++a)
@@ -64,17 +64,17 @@ void ClassifiedVolume::Sample(const double p[3], float out[4]) const
     i0[a] = i;
     f[a] = n > 1 ? u - i : 0.0;
   }
-  const long long sx = 4;
+  const long long sx = channels;
   const long long sy = sx * g.Dimensions[0];
   const long long sz = sy * g.Dimensions[1];
   const long long dx = g.Dimensions[0] > 1 ? sx : 0;
   const long long dy = g.Dimensions[1] > 1 ? sy : 0;
   const long long dz = g.Dimensions[2] > 1 ? sz : 0;
-  const float* base = this->Properties.data() + i0[0] * sx + i0[1] * sy + i0[2] * sz;
+  const float* base = field + i0[0] * sx + i0[1] * sy + i0[2] * sz;
   const float fx = static_cast<float>(f[0]);
   const float fy = static_cast<float>(f[1]);
   const float fz = static_cast<float>(f[2]);
-  for (int c = 0; c < 4; ++c)
+  for (int c = 0; c < channels; ++c)
   {
     const float* q = base + c;
     const float c00 = q[0] + fx * (q[dx] - q[0]);
@@ -85,6 +85,11 @@ void ClassifiedVolume::Sample(const double p[3], float out[4]) const
     const float c1 = c01 + fy * (c11 - c01);
     out[c] = c0 + fz * (c1 - c0);
   }
+}
+
+void ClassifiedVolume::Sample(const double p[3], float out[4]) const
+{
+  TrilinearSample(this->Geometry, this->Properties.data(), 4, p, out);
 }
 
 float ClassifiedVolume::MaxExtinction() const

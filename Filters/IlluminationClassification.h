@@ -50,6 +50,11 @@ struct VOLILLUMFILTERS_EXPORT GridGeometry
 /// bounds as the data grid: the first and last points coincide with the data's.
 VOLILLUMFILTERS_EXPORT GridGeometry ScaledGeometry(const GridGeometry& data, double scale);
 
+/// Trilinear interpolation of a point field with `channels` floats per grid point (x
+/// fastest) at a world position; positions outside the grid are clamped onto it.
+VOLILLUMFILTERS_EXPORT void TrilinearSample(
+  const GridGeometry& geometry, const float* field, int channels, const double p[3], float* out);
+
 /// Optical properties per data point, interleaved as {sigma, k_r, k_g, k_b} where sigma is
 /// the extinction coefficient and k_c the fraction of the step opacity that removes light of
 /// channel c (1 - colour with chromatic attenuation, 1 without).

@@ -310,43 +310,6 @@ bool BuildTetrahedralMesh(std::vector<double> points, const std::vector<long lon
 }
 
 //------------------------------------------------------------------------------
-void Level0Grid::Sample(const std::vector<float>& field, const double p[3], float* out) const
-{
-  const auto& g = this->Geometry;
-  int i0[3];
-  double f[3];
-  long long stride[3] = { 1, g.Dimensions[0],
-    static_cast<long long>(g.Dimensions[0]) * g.Dimensions[1] };
-  for (int a = 0; a < 3; ++a)
-  {
-    const int n = g.Dimensions[a];
-    double u = (p[a] - g.Origin[a]) / g.Spacing[a];
-    u = std::min(std::max(u, 0.0), static_cast<double>(n - 1));
-    i0[a] = std::min(static_cast<int>(u), n - 2);
-    f[a] = u - i0[a];
-  }
-  const long long base = i0[0] + i0[1] * stride[1] + i0[2] * stride[2];
-  const int nc = this->Channels;
-  for (int c = 0; c < nc; ++c)
-  {
-    double sum = 0.0;
-    for (int corner = 0; corner < 8; ++corner)
-    {
-      double w = 1.0;
-      long long offset = base;
-      for (int a = 0; a < 3; ++a)
-      {
-        const int bit = (corner >> a) & 1;
-        w *= bit ? f[a] : 1.0 - f[a];
-        offset += bit * stride[a];
-      }
-      sum += w * field[nc * offset + c];
-    }
-    out[c] = static_cast<float>(sum);
-  }
-}
-
-//------------------------------------------------------------------------------
 void ResampleLevel0(const TetrahedralMesh& mesh, const std::vector<float>& extinction, int channels,
   const std::array<int, 3>& dimensions, Level0Grid& grid)
 {
@@ -594,7 +557,7 @@ Departure FindDeparture(const TetrahedralMesh& mesh, const std::vector<float>& e
   const auto finishAtLevel0 = [&](double t)
   {
     const double q[3] = { x[0] + t * toLight[0], x[1] + t * toLight[1], x[2] + t * toLight[2] };
-    grid.Sample(level0, q, dep.Fixed);
+    TrilinearSample(grid.Geometry, level0.data(), nc, q, dep.Fixed);
   };
   const auto finish = [&]()
   {
@@ -723,7 +686,8 @@ void PropagateLevel1(const TetrahedralMesh& mesh, const std::vector<float>& exti
     {
       for (int p = begin; p < end; ++p)
       {
-        grid.Sample(level0, mesh.Points.data() + 3 * static_cast<size_t>(p),
+        TrilinearSample(grid.Geometry, level0.data(), nc,
+          mesh.Points.data() + 3 * static_cast<size_t>(p),
           rho.data() + nc * static_cast<size_t>(p));
       }
     });

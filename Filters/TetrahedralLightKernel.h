@@ -83,9 +83,6 @@ struct VOLILLUMFILTERS_EXPORT Level0Grid
   int Channels = 1;
   std::vector<float> Extinction;     // Channels per point
   std::vector<unsigned char> Inside; // 1 inside a tetrahedron
-
-  /// Trilinear interpolation of a per-point field with Channels values per point.
-  void Sample(const std::vector<float>& field, const double p[3], float* out) const;
 };
 
 /// Resample per-vertex extinction (channels per vertex) onto a grid of the given
