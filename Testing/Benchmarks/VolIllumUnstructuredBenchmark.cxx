@@ -9,6 +9,7 @@
 //    same data and lights: time and per-vertex RMS against a brute-force march.
 // --smoke uses tiny sizes so that CI only checks that it runs.
 #include "IlluminationLights.h"
+#include "IlluminationTestUtilities.h"
 #include "vtkMultiLightIlluminationVolume.h"
 #include "vtkUnstructuredGridIllumination.h"
 
@@ -16,7 +17,6 @@
 #include "vtkDataSetTriangleFilter.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
-#include "vtkGenericCell.h"
 #include "vtkImageData.h"
 #include "vtkLight.h"
 #include "vtkNew.h"
@@ -28,7 +28,6 @@
 #include "vtkRenderer.h"
 #include "vtkResampleToImage.h"
 #include "vtkSMPTools.h"
-#include "vtkStaticCellLocator.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 #include "vtkVolume.h"
@@ -257,57 +256,6 @@ void Table2(vtkUnstructuredGrid* grid, bool smoke)
     ImageRms(Render(unlit->GetOutput(), size, unitDistance), reference));
 }
 
-// Brute-force transmittance of one light at every vertex (march through the mesh).
-std::vector<double> BruteForce(vtkUnstructuredGrid* grid, const std::vector<float>& sigma,
-  const volillum::LightState& light, double step)
-{
-  vtkNew<vtkStaticCellLocator> locator;
-  locator->SetDataSet(grid);
-  locator->BuildLocator();
-  double bounds[6];
-  grid->GetBounds(bounds);
-  std::vector<double> t(grid->GetNumberOfPoints());
-  vtkSMPTools::For(0, grid->GetNumberOfPoints(),
-    [&](vtkIdType begin, vtkIdType end)
-    {
-      vtkNew<vtkGenericCell> cell;
-      const auto at = [&](double* x)
-      {
-        int sub;
-        double pc[3], w[8];
-        const vtkIdType c = locator->FindCell(x, 1e-12, cell, sub, pc, w);
-        double s = 0.0;
-        for (vtkIdType i = 0; c >= 0 && i < cell->GetNumberOfPoints(); ++i)
-        {
-          s += w[i] * sigma[cell->GetPointId(i)];
-        }
-        return s;
-      };
-      for (vtkIdType p = begin; p < end; ++p)
-      {
-        double x[3];
-        grid->GetPoint(p, x);
-        const auto inc = volillum::ComputeIncidence(light, x);
-        const double length = volillum::DistanceToBoxExit(x, inc.ToLight.data(), bounds);
-        const int n = std::max(1, static_cast<int>(std::ceil(length / step)));
-        double depth = 0.0, previous = at(x);
-        for (int k = 1; k <= n; ++k)
-        {
-          double q[3];
-          for (int a = 0; a < 3; ++a)
-          {
-            q[a] = x[a] + k * length / n * inc.ToLight[a];
-          }
-          const double s = at(q);
-          depth += 0.5 * length / n * (previous + s);
-          previous = s;
-        }
-        t[p] = std::exp(-depth);
-      }
-    });
-  return t;
-}
-
 double VertexRms(vtkDataArray* got, const std::vector<double>& reference)
 {
   double e = 0.0, norm = 0.0;
@@ -379,14 +327,14 @@ void AgainstResampling(vtkUnstructuredGrid* grid, bool smoke)
   times[2] = Now() - start;
   const double resampleSeconds = times[0] + times[1] + times[2];
 
-  std::vector<float> sigma(grid->GetNumberOfPoints());
+  std::vector<double> sigma(grid->GetNumberOfPoints());
   vtkDataArray* s = grid->GetPointData()->GetScalars();
   for (vtkIdType p = 0; p < grid->GetNumberOfPoints(); ++p)
   {
     const double a = std::min(otf->GetValue(s->GetTuple1(p)), 1.0 - 1e-6);
-    sigma[p] = static_cast<float>(-std::log1p(-a) / unitDistance);
+    sigma[p] = -std::log1p(-a) / unitDistance;
   }
-  const auto reference = BruteForce(
+  const auto reference = volillumtest::BruteForceTransmittance(
     grid, sigma, volillum::CaptureLight(light), (bounds[1] - bounds[0]) / (smoke ? 50 : 1000));
   const double twoLevelRms =
     VertexRms(twoLevel->GetOutput()->GetPointData()->GetArray("Illumination"), reference);

@@ -2,13 +2,18 @@
 #ifndef IlluminationTestUtilities_h
 #define IlluminationTestUtilities_h
 
+#include "IlluminationClassification.h"
+#include "IlluminationLights.h"
 #include "vtkAlgorithm.h"
 #include "vtkCommand.h"
 #include "vtkFloatArray.h"
+#include "vtkGenericCell.h"
 #include "vtkImageData.h"
 #include "vtkLight.h"
 #include "vtkNew.h"
+#include "vtkSMPTools.h"
 #include "vtkSmartPointer.h"
+#include "vtkStaticCellLocator.h"
 #include "vtkUnstructuredGrid.h"
 #include "vtkUnstructuredGridReader.h"
 #include "vtkXMLUnstructuredGridReader.h"
@@ -19,6 +24,7 @@
 #include <fstream>
 #include <map>
 #include <string>
+#include <vector>
 
 namespace volillumtest
 {
@@ -147,6 +153,62 @@ inline vtkSmartPointer<vtkUnstructuredGrid> ReadUnstructuredGrid(const std::stri
   reader->SetFileName(path.c_str());
   reader->Update();
   return reader->GetOutput();
+}
+
+/**
+ * Brute-force transmittance of one light at every vertex of a grid: march from the vertex
+ * toward the light (to the light or the grid's bounding box) with steps of at most `step`,
+ * the extinction interpolated in the cell a cell locator finds (0 outside every cell),
+ * trapezoid rule. sigma holds the extinction of every point.
+ */
+inline std::vector<double> BruteForceTransmittance(vtkUnstructuredGrid* grid,
+  const std::vector<double>& sigma, const volillum::LightState& light, double step)
+{
+  vtkNew<vtkStaticCellLocator> locator;
+  locator->SetDataSet(grid);
+  locator->BuildLocator();
+  double bounds[6];
+  grid->GetBounds(bounds);
+  std::vector<double> t(grid->GetNumberOfPoints());
+  vtkSMPTools::For(0, grid->GetNumberOfPoints(),
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      vtkNew<vtkGenericCell> cell;
+      const auto sigmaAt = [&](double* x)
+      {
+        int subId;
+        double pcoords[3], weights[8];
+        const vtkIdType c = locator->FindCell(x, 1e-12, cell, subId, pcoords, weights);
+        double s = 0.0;
+        for (vtkIdType i = 0; c >= 0 && i < cell->GetNumberOfPoints(); ++i)
+        {
+          s += weights[i] * sigma[cell->GetPointId(i)];
+        }
+        return s;
+      };
+      for (vtkIdType p = begin; p < end; ++p)
+      {
+        double x[3];
+        grid->GetPoint(p, x);
+        const volillum::Incidence inc = volillum::ComputeIncidence(light, x);
+        const double length =
+          std::min(inc.Distance, volillum::DistanceToBoxExit(x, inc.ToLight.data(), bounds));
+        const int n = std::max(1, static_cast<int>(std::ceil(length / step)));
+        const double h = length / n;
+        double depth = 0.0;
+        double previous = sigmaAt(x);
+        for (int k = 1; k <= n; ++k)
+        {
+          double q[3] = { x[0] + k * h * inc.ToLight[0], x[1] + k * h * inc.ToLight[1],
+            x[2] + k * h * inc.ToLight[2] };
+          const double s = sigmaAt(q);
+          depth += 0.5 * h * (previous + s);
+          previous = s;
+        }
+        t[p] = std::exp(-depth);
+      }
+    });
+  return t;
 }
 
 inline vtkSmartPointer<vtkLight> DirectionalLight(

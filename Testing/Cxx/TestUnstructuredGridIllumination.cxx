@@ -14,7 +14,6 @@
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
 #include "vtkRectilinearGrid.h"
-#include "vtkStaticCellLocator.h"
 #include "vtkTetra.h"
 
 #include <gtest/gtest.h>
@@ -107,57 +106,17 @@ vtkFloatArray* Illumination(vtkUnstructuredGridIllumination* filter)
   return vtkFloatArray::SafeDownCast(filter->GetOutput()->GetPointData()->GetArray("Illumination"));
 }
 
-// Transmittance at every vertex by marching toward the light through the mesh: extinction
-// interpolated in the cell found by a cell locator (0 outside every cell), trapezoid rule.
+// Brute-force transmittance with the "density" point array as the extinction.
 std::vector<double> BruteForce(
   vtkUnstructuredGrid* mesh, const volillum::LightState& light, double step)
 {
-  vtkNew<vtkStaticCellLocator> locator;
-  locator->SetDataSet(mesh);
-  locator->BuildLocator();
   vtkDataArray* density = mesh->GetPointData()->GetScalars();
-  double bounds[6];
-  mesh->GetBounds(bounds);
-  vtkNew<vtkGenericCell> cell;
-  const auto sigmaAt = [&](double* x)
-  {
-    int subId;
-    double pcoords[3], weights[8];
-    const vtkIdType c = locator->FindCell(x, 1e-12, cell, subId, pcoords, weights);
-    if (c < 0)
-    {
-      return 0.0;
-    }
-    double s = 0.0;
-    for (vtkIdType i = 0; i < cell->GetNumberOfPoints(); ++i)
-    {
-      s += weights[i] * density->GetTuple1(cell->GetPointId(i));
-    }
-    return s;
-  };
-  std::vector<double> t(mesh->GetNumberOfPoints());
+  std::vector<double> sigma(mesh->GetNumberOfPoints());
   for (vtkIdType p = 0; p < mesh->GetNumberOfPoints(); ++p)
   {
-    double x[3];
-    mesh->GetPoint(p, x);
-    const volillum::Incidence inc = volillum::ComputeIncidence(light, x);
-    const double length =
-      std::min(inc.Distance, volillum::DistanceToBoxExit(x, inc.ToLight.data(), bounds));
-    const int n = std::max(1, static_cast<int>(std::ceil(length / step)));
-    const double h = length / n;
-    double depth = 0.0;
-    double previous = sigmaAt(x);
-    for (int k = 1; k <= n; ++k)
-    {
-      double q[3] = { x[0] + k * h * inc.ToLight[0], x[1] + k * h * inc.ToLight[1],
-        x[2] + k * h * inc.ToLight[2] };
-      const double s = sigmaAt(q);
-      depth += 0.5 * h * (previous + s);
-      previous = s;
-    }
-    t[p] = std::exp(-depth);
+    sigma[p] = density->GetTuple1(p);
   }
-  return t;
+  return volillumtest::BruteForceTransmittance(mesh, sigma, light, step);
 }
 
 struct Errors
