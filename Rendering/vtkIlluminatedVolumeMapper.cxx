@@ -45,7 +45,11 @@ vtkDataArray* IlluminationArray(vtkImageData* image)
 }
 
 //------------------------------------------------------------------------------
-vtkIlluminatedVolumeMapper::vtkIlluminatedVolumeMapper() = default;
+vtkIlluminatedVolumeMapper::vtkIlluminatedVolumeMapper()
+{
+  // Random ray start offsets: no wood-grain rings from samples at equal depths.
+  this->SetUseJittering(1);
+}
 
 //------------------------------------------------------------------------------
 vtkIlluminatedVolumeMapper::~vtkIlluminatedVolumeMapper()
@@ -174,8 +178,11 @@ void vtkIlluminatedVolumeMapper::SetShadingUniforms(vtkOpenGLShaderProperty* pro
 void vtkIlluminatedVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
 {
   auto* property = vtkOpenGLShaderProperty::SafeDownCast(vol->GetShaderProperty());
-  vtkDataArray* scalars = this->GetInput() && this->GetInput()->GetPointData()
-    ? this->GetInput()->GetPointData()->GetScalars()
+  // The array the superclass renders (ParaView selects it by name, not as active scalars).
+  int cellFlag = 0;
+  vtkDataArray* scalars = this->GetInput()
+    ? vtkAbstractMapper::GetScalars(this->GetInput(), this->ScalarMode, this->ArrayAccessMode,
+        this->ArrayId, this->ArrayName, cellFlag)
     : nullptr;
   const bool supported = scalars && scalars->GetNumberOfComponents() == 1 &&
     this->GetBlendMode() == vtkVolumeMapper::COMPOSITE_BLEND;

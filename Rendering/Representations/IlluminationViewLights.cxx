@@ -1,0 +1,140 @@
+#include "IlluminationViewLights.h"
+
+#include "vtkCamera.h"
+#include "vtkDataArray.h"
+#include "vtkDataObject.h"
+#include "vtkDataSet.h"
+#include "vtkFieldData.h"
+#include "vtkLightCollection.h"
+#include "vtkMatrix4x4.h"
+#include "vtkPVLight.h"
+#include "vtkPVRenderView.h"
+#include "vtkPointData.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+
+namespace
+{
+// Still renders ask for 0.002 frames per second, interactive ones for 5 (vtkPVRenderView).
+constexpr double InteractiveUpdateRate = 1.0;
+
+void Transform(vtkMatrix4x4* m, const double in[3], double out[3])
+{
+  const double p[4] = { in[0], in[1], in[2], 1.0 };
+  double q[4];
+  m->MultiplyPoint(p, q);
+  for (int a = 0; a < 3; ++a)
+  {
+    out[a] = q[a] / q[3];
+  }
+}
+
+// World-space position and focal point of a view light.
+void WorldGeometry(vtkLight* light, vtkCamera* camera, double position[3], double focal[3])
+{
+  light->GetPosition(position);
+  light->GetFocalPoint(focal);
+  if (!camera)
+  {
+    return;
+  }
+  if (light->LightTypeIsHeadlight())
+  {
+    camera->GetPosition(position);
+    camera->GetFocalPoint(focal);
+  }
+  else if (light->LightTypeIsCameraLight())
+  {
+    vtkMatrix4x4* m = camera->GetCameraLightTransformMatrix();
+    const double p[3] = { position[0], position[1], position[2] };
+    const double f[3] = { focal[0], focal[1], focal[2] };
+    Transform(m, p, position);
+    Transform(m, f, focal);
+  }
+}
+}
+
+namespace volillum
+{
+
+//------------------------------------------------------------------------------
+void ViewLights::Update(vtkPVRenderView* view, bool includeLightKit)
+{
+  std::vector<vtkLight*> shining;
+  vtkRenderer* renderer = view ? view->GetRenderer() : nullptr;
+  if (renderer)
+  {
+    vtkLightCollection* lights = renderer->GetLights();
+    vtkCollectionSimpleIterator it;
+    lights->InitTraversal(it);
+    while (vtkLight* light = lights->GetNextLight(it))
+    {
+      if (includeLightKit || vtkPVLight::SafeDownCast(light))
+      {
+        shining.push_back(light);
+      }
+    }
+  }
+  this->Lights.resize(shining.size());
+  vtkCamera* camera = renderer ? renderer->GetActiveCamera() : nullptr;
+  for (size_t i = 0; i < shining.size(); ++i)
+  {
+    if (!this->Lights[i])
+    {
+      this->Lights[i] = vtkSmartPointer<vtkLight>::New();
+      this->Lights[i]->SetLightTypeToSceneLight();
+    }
+    vtkLight* from = shining[i];
+    vtkLight* to = this->Lights[i];
+    double position[3], focal[3];
+    WorldGeometry(from, camera, position, focal);
+    to->SetPositional(from->GetPositional());
+    to->SetPosition(position);
+    to->SetFocalPoint(focal);
+    to->SetDiffuseColor(from->GetDiffuseColor());
+    to->SetIntensity(from->GetIntensity());
+    to->SetConeAngle(from->GetConeAngle());
+    to->SetExponent(from->GetExponent());
+    to->SetSwitch(from->GetSwitch());
+  }
+}
+
+//------------------------------------------------------------------------------
+bool IsInteractiveRender(vtkPVRenderView* view)
+{
+  vtkRenderWindow* window = view ? view->GetRenderWindow() : nullptr;
+  return window && window->GetDesiredUpdateRate() >= InteractiveUpdateRate;
+}
+
+//------------------------------------------------------------------------------
+double ReportedValue(vtkDataObject* output, const char* name)
+{
+  vtkDataArray* a = output ? output->GetFieldData()->GetArray(name) : nullptr;
+  return a && a->GetNumberOfTuples() > 0 ? a->GetTuple1(0) : 0.0;
+}
+
+//------------------------------------------------------------------------------
+void MeanIllumination(vtkDataObject* output, double mean[3])
+{
+  mean[0] = mean[1] = mean[2] = 0.0;
+  vtkDataSet* data = vtkDataSet::SafeDownCast(output);
+  vtkDataArray* a = data ? data->GetPointData()->GetArray("Illumination") : nullptr;
+  if (!a || a->GetNumberOfComponents() != 3 || a->GetNumberOfTuples() == 0)
+  {
+    return;
+  }
+  const vtkIdType n = a->GetNumberOfTuples();
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      mean[c] += a->GetComponent(i, c);
+    }
+  }
+  for (int c = 0; c < 3; ++c)
+  {
+    mean[c] /= static_cast<double>(n);
+  }
+}
+
+}

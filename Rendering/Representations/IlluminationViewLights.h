@@ -1,0 +1,81 @@
+/**
+ * @file IlluminationViewLights.h
+ * @brief The lights of a ParaView render view, in world coordinates, for the filters.
+ *
+ * A render view shines the lights of its light kit (camera lights and a headlight, when
+ * the view's light kit is on) and the Light Inspector's lights (vtkPVLight: scene, camera
+ * or headlights). The illumination filters need every light in the data's (world)
+ * coordinates, so ViewLights keeps one scene-light copy per view light and rewrites it
+ * from the view's camera before each update. Copies are edited in place: a light whose
+ * parameters did not change leaves its copy untouched, which is what lets the filters see
+ * a light edit as a change of that light only (a selective update).
+ */
+#ifndef IlluminationViewLights_h
+#define IlluminationViewLights_h
+
+#include "vtkLight.h"
+#include "vtkSmartPointer.h"
+
+#include <vector>
+
+class vtkDataObject;
+class vtkPVRenderView;
+
+namespace volillum
+{
+
+class ViewLights
+{
+public:
+  /**
+   * Re-read the view's lights. With includeLightKit false only the Light Inspector's
+   * lights (vtkPVLight) are taken.
+   */
+  void Update(vtkPVRenderView* view, bool includeLightKit);
+
+  int Size() const { return static_cast<int>(this->Lights.size()); }
+
+  /**
+   * Give the copies to a filter with the light API of the illumination filters
+   * (AddLight, RemoveAllLights, GetNumberOfLights, GetLight). The filter keeps them by
+   * reference, so the list is only handed over again when it is not already the filter's.
+   */
+  template <class Filter>
+  void ApplyTo(Filter* filter) const
+  {
+    bool same = filter->GetNumberOfLights() == this->Size();
+    for (int i = 0; same && i < this->Size(); ++i)
+    {
+      same = filter->GetLight(i) == this->Lights[i];
+    }
+    if (same)
+    {
+      return;
+    }
+    filter->RemoveAllLights();
+    for (const auto& light : this->Lights)
+    {
+      filter->AddLight(light);
+    }
+  }
+
+private:
+  std::vector<vtkSmartPointer<vtkLight>> Lights;
+};
+
+/**
+ * True while the view renders interactively (the user drags the camera): ParaView's
+ * render view asks for a high update rate then and for a very low one in still renders.
+ */
+bool IsInteractiveRender(vtkPVRenderView* view);
+
+/// A value the illumination filters report in their output's field data (UpdateMode,
+/// UpdateSeconds, PropagationPasses, ...); 0 when absent.
+double ReportedValue(vtkDataObject* output, const char* name);
+
+/// Mean of the 3-component point array "Illumination" of a filter output (0 without it).
+void MeanIllumination(vtkDataObject* output, double mean[3]);
+
+}
+
+#endif

@@ -1,0 +1,161 @@
+#include "vtkIlluminatedUnstructuredGridRepresentation.h"
+
+#include "IlluminationViewLights.h"
+#include "vtkAlgorithmOutput.h"
+#include "vtkDataArray.h"
+#include "vtkInformation.h"
+#include "vtkObjectFactory.h"
+#include "vtkPVLODVolume.h"
+#include "vtkPVRenderView.h"
+#include "vtkPiecewiseFunction.h"
+#include "vtkPointData.h"
+#include "vtkProjectedTetrahedraMapper.h"
+#include "vtkUnstructuredGrid.h"
+#include "vtkUnstructuredGridIllumination.h"
+#include "vtkVolumeProperty.h"
+
+struct vtkIlluminatedUnstructuredGridRepresentation::vtkInternals
+{
+  volillum::ViewLights Lights;
+  bool Lit = false; // whether the last render drew the lit grid
+};
+
+vtkStandardNewMacro(vtkIlluminatedUnstructuredGridRepresentation);
+
+//------------------------------------------------------------------------------
+vtkIlluminatedUnstructuredGridRepresentation::vtkIlluminatedUnstructuredGridRepresentation()
+  : Internals(new vtkInternals)
+{
+  this->Illumination->SetLitColors(true);
+  this->LitMapper->SetInputConnection(this->Illumination->GetOutputPort());
+  this->LitMapper->SetScalarModeToUsePointFieldData();
+  this->LitMapper->SelectScalarArray("LitColors");
+  // LitColors hold the colour and the opacity already: no lookup, alpha byte -> [0, 1].
+  this->LitProperty->IndependentComponentsOff();
+  vtkNew<vtkPiecewiseFunction> alpha;
+  alpha->AddPoint(0.0, 0.0);
+  alpha->AddPoint(255.0, 1.0);
+  this->LitProperty->SetScalarOpacity(alpha);
+}
+
+//------------------------------------------------------------------------------
+vtkIlluminatedUnstructuredGridRepresentation::~vtkIlluminatedUnstructuredGridRepresentation() =
+  default;
+
+//------------------------------------------------------------------------------
+void vtkIlluminatedUnstructuredGridRepresentation::SetChromaticAttenuation(bool enable)
+{
+  this->Illumination->SetChromaticAttenuation(enable);
+}
+
+void vtkIlluminatedUnstructuredGridRepresentation::SetLevel0Resolution(int x, int y, int z)
+{
+  this->Illumination->SetLevel0Resolution(x, y, z);
+}
+
+void vtkIlluminatedUnstructuredGridRepresentation::SetAbsorption(double value)
+{
+  this->Illumination->SetAbsorption(value);
+}
+
+void vtkIlluminatedUnstructuredGridRepresentation::SetScatteringStrength(
+  double r, double g, double b)
+{
+  this->Illumination->SetScatteringStrength(r, g, b);
+}
+
+void vtkIlluminatedUnstructuredGridRepresentation::SetScatteringIterations(int count)
+{
+  this->Illumination->SetScatteringIterations(count);
+}
+
+//------------------------------------------------------------------------------
+vtkUnstructuredGrid* vtkIlluminatedUnstructuredGridRepresentation::GetLitGrid()
+{
+  return this->Internals->Lit ? this->Illumination->GetOutput() : nullptr;
+}
+
+//------------------------------------------------------------------------------
+int vtkIlluminatedUnstructuredGridRepresentation::ProcessViewRequest(
+  vtkInformationRequestKey* request, vtkInformation* inInfo, vtkInformation* outInfo)
+{
+  if (!this->Superclass::ProcessViewRequest(request, inInfo, outInfo))
+  {
+    return 0;
+  }
+  if (request == vtkPVView::REQUEST_RENDER() && !inInfo->Has(vtkPVRenderView::USE_LOD()))
+  {
+    this->Internals->Lit = this->UpdateIllumination(inInfo);
+    if (this->Internals->Lit)
+    {
+      this->Actor->SetMapper(this->LitMapper);
+      this->Actor->SetProperty(this->LitProperty);
+    }
+    else
+    {
+      this->Actor->SetProperty(this->Property);
+    }
+  }
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+bool vtkIlluminatedUnstructuredGridRepresentation::UpdateIllumination(vtkInformation* inInfo)
+{
+  auto* view = vtkPVRenderView::SafeDownCast(inInfo->Get(vtkPVView::VIEW()));
+  vtkAlgorithmOutput* port = vtkPVRenderView::GetPieceProducer(inInfo, this);
+  auto* grid = port
+    ? vtkUnstructuredGrid::SafeDownCast(port->GetProducer()->GetOutputDataObject(0))
+    : nullptr;
+  vtkInformation* arrayInfo = this->GetInputArrayInformation(0);
+  const char* name = arrayInfo->Has(vtkDataObject::FIELD_NAME())
+    ? arrayInfo->Get(vtkDataObject::FIELD_NAME())
+    : nullptr;
+  const bool pointArray = arrayInfo->Has(vtkDataObject::FIELD_ASSOCIATION()) &&
+    arrayInfo->Get(vtkDataObject::FIELD_ASSOCIATION()) == vtkDataObject::FIELD_ASSOCIATION_POINTS;
+  vtkDataArray* scalars =
+    grid && name && pointArray ? grid->GetPointData()->GetArray(name) : nullptr;
+  if (!scalars || scalars->GetNumberOfComponents() != 1 || grid->GetNumberOfCells() == 0)
+  {
+    return false;
+  }
+  this->LitProperty->SetScalarOpacityUnitDistance(
+    this->Property->GetScalarOpacityUnitDistance(0));
+  if (volillum::IsInteractiveRender(view) && this->Internals->Lit)
+  {
+    return true; // keep the current lighting while the camera moves
+  }
+  this->Internals->Lights.Update(view, this->UseLightKit);
+  this->Internals->Lights.ApplyTo(this->Illumination.Get());
+  this->Illumination->SetInputConnection(port);
+  this->Illumination->SetInputArrayToProcess(
+    0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, name);
+  this->Illumination->SetColorTransferFunction(this->Property->GetRGBTransferFunction(0));
+  this->Illumination->SetOpacityFunction(this->Property->GetScalarOpacity(0));
+  this->Illumination->SetScalarOpacityUnitDistance(
+    this->Property->GetScalarOpacityUnitDistance(0));
+  this->Illumination->Update();
+  vtkUnstructuredGrid* lit = this->Illumination->GetOutput();
+  if (!lit || !lit->GetPointData()->GetArray("LitColors"))
+  {
+    return false;
+  }
+  this->UpdateMode = static_cast<int>(volillum::ReportedValue(lit, "UpdateMode"));
+  this->UpdateSeconds = volillum::ReportedValue(lit, "UpdateSeconds");
+  this->PropagationPasses = static_cast<int>(volillum::ReportedValue(lit, "PropagationPasses"));
+  volillum::MeanIllumination(lit, this->MeanIllumination);
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkIlluminatedUnstructuredGridRepresentation::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "UseLightKit: " << this->UseLightKit << "\n";
+  os << indent << "UpdateMode: " << this->UpdateMode << "\n";
+  os << indent << "UpdateSeconds: " << this->UpdateSeconds << "\n";
+  os << indent << "PropagationPasses: " << this->PropagationPasses << "\n";
+  os << indent << "MeanIllumination: " << this->MeanIllumination[0] << " "
+     << this->MeanIllumination[1] << " " << this->MeanIllumination[2] << "\n";
+  os << indent << "Illumination: " << this->Illumination.Get() << "\n";
+}

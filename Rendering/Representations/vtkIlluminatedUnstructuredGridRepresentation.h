@@ -1,0 +1,98 @@
+/**
+ * @class vtkIlluminatedUnstructuredGridRepresentation
+ * @brief ParaView's "Illuminated Volume" representation of unstructured grids.
+ *
+ * Shares the Volume representation's colour map, scalar opacity, unit distance and
+ * coloured array, and lights the grid with the render view's lights (the Light
+ * Inspector's and, with UseLightKit, the light kit's) through
+ * vtkUnstructuredGridIllumination, the two-level solver: at each still render the piece
+ * this process renders is lit per vertex (LitColors = transfer-function colour x
+ * illumination) and drawn with projected tetrahedra on those colours. The solver keeps
+ * each light's solution, so a light edit recomputes that light only. Interactive renders
+ * keep the current lighting (or draw the level-of-detail outline when ParaView asks for
+ * it). UpdateMode, UpdateSeconds and PropagationPasses report the last update.
+ *
+ * The coloured array must be a one-component point array; otherwise the grid is drawn as
+ * the Volume representation draws it.
+ */
+#ifndef vtkIlluminatedUnstructuredGridRepresentation_h
+#define vtkIlluminatedUnstructuredGridRepresentation_h
+
+#include "VolIllumRepresentationsModule.h"
+#include "vtkNew.h"
+#include "vtkUnstructuredGridVolumeRepresentation.h"
+
+#include <memory>
+
+class vtkProjectedTetrahedraMapper;
+class vtkUnstructuredGridIllumination;
+class vtkVolumeProperty;
+
+class VOLILLUMREPRESENTATIONS_EXPORT vtkIlluminatedUnstructuredGridRepresentation
+  : public vtkUnstructuredGridVolumeRepresentation
+{
+public:
+  static vtkIlluminatedUnstructuredGridRepresentation* New();
+  vtkTypeMacro(vtkIlluminatedUnstructuredGridRepresentation, vtkUnstructuredGridVolumeRepresentation);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /** Solver settings, forwarded to vtkUnstructuredGridIllumination. */
+  void SetChromaticAttenuation(bool enable);
+  void SetLevel0Resolution(int x, int y, int z);
+  void SetAbsorption(double value);
+  void SetScatteringStrength(double r, double g, double b);
+  void SetScatteringIterations(int count);
+  ///@}
+
+  ///@{
+  /** Also light with the view's light kit (when the view has it on). Default on. */
+  vtkSetMacro(UseLightKit, bool);
+  vtkGetMacro(UseLightKit, bool);
+  ///@}
+
+  ///@{
+  /**
+   * The last update: 0 full / 1 selective, its wall time and the lights propagated;
+   * the mean illumination (r g b) over the illumination's points.
+   */
+  vtkGetMacro(UpdateMode, int);
+  vtkGetMacro(UpdateSeconds, double);
+  vtkGetMacro(PropagationPasses, int);
+  vtkGetVector3Macro(MeanIllumination, double);
+  ///@}
+
+  /** The lit grid the last render drew (nullptr before the first). */
+  vtkUnstructuredGrid* GetLitGrid();
+
+  int ProcessViewRequest(vtkInformationRequestKey* request, vtkInformation* inInfo,
+    vtkInformation* outInfo) override;
+
+protected:
+  vtkIlluminatedUnstructuredGridRepresentation();
+  ~vtkIlluminatedUnstructuredGridRepresentation() override;
+
+  /// Light the delivered piece and draw it; false when it cannot be lit.
+  bool UpdateIllumination(vtkInformation* inInfo);
+
+  bool UseLightKit = true;
+  int UpdateMode = 0;
+  double UpdateSeconds = 0.0;
+  int PropagationPasses = 0;
+  double MeanIllumination[3] = { 0.0, 0.0, 0.0 };
+
+  vtkNew<vtkUnstructuredGridIllumination> Illumination;
+  vtkNew<vtkProjectedTetrahedraMapper> LitMapper;
+  // Property of the lit drawing: LitColors are direct RGBA (dependent components).
+  vtkNew<vtkVolumeProperty> LitProperty;
+
+private:
+  vtkIlluminatedUnstructuredGridRepresentation(
+    const vtkIlluminatedUnstructuredGridRepresentation&) = delete;
+  void operator=(const vtkIlluminatedUnstructuredGridRepresentation&) = delete;
+
+  struct vtkInternals;
+  std::unique_ptr<vtkInternals> Internals;
+};
+
+#endif

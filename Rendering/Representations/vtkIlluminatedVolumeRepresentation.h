@@ -1,0 +1,151 @@
+/**
+ * @class vtkIlluminatedVolumeRepresentation
+ * @brief ParaView's "Illuminated Volume" representation of image data.
+ *
+ * A volume representation (it shares the Volume representation's colour map, scalar
+ * opacity, unit distance and coloured array) that lights the volume with the render
+ * view's own lights. At each still render it reads the view's lights (the Light
+ * Inspector's lights and, with UseLightKit, the light kit's), converts camera lights to
+ * world coordinates, hands them with the colour map editor's transfer functions to an
+ * illumination filter (IlluminationMethod: multi-light propagation, filtered shadows or
+ * the ray-marched reference) on the piece this process renders, and draws the volume
+ * with vtkIlluminatedVolumeMapper. The filters keep their state between renders, so a
+ * light edit re-propagates that light only; a transfer-function or data change
+ * recomputes everything.
+ *
+ * While the user drags the camera (interactive renders) the current illumination is
+ * kept; with MaximumPassesPerUpdate > 0 (propagation) each interactive render does at
+ * most that many propagation passes toward the new lighting, and a still render always
+ * completes it. UpdateMode, UpdateSeconds, PropagationPasses and PendingPasses report the
+ * last update.
+ *
+ * The coloured array must be a one-component point array; otherwise the volume is drawn
+ * without illumination (as the Volume representation draws it).
+ */
+#ifndef vtkIlluminatedVolumeRepresentation_h
+#define vtkIlluminatedVolumeRepresentation_h
+
+#include "VolIllumRepresentationsModule.h"
+#include "vtkImageVolumeRepresentation.h"
+#include "vtkSmartPointer.h"
+
+#include <memory>
+
+class vtkIlluminatedVolumeMapper;
+class vtkIlluminationVolumeAlgorithm;
+class vtkImageData;
+
+class VOLILLUMREPRESENTATIONS_EXPORT vtkIlluminatedVolumeRepresentation
+  : public vtkImageVolumeRepresentation
+{
+public:
+  static vtkIlluminatedVolumeRepresentation* New();
+  vtkTypeMacro(vtkIlluminatedVolumeRepresentation, vtkImageVolumeRepresentation);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum Methods
+  {
+    MultiLightPropagation = 0,
+    FilteredShadows = 1,
+    RayMarchedReference = 2
+  };
+
+  ///@{
+  /** How the illumination is computed. Default MultiLightPropagation. */
+  vtkSetClampMacro(IlluminationMethod, int, MultiLightPropagation, RayMarchedReference);
+  vtkGetMacro(IlluminationMethod, int);
+  ///@}
+
+  ///@{
+  /** Illumination volume resolution relative to the data: 1, 0.5 or 0.25. Default 0.5. */
+  vtkSetMacro(ResolutionScale, double);
+  vtkGetMacro(ResolutionScale, double);
+  ///@}
+
+  ///@{
+  /** Light passing coloured material takes on its colour. Default off. */
+  vtkSetMacro(ChromaticAttenuation, bool);
+  vtkGetMacro(ChromaticAttenuation, bool);
+  ///@}
+
+  ///@{
+  /** Filtered shadows: filter width in voxels and kernel (0 box, 1 Gaussian). */
+  vtkSetClampMacro(ShadowFilterWidth, double, 0.0, 64.0);
+  vtkGetMacro(ShadowFilterWidth, double);
+  vtkSetClampMacro(ShadowFilterKernel, int, 0, 1);
+  vtkGetMacro(ShadowFilterKernel, int);
+  ///@}
+
+  ///@{
+  /** Propagation: most passes per update, 0 for no limit (see the class description). */
+  vtkSetClampMacro(MaximumPassesPerUpdate, int, 0, VTK_INT_MAX);
+  vtkGetMacro(MaximumPassesPerUpdate, int);
+  ///@}
+
+  ///@{
+  /** Also light with the view's light kit (when the view has it on). Default on. */
+  vtkSetMacro(UseLightKit, bool);
+  vtkGetMacro(UseLightKit, bool);
+  ///@}
+
+  ///@{
+  /** Shading weights, forwarded to vtkIlluminatedVolumeMapper. */
+  void SetIlluminationAmbient(double value);
+  void SetIlluminationDiffuse(double value);
+  void SetGradientShading(bool enable);
+  void SetPhongAmbient(double value);
+  void SetPhongDiffuse(double value);
+  void SetPhongSpecular(double value);
+  void SetPhongSpecularPower(double value);
+  ///@}
+
+  ///@{
+  /**
+   * The last update: 0 full / 1 selective, its wall time, passes done and left; the
+   * mean illumination (r g b) over the illumination volume's points.
+   */
+  vtkGetMacro(UpdateMode, int);
+  vtkGetMacro(UpdateSeconds, double);
+  vtkGetMacro(PropagationPasses, int);
+  vtkGetVector3Macro(MeanIllumination, double);
+  vtkGetMacro(PendingPasses, int);
+  ///@}
+
+  /** The illumination volume the last render used (nullptr before the first). */
+  vtkImageData* GetIlluminationData();
+
+  int ProcessViewRequest(vtkInformationRequestKey* request, vtkInformation* inInfo,
+    vtkInformation* outInfo) override;
+
+protected:
+  vtkIlluminatedVolumeRepresentation();
+  ~vtkIlluminatedVolumeRepresentation() override;
+
+  vtkIlluminatedVolumeMapper* GetIlluminatedMapper();
+  vtkIlluminationVolumeAlgorithm* GetIlluminationFilter();
+  void UpdateIllumination(vtkInformation* inInfo);
+  bool UpdateFilter(vtkIlluminationVolumeAlgorithm* filter);
+
+  int IlluminationMethod = MultiLightPropagation;
+  double ResolutionScale = 0.5;
+  bool ChromaticAttenuation = false;
+  double ShadowFilterWidth = 3.0;
+  int ShadowFilterKernel = 0;
+  int MaximumPassesPerUpdate = 0;
+  bool UseLightKit = true;
+
+  int UpdateMode = 0;
+  double UpdateSeconds = 0.0;
+  int PropagationPasses = 0;
+  double MeanIllumination[3] = { 0.0, 0.0, 0.0 };
+  int PendingPasses = 0;
+
+private:
+  vtkIlluminatedVolumeRepresentation(const vtkIlluminatedVolumeRepresentation&) = delete;
+  void operator=(const vtkIlluminatedVolumeRepresentation&) = delete;
+
+  struct vtkInternals;
+  std::unique_ptr<vtkInternals> Internals;
+};
+
+#endif

@@ -1,0 +1,77 @@
+"""Helpers shared by the pvpython tests of the Illuminated Volume representation."""
+import math
+
+from paraview import servermanager
+
+
+def info(rep, name):
+    """A read-only property of the representation, fresh from where it rendered."""
+    rep.SMProxy.UpdatePropertyInformation()
+    prop = rep.SMProxy.GetProperty(name)
+    return [prop.GetElement(i) for i in range(prop.GetNumberOfElements())]
+
+
+def mean_illumination(proxy):
+    """Mean of the Illumination point array of a filter's output (r, g, b)."""
+    proxy.UpdatePipeline()
+    data = servermanager.Fetch(proxy)
+    array = data.GetPointData().GetArray("Illumination")
+    n = array.GetNumberOfTuples()
+    return [sum(array.GetComponent(i, c) for i in range(n)) / n for c in range(3)]
+
+
+def relative_difference(a, b):
+    return max(abs(x - y) for x, y in zip(a, b)) / max(max(abs(y) for y in b), 1e-12)
+
+
+def light_parameters(light, position, focal):
+    """The 14-number layout of a view light (vtkPVLight proxy) at world position/focal."""
+    positional = 1 if light.Type == "Positional" else 0
+    return [positional] + list(position) + list(focal) + list(light.DiffuseColor) + \
+        [light.Intensity, light.ConeAngle, 1, 1 if light.Enable else 0]
+
+
+def camera_to_world(camera, point):
+    """A point of a camera light's frame in world coordinates: (0, 0, 1) is the camera
+    position, (0, 0, 0) the focal point, x and y scaled by the camera distance along the
+    view's right and up vectors."""
+    p = camera.GetPosition()
+    f = camera.GetFocalPoint()
+    up = camera.GetViewUp()
+    back = [p[i] - f[i] for i in range(3)]
+    d = math.sqrt(sum(x * x for x in back))
+    z = [x / d for x in back]
+    right = [up[1] * z[2] - up[2] * z[1], up[2] * z[0] - up[0] * z[2], up[0] * z[1] - up[1] * z[0]]
+    norm = math.sqrt(sum(x * x for x in right))
+    right = [x / norm for x in right]
+    true_up = [z[1] * right[2] - z[2] * right[1], z[2] * right[0] - z[0] * right[2],
+               z[0] * right[1] - z[1] * right[0]]
+    return [f[i] + d * (point[0] * right[i] + point[1] * true_up[i]) + point[2] * back[i]
+            for i in range(3)]
+
+
+def mean_colours(path):
+    """Mean red, green and blue of a PNG."""
+    from vtkmodules.vtkIOImage import vtkPNGReader
+    reader = vtkPNGReader()
+    reader.SetFileName(path)
+    reader.Update()
+    pixels = reader.GetOutput().GetPointData().GetScalars()
+    n = pixels.GetNumberOfTuples()
+    return [sum(pixels.GetComponent(i, c) for i in range(n)) / n for c in range(3)]
+
+
+def image_difference(path_a, path_b):
+    """Mean absolute per-channel difference of two PNGs of the same size, in [0, 255]."""
+    from vtkmodules.vtkIOImage import vtkPNGReader
+    images = []
+    for path in (path_a, path_b):
+        reader = vtkPNGReader()
+        reader.SetFileName(path)
+        reader.Update()
+        images.append(reader.GetOutput().GetPointData().GetScalars())
+    a, b = images
+    if a.GetNumberOfValues() != b.GetNumberOfValues():
+        return float("inf")
+    n = a.GetNumberOfValues()
+    return sum(abs(a.GetValue(i) - b.GetValue(i)) for i in range(n)) / n
