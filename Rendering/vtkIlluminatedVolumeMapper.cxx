@@ -22,6 +22,16 @@ namespace
 {
 const char* const ShadingDecTag = "//VTK::Shading::Dec";
 const char* const ShadingImplTag = "//VTK::Shading::Impl";
+const char* const TerminateInitTag = "//VTK::Terminate::Init";
+// Moves each ray's first sample by a per-pixel random fraction of a step before the
+// termination point is computed (VTK's own start is one full step in). VTK's jittering
+// samples a Perlin-noise texture whose lattice shows as a regular dot pattern on
+// surfaces; a hash of the pixel position gives white noise instead.
+const char* const JitteredTerminateInit =
+  "vec3 volillumJitter = g_dirStep * (volillumRandom(gl_FragCoord.xy) - 1.0);\n"
+  "g_rayOrigin += volillumJitter;\n"
+  "g_dataPos += volillumJitter;\n"
+  "//VTK::Terminate::Init";
 const char* const SamplerIntDeclaration = "uniform int volillum_illumination;";
 const char* const SamplerDeclaration = "uniform sampler3D volillum_illumination;";
 const char* const UniformNames[] = { "volillum_illumination", "volillum_illuminationScale",
@@ -45,11 +55,7 @@ vtkDataArray* IlluminationArray(vtkImageData* image)
 }
 
 //------------------------------------------------------------------------------
-vtkIlluminatedVolumeMapper::vtkIlluminatedVolumeMapper()
-{
-  // Random ray start offsets: no wood-grain rings from samples at equal depths.
-  this->SetUseJittering(1);
-}
+vtkIlluminatedVolumeMapper::vtkIlluminatedVolumeMapper() = default;
 
 //------------------------------------------------------------------------------
 vtkIlluminatedVolumeMapper::~vtkIlluminatedVolumeMapper()
@@ -126,6 +132,7 @@ void vtkIlluminatedVolumeMapper::SetShaderReplacements(
   {
     property->AddFragmentShaderReplacement(ShadingDecTag, true, IlluminatedShadingDec, false);
     property->AddFragmentShaderReplacement(ShadingImplTag, true, IlluminatedShadingImpl, false);
+    property->AddFragmentShaderReplacement(TerminateInitTag, true, JitteredTerminateInit, false);
     // Custom uniforms know no sampler type: the texture unit is set as an int uniform and
     // its declaration turned into a sampler after VTK has written it.
     property->AddFragmentShaderReplacement(SamplerIntDeclaration, false, SamplerDeclaration, false);
@@ -134,6 +141,7 @@ void vtkIlluminatedVolumeMapper::SetShaderReplacements(
   {
     property->ClearFragmentShaderReplacement(ShadingDecTag, true);
     property->ClearFragmentShaderReplacement(ShadingImplTag, true);
+    property->ClearFragmentShaderReplacement(TerminateInitTag, true);
     property->ClearFragmentShaderReplacement(SamplerIntDeclaration, false);
     for (const char* name : UniformNames)
     {

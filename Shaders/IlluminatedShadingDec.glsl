@@ -18,6 +18,12 @@ vec3 volillumIllumination(vec3 texPos)
   return texture3D(volillum_illumination, tc).rgb;
 }
 
+// Uniform random number in [0, 1) from a pixel position (ray-start jitter).
+float volillumRandom(vec2 pixel)
+{
+  return fract(sin(dot(pixel, vec2(12.9898, 78.233))) * 43758.5453);
+}
+
 // Gradient-based Phong factor Ia + Id + Is (eq. 3 of the unstructured-grid lighting
 // paper) for a headlight; 1 when gradient shading is off.
 float volillumPhong(vec3 texPos, vec3 rayStep)

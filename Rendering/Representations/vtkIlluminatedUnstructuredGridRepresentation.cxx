@@ -7,6 +7,7 @@
 #include "vtkObjectFactory.h"
 #include "vtkPVLODVolume.h"
 #include "vtkPVRenderView.h"
+#include "vtkRenderWindow.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
 #include "vtkProjectedTetrahedraMapper.h"
@@ -73,6 +74,16 @@ void vtkIlluminatedUnstructuredGridRepresentation::SetScatteringIterations(int c
 vtkUnstructuredGrid* vtkIlluminatedUnstructuredGridRepresentation::GetLitGrid()
 {
   return this->Internals->Lit ? this->Illumination->GetOutput() : nullptr;
+}
+
+//------------------------------------------------------------------------------
+bool vtkIlluminatedUnstructuredGridRepresentation::RemoveFromView(vtkView* view)
+{
+  if (auto* rview = vtkPVRenderView::SafeDownCast(view))
+  {
+    this->LitMapper->ReleaseGraphicsResources(rview->GetRenderWindow());
+  }
+  return this->Superclass::RemoveFromView(view);
 }
 
 //------------------------------------------------------------------------------

@@ -72,6 +72,10 @@ protected:
   vtkIlluminatedUnstructuredGridRepresentation();
   ~vtkIlluminatedUnstructuredGridRepresentation() override;
 
+  /// Releases this representation's own graphics resources while the view's window is
+  /// still there to release them in.
+  bool RemoveFromView(vtkView* view) override;
+
   /// Light the delivered piece and draw it; false when it cannot be lit.
   bool UpdateIllumination(vtkInformation* inInfo);
 

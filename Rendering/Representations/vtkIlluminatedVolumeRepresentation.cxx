@@ -11,6 +11,7 @@
 #include "vtkObjectFactory.h"
 #include "vtkPVLODVolume.h"
 #include "vtkPVRenderView.h"
+#include "vtkRenderWindow.h"
 #include "vtkPointData.h"
 #include "vtkRayMarchedIllumination.h"
 #include "vtkVolumeProperty.h"
@@ -114,6 +115,16 @@ vtkIlluminationVolumeAlgorithm* vtkIlluminatedVolumeRepresentation::GetIlluminat
     }
   }
   return filter;
+}
+
+//------------------------------------------------------------------------------
+bool vtkIlluminatedVolumeRepresentation::RemoveFromView(vtkView* view)
+{
+  if (auto* rview = vtkPVRenderView::SafeDownCast(view))
+  {
+    this->GetIlluminatedMapper()->ReleaseGraphicsResources(rview->GetRenderWindow());
+  }
+  return this->Superclass::RemoveFromView(view);
 }
 
 //------------------------------------------------------------------------------

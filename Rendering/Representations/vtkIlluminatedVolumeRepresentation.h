@@ -121,6 +121,10 @@ protected:
   vtkIlluminatedVolumeRepresentation();
   ~vtkIlluminatedVolumeRepresentation() override;
 
+  /// Releases this representation's own graphics resources while the view's window is
+  /// still there to release them in.
+  bool RemoveFromView(vtkView* view) override;
+
   vtkIlluminatedVolumeMapper* GetIlluminatedMapper();
   vtkIlluminationVolumeAlgorithm* GetIlluminationFilter();
   void UpdateIllumination(vtkInformation* inInfo);
