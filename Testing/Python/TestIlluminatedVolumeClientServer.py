@@ -1,0 +1,103 @@
+"""pvpython: the Illuminated Volume representation through pvserver gives the builtin image.
+
+The CT phantom lit by two Light Inspector lights (light kit off) is rendered as
+"Illuminated Volume" in a builtin session; then a pvserver is started on 127.0.0.1 (a free
+port of this machine, stopped at the end), pvpython connects to it with the plugin loaded
+on both sides, and the same scene is rendered with remote rendering (the server lights
+and draws the volume) and with local rendering (the data delivered to the client). Both
+images must match the builtin image (mean absolute difference below 0.5 of 255).
+Usage: pvpython TestIlluminatedVolumeClientServer.py PLUGIN OUTPUT_DIR PVSERVER
+"""
+import os
+import socket
+import subprocess
+import sys
+import time
+
+from paraview.simple import *
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from IlluminatedVolumeTestUtilities import finish, image_difference
+
+plugin, out, pvserver = sys.argv[1:4]
+
+
+def scene(path, remote_render_threshold=None):
+    phantom = IlluminationPhantom(Scene="CT Phantom", Dimensions=[48, 48, 48])
+    view = CreateView("RenderView")
+    view.ViewSize = [240, 240]
+    view.OrientationAxesVisibility = 0
+    view.UseLight = 0
+    if remote_render_threshold is not None:
+        view.RemoteRenderThreshold = remote_render_threshold
+    rep = Show(phantom, view)
+    rep.SetRepresentationType("Illuminated Volume")
+    ColorBy(rep, ("POINTS", "Density"))
+    GetColorTransferFunction("Density").ApplyPreset("Viridis (matplotlib)", True)
+    GetOpacityTransferFunction("Density").Points = [0.0, 0.0, 0.5, 0.0, 0.3, 0.05, 0.5, 0.0,
+                                                    1.0, 0.5, 0.5, 0.0]
+    view.ResetCamera()
+    GetActiveCamera().Azimuth(35)
+    key = AddLight(view=view)
+    key.Coords = "Scene"
+    key.Position = [-40, 70, 80]
+    key.FocalPoint = [24, 24, 24]
+    key.DiffuseColor = [1.0, 0.7, 0.4]
+    fill = AddLight(view=view)
+    fill.Coords = "Scene"
+    fill.Type = "Positional"
+    fill.ConeAngle = 180
+    fill.Position = [80, 10, 30]
+    fill.FocalPoint = [24, 24, 24]
+    fill.DiffuseColor = [0.4, 0.6, 1.0]
+    Render(view)
+    SaveScreenshot(path, view)
+    Delete(view)
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def wait_for(port, process, seconds=60):
+    deadline = time.time() + seconds
+    while time.time() < deadline and process.poll() is None:
+        with socket.socket() as s:
+            if s.connect_ex(("127.0.0.1", port)) == 0:
+                return True
+        time.sleep(0.5)
+    return False
+
+
+LoadPlugin(plugin, remote=False, ns=globals())
+builtin = os.path.join(out, "ClientServerBuiltin.png")
+scene(builtin)
+
+failures = []
+port = free_port()
+server = subprocess.Popen([pvserver, "--server-port=%d" % port, "--hostname=127.0.0.1"],
+                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+try:
+    if not wait_for(port, server):
+        failures.append("pvserver did not listen on port %d" % port)
+    else:
+        Connect("127.0.0.1", port)
+        LoadPlugin(plugin, remote=True, ns=globals())
+        LoadPlugin(plugin, remote=False, ns=globals())
+        for label, threshold in (("remote rendering", 0), ("local rendering", 1e6)):
+            path = os.path.join(out, "ClientServer%s.png" % label.split()[0].capitalize())
+            scene(path, threshold)
+            difference = image_difference(builtin, path)
+            print("%s: mean absolute difference to the builtin image %.3f" % (label, difference))
+            if difference > 0.5:
+                failures.append("%s differs from the builtin image by %.3f" % (label, difference))
+        Disconnect()
+finally:
+    server.terminate()
+    try:
+        server.wait(timeout=30)
+    except subprocess.TimeoutExpired:
+        server.kill()
+finish(failures)
