@@ -15,6 +15,7 @@
 #include "IlluminationLights.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkLight.h"
+#include "vtkNew.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkSetGet.h"
 
@@ -39,6 +40,12 @@
     }                                                                                          \
   }                                                                                            \
   vtkLight* thisClass::GetLight(int index) const { return this->Lights.Get(index); }          \
+  void thisClass::AddLightParameters(const double parameters[volillum::LightParameterCount])   \
+  {                                                                                            \
+    vtkNew<vtkLight> light;                                                                    \
+    volillum::ApplyLightParameters(light, parameters);                                         \
+    this->AddLight(light);                                                                     \
+  }                                                                                            \
   void thisClass::SetNumberOfLightParameters(int count)                                        \
   {                                                                                            \
     bool changed = false;                                                                      \

@@ -58,6 +58,12 @@ public:
   vtkLight* GetLight(int index) const;
   ///@}
 
+  /**
+   * Add one light from the 14 numbers of the flat layout (ParaView's Lights table sends one
+   * row per light this way after RemoveAllLights).
+   */
+  void AddLightParameters(const double parameters[14]);
+
   ///@{
   /**
    * Flat light list, 14 numbers per light (see the class description). Setting the number

@@ -55,6 +55,12 @@ public:
   vtkTypeMacro(vtkUnstructuredGridIllumination, vtkUnstructuredGridAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
+  /**
+   * Add one light from the 14 numbers of the flat layout (ParaView's Lights table sends one
+   * row per light this way after RemoveAllLights).
+   */
+  void AddLightParameters(const double parameters[14]);
+
   ///@{
   /**
    * The lights, as for the image filters (vtkIlluminationVolumeAlgorithm): vtkLight

@@ -15,7 +15,8 @@
  * the composite blend mode; otherwise, or without illumination data, the mapper renders
  * as its superclass. Leave the volume property's Shade off: the illumination volume
  * replaces local lighting. Ray starts are jittered by a per-pixel random
- * fraction of a step so that samples at equal depths do not draw rings. The illumination bounds are given in the data's coordinates.
+ * fraction of a step so that samples at equal depths do not draw rings. The illumination bounds are
+ * given in the data's coordinates.
  */
 #ifndef vtkIlluminatedVolumeMapper_h
 #define vtkIlluminatedVolumeMapper_h

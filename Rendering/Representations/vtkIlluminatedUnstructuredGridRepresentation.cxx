@@ -7,10 +7,10 @@
 #include "vtkObjectFactory.h"
 #include "vtkPVLODVolume.h"
 #include "vtkPVRenderView.h"
-#include "vtkRenderWindow.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
 #include "vtkProjectedTetrahedraMapper.h"
+#include "vtkRenderWindow.h"
 #include "vtkUnstructuredGrid.h"
 #include "vtkUnstructuredGridIllumination.h"
 #include "vtkVolumeProperty.h"
@@ -115,9 +115,8 @@ bool vtkIlluminatedUnstructuredGridRepresentation::UpdateIllumination(vtkInforma
 {
   auto* view = vtkPVRenderView::SafeDownCast(inInfo->Get(vtkPVView::VIEW()));
   vtkAlgorithmOutput* port = vtkPVRenderView::GetPieceProducer(inInfo, this);
-  auto* grid = port
-    ? vtkUnstructuredGrid::SafeDownCast(port->GetProducer()->GetOutputDataObject(0))
-    : nullptr;
+  auto* grid =
+    port ? vtkUnstructuredGrid::SafeDownCast(port->GetProducer()->GetOutputDataObject(0)) : nullptr;
   vtkInformation* arrayInfo = this->GetInputArrayInformation(0);
   const char* name = arrayInfo->Has(vtkDataObject::FIELD_NAME())
     ? arrayInfo->Get(vtkDataObject::FIELD_NAME())
@@ -130,8 +129,7 @@ bool vtkIlluminatedUnstructuredGridRepresentation::UpdateIllumination(vtkInforma
   {
     return false;
   }
-  this->LitProperty->SetScalarOpacityUnitDistance(
-    this->Property->GetScalarOpacityUnitDistance(0));
+  this->LitProperty->SetScalarOpacityUnitDistance(this->Property->GetScalarOpacityUnitDistance(0));
   if (volillum::IsInteractiveRender(view) && this->Internals->Lit)
   {
     return true; // keep the current lighting while the camera moves
@@ -143,8 +141,7 @@ bool vtkIlluminatedUnstructuredGridRepresentation::UpdateIllumination(vtkInforma
     0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, name);
   this->Illumination->SetColorTransferFunction(this->Property->GetRGBTransferFunction(0));
   this->Illumination->SetOpacityFunction(this->Property->GetScalarOpacity(0));
-  this->Illumination->SetScalarOpacityUnitDistance(
-    this->Property->GetScalarOpacityUnitDistance(0));
+  this->Illumination->SetScalarOpacityUnitDistance(this->Property->GetScalarOpacityUnitDistance(0));
   this->Illumination->Update();
   vtkUnstructuredGrid* lit = this->Illumination->GetOutput();
   if (!lit || !lit->GetPointData()->GetArray("LitColors"))

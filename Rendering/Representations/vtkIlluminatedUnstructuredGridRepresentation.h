@@ -33,7 +33,8 @@ class VOLILLUMREPRESENTATIONS_EXPORT vtkIlluminatedUnstructuredGridRepresentatio
 {
 public:
   static vtkIlluminatedUnstructuredGridRepresentation* New();
-  vtkTypeMacro(vtkIlluminatedUnstructuredGridRepresentation, vtkUnstructuredGridVolumeRepresentation);
+  vtkTypeMacro(
+    vtkIlluminatedUnstructuredGridRepresentation, vtkUnstructuredGridVolumeRepresentation);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
@@ -65,8 +66,8 @@ public:
   /** The lit grid the last render drew (nullptr before the first). */
   vtkUnstructuredGrid* GetLitGrid();
 
-  int ProcessViewRequest(vtkInformationRequestKey* request, vtkInformation* inInfo,
-    vtkInformation* outInfo) override;
+  int ProcessViewRequest(
+    vtkInformationRequestKey* request, vtkInformation* inInfo, vtkInformation* outInfo) override;
 
 protected:
   vtkIlluminatedUnstructuredGridRepresentation();

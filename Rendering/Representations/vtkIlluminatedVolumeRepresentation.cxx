@@ -11,9 +11,9 @@
 #include "vtkObjectFactory.h"
 #include "vtkPVLODVolume.h"
 #include "vtkPVRenderView.h"
-#include "vtkRenderWindow.h"
 #include "vtkPointData.h"
 #include "vtkRayMarchedIllumination.h"
+#include "vtkRenderWindow.h"
 #include "vtkVolumeProperty.h"
 
 #include <array>

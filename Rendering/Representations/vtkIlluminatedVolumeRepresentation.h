@@ -114,8 +114,8 @@ public:
   /** The illumination volume the last render used (nullptr before the first). */
   vtkImageData* GetIlluminationData();
 
-  int ProcessViewRequest(vtkInformationRequestKey* request, vtkInformation* inInfo,
-    vtkInformation* outInfo) override;
+  int ProcessViewRequest(
+    vtkInformationRequestKey* request, vtkInformation* inInfo, vtkInformation* outInfo) override;
 
 protected:
   vtkIlluminatedVolumeRepresentation();
