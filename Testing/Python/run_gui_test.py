@@ -1,0 +1,56 @@
+"""Driver of TestIlluminatedVolumeGUI.py: starts the real paraview GUI (it needs a display:
+run under xvfb-run) with the test script, waits for it to exit, and checks what the script
+recorded: the representation is Illuminated Volume, switching the only light off leaves
+only ambient light (mean illumination 0 and a darker image), and switching it on again
+gives back the first image exactly.
+Usage: python3 run_gui_test.py PARAVIEW PLUGIN OUTPUT_DIR
+"""
+import os
+import subprocess
+import sys
+
+paraview, plugin, out = sys.argv[1:4]
+here = os.path.dirname(os.path.abspath(__file__))
+result_file = os.path.join(out, "gui_result.txt")
+if os.path.exists(result_file):
+    os.remove(result_file)
+env = dict(os.environ, VOLILLUM_PLUGIN=plugin, VOLILLUM_OUTPUT=out)
+try:
+    subprocess.run([paraview, "--dr", "--script=" + os.path.join(here, "TestIlluminatedVolumeGUI.py")],
+                   env=env, timeout=300)
+except subprocess.TimeoutExpired:
+    print("FAIL  paraview did not exit within 300 s")
+    sys.exit(1)
+if not os.path.exists(result_file):
+    print("FAIL  the GUI script wrote no result")
+    sys.exit(1)
+results = dict(line.split(" ", 1) for line in open(result_file).read().splitlines())
+print(results)
+failures = []
+if "error" in results:
+    failures.append("the GUI script failed: " + results["error"])
+else:
+    if results.get("representation") != "Illuminated_Volume":
+        failures.append("representation is %s" % results.get("representation"))
+    if not float(results["mean_on"]) > 0.05:
+        failures.append("light on: mean illumination %s" % results["mean_on"])
+    if float(results["mean_off"]) != 0:
+        failures.append("light off: mean illumination %s, expected 0" % results["mean_off"])
+    if results["mean_on_again"] != results["mean_on"]:
+        failures.append("light on again: mean %s, first %s" % (results["mean_on_again"], results["mean_on"]))
+    sys.path.insert(0, here)
+    from IlluminatedVolumeTestUtilities import image_difference, mean_colours
+    on, off, again = (os.path.join(out, "gui_%s.png" % s) for s in ("on", "off", "on_again"))
+    brightness = [sum(mean_colours(p)) for p in (on, off)]
+    print("image brightness, light on %.1f, off %.1f" % tuple(brightness))
+    if not brightness[0] > brightness[1] + 10:
+        failures.append("switching the light off did not darken the image (%.1f vs %.1f)" %
+                        tuple(brightness))
+    difference = image_difference(on, again)
+    print("light on again vs first image: %.3f" % difference)
+    if difference > 0.5:
+        failures.append("light on again differs from the first image by %.3f" % difference)
+for f in failures:
+    print("FAIL  " + f)
+print("%d check(s) failed" % len(failures) if failures else "all checks passed")
+sys.exit(1 if failures else 0)
