@@ -1,0 +1,149 @@
+"""Benchmark of the Illuminated Volume representation through paraview.simple, as users run it.
+
+On the engine volume (../shared/data/volumes/engine.vti) at 512x512, one run:
+1. Frame cost with the illumination already computed: Illuminated Volume vs a plain Volume
+   frame, a Volume frame with Shade on and ParaView's built-in volumetric shadows with the
+   default light kit (Shade on, GlobalIlluminationReach 0.5, VolumetricScatteringBlending 1).
+2. Time from a Light Inspector light edit to the updated frame (ResolutionScale 0.5), with 2
+   and 8 scene lights: one light moved (selective update) vs every light moved (full update).
+Prints the ratios and writes them as JSON (--json FILE). --smoke: the CT phantom at 64^3,
+128x128, one frame each (a check that the benchmark runs, not a measurement).
+Usage: pvpython IlluminatedVolumeBenchmark.py PLUGIN DATA_DIR [--smoke] [--json FILE]
+"""
+import json
+import math
+import os
+import sys
+import time
+
+from paraview.simple import *
+
+plugin, data_dir = sys.argv[1:3]
+smoke = "--smoke" in sys.argv
+json_path = sys.argv[sys.argv.index("--json") + 1] if "--json" in sys.argv else None
+LoadPlugin(plugin, remote=False, ns=globals())
+
+engine = os.path.join(data_dir, "volumes", "engine.vti")
+if smoke or not os.path.exists(engine):
+    source = IlluminationPhantom(Scene="CT Phantom", Dimensions=[64, 64, 64])
+    name, size, frames = "CT phantom 64^3 (smoke)", [128, 128], 1
+else:
+    source = XMLImageDataReader(FileName=[engine])
+    name, size, frames = "engine", [512, 512], 3
+source.UpdatePipeline()
+array = source.PointData.keys()[0]
+bounds = source.GetDataInformation().GetBounds()
+centre = [(bounds[2 * a] + bounds[2 * a + 1]) / 2 for a in range(3)]
+extent = max(bounds[2 * a + 1] - bounds[2 * a] for a in range(3))
+
+view = CreateView("RenderView")
+view.ViewSize = size
+view.OrientationAxesVisibility = 0
+rep = Show(source, view)
+rep.SetRepresentationType("Volume")
+ColorBy(rep, ("POINTS", array))
+rep.RescaleTransferFunctionToDataRange(True)
+view.ResetCamera()
+camera = GetActiveCamera()
+camera.Elevation(20)
+
+
+def frame_seconds(count):
+    """Mean still-render time over count frames, the camera turning 2 degrees a frame."""
+    Render(view)  # warm up: shader compilation, uploads, any illumination update
+    start = time.perf_counter()
+    for _ in range(count):
+        camera.Azimuth(2)
+        Render(view)
+    return (time.perf_counter() - start) / count
+
+
+results = {"volume": name, "size": size}
+times = {}
+times["volume"] = frame_seconds(frames)
+rep.Shade = 1
+times["volume_shade"] = frame_seconds(frames)
+rep.GlobalIlluminationReach = 0.5
+rep.VolumetricScatteringBlending = 1.0
+times["builtin_shadows"] = frame_seconds(1)
+rep.GlobalIlluminationReach = 0.0
+rep.VolumetricScatteringBlending = 0.0
+rep.Shade = 0
+
+# Illuminated Volume lit by scene lights (the light kit off: camera turns keep the lighting).
+view.UseLight = 0
+lights = []
+
+
+def place(light, index, turn):
+    angle = 2 * math.pi * index / 8 + turn
+    light.Coords = "Scene"
+    light.Position = [centre[0] + 2 * extent * math.cos(angle),
+                      centre[1] + 2 * extent * math.sin(angle), centre[2] + extent]
+    light.FocalPoint = centre
+
+
+for i in range(2):
+    light = AddLight(view=view)
+    place(light, i, 0.0)
+    light.DiffuseColor = [1.0, 0.8, 0.6] if i % 2 == 0 else [0.6, 0.8, 1.0]
+    lights.append(light)
+rep.SetRepresentationType("Illuminated Volume")
+rep.IlluminationResolutionScale = 0.5
+times["illuminated"] = frame_seconds(frames)
+
+
+def edit_seconds(moved):
+    """Time from moving the given lights to the updated frame, and the update mode."""
+    start = time.perf_counter()
+    for i in moved:
+        place(lights[i], i, 0.3 * (1 + edit_seconds.calls))
+    Render(view)
+    elapsed = time.perf_counter() - start
+    edit_seconds.calls += 1
+    rep.SMProxy.UpdatePropertyInformation()
+    return (elapsed, int(rep.SMProxy.GetProperty("IlluminationUpdateMode").GetElement(0)),
+            rep.SMProxy.GetProperty("IlluminationUpdateSeconds").GetElement(0))
+
+
+edit_seconds.calls = 0
+edits = {}
+for count in (2, 8):
+    while len(lights) < count:
+        light = AddLight(view=view)
+        place(light, len(lights), 0.0)
+        light.Intensity = 0.5
+        lights.append(light)
+    Render(view)
+    one, one_mode, one_update = edit_seconds([0])
+    full, full_mode, full_update = edit_seconds(range(count))
+    edits[count] = {"one_light_s": one, "one_light_mode": one_mode, "all_lights_s": full,
+                    "all_lights_mode": full_mode, "speedup": full / one,
+                    "one_light_update_s": one_update, "all_lights_update_s": full_update,
+                    "update_speedup": full_update / one_update}
+
+ratios = {
+    "builtin_shadows_over_volume": times["builtin_shadows"] / times["volume"],
+    "shade_over_volume": times["volume_shade"] / times["volume"],
+    "illuminated_over_volume": times["illuminated"] / times["volume"],
+    "builtin_shadows_over_illuminated": times["builtin_shadows"] / times["illuminated"],
+}
+print("Illuminated Volume benchmark (%s, %dx%d, one run)" % (name, size[0], size[1]))
+print("  frame cost relative to a plain Volume frame (%.3f s):" % times["volume"])
+print("    Volume, Shade on                      %7.2fx" % ratios["shade_over_volume"])
+print("    Illuminated Volume                    %7.2fx" % ratios["illuminated_over_volume"])
+print("    built-in volumetric shadows           %7.2fx" % ratios["builtin_shadows_over_volume"])
+print("  built-in shadows frame / Illuminated Volume frame: %.1fx (target >= 30)" %
+      ratios["builtin_shadows_over_illuminated"])
+print("  light edit to updated frame (ResolutionScale 0.5):")
+for count, e in edits.items():
+    print("    %d lights: one light moved (mode %d) vs all moved (mode %d): edit to frame %.2fx "
+          "faster, illumination update alone %.2fx" %
+          (count, e["one_light_mode"], e["all_lights_mode"], e["speedup"], e["update_speedup"]))
+print("  target: one-light edit with 8 lights >= 3x faster than a full update")
+results.update({"frame_seconds": times, "ratios": ratios, "light_edits": {str(k): v for k, v in edits.items()}})
+if json_path:
+    with open(json_path, "w") as f:
+        json.dump(results, f, indent=2)
+sys.stdout.flush()
+os._exit(0)  # see IlluminatedVolumeTestUtilities.finish: ParaView's teardown under Xvfb
