@@ -56,7 +56,10 @@ case "${1:-}" in
     xvfb-run -a bash -c 'set -e
       (cd build && ctest --output-on-failure)
       build/bin/volillum-benchmark --smoke --json build/benchmark-smoke.json
-      build/bin/volillum-unstructured-benchmark --smoke'
+      build/bin/volillum-unstructured-benchmark --smoke
+      pvpython Testing/Benchmarks/IlluminatedVolumeBenchmark.py \
+        build/lib/paraview-5.11/plugins/VolumetricIllumination/VolumetricIllumination.so \
+        ../shared/data --smoke --json build/representation-benchmark-smoke.json'
     ;;
   build)
     build

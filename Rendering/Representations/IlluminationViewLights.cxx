@@ -1,5 +1,7 @@
 #include "IlluminationViewLights.h"
 
+#include "vtkAlgorithm.h"
+#include "vtkCallbackCommand.h"
 #include "vtkCamera.h"
 #include "vtkDataArray.h"
 #include "vtkDataObject.h"
@@ -7,6 +9,7 @@
 #include "vtkFieldData.h"
 #include "vtkLightCollection.h"
 #include "vtkMatrix4x4.h"
+#include "vtkNew.h"
 #include "vtkPVLight.h"
 #include "vtkPVRenderView.h"
 #include "vtkPointData.h"
@@ -111,6 +114,20 @@ double ReportedValue(vtkDataObject* output, const char* name)
 {
   vtkDataArray* a = output ? output->GetFieldData()->GetArray(name) : nullptr;
   return a && a->GetNumberOfTuples() > 0 ? a->GetTuple1(0) : 0.0;
+}
+
+//------------------------------------------------------------------------------
+void ForwardProgress(vtkAlgorithm* filter, vtkAlgorithm* representation)
+{
+  vtkNew<vtkCallbackCommand> forward;
+  forward->SetClientData(representation);
+  forward->SetCallback(
+    [](vtkObject* caller, unsigned long, void* clientData, void*)
+    {
+      static_cast<vtkAlgorithm*>(clientData)
+        ->UpdateProgress(static_cast<vtkAlgorithm*>(caller)->GetProgress());
+    });
+  filter->AddObserver(vtkCommand::ProgressEvent, forward);
 }
 
 //------------------------------------------------------------------------------

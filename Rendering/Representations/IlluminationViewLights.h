@@ -18,6 +18,7 @@
 
 #include <vector>
 
+class vtkAlgorithm;
 class vtkDataObject;
 class vtkPVRenderView;
 
@@ -72,6 +73,10 @@ bool IsInteractiveRender(vtkPVRenderView* view);
 /// A value the illumination filters report in their output's field data (UpdateMode,
 /// UpdateSeconds, PropagationPasses, ...); 0 when absent.
 double ReportedValue(vtkDataObject* output, const char* name);
+
+/// Report the progress of an illumination filter as progress of a representation, so
+/// that ParaView's progress bar moves during long updates.
+void ForwardProgress(vtkAlgorithm* filter, vtkAlgorithm* representation);
 
 /// Mean of the 3-component point array "Illumination" of a filter output (0 without it).
 void MeanIllumination(vtkDataObject* output, double mean[3]);

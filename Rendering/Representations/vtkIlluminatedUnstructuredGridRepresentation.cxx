@@ -28,6 +28,8 @@ vtkIlluminatedUnstructuredGridRepresentation::vtkIlluminatedUnstructuredGridRepr
   : Internals(new vtkInternals)
 {
   this->Illumination->SetLitColors(true);
+  volillum::ForwardProgress(this->Illumination, this);
+  this->SetProgressText("Illuminating the grid");
   this->LitMapper->SetInputConnection(this->Illumination->GetOutputPort());
   this->LitMapper->SetScalarModeToUsePointFieldData();
   this->LitMapper->SelectScalarArray("LitColors");
@@ -159,6 +161,7 @@ bool vtkIlluminatedUnstructuredGridRepresentation::UpdateIllumination(vtkInforma
 void vtkIlluminatedUnstructuredGridRepresentation::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
+  os << indent << "IlluminationMethod: " << this->IlluminationMethod << "\n";
   os << indent << "UseLightKit: " << this->UseLightKit << "\n";
   os << indent << "UpdateMode: " << this->UpdateMode << "\n";
   os << indent << "UpdateSeconds: " << this->UpdateSeconds << "\n";

@@ -38,6 +38,15 @@ public:
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
+  /**
+   * How the illumination is computed: 0, the two-level solver (the only method for
+   * unstructured grids; the property mirrors the image representation's Method).
+   */
+  vtkSetClampMacro(IlluminationMethod, int, 0, 0);
+  vtkGetMacro(IlluminationMethod, int);
+  ///@}
+
+  ///@{
   /** Solver settings, forwarded to vtkUnstructuredGridIllumination. */
   void SetChromaticAttenuation(bool enable);
   void SetLevel0Resolution(int x, int y, int z);
@@ -80,6 +89,7 @@ protected:
   /// Light the delivered piece and draw it; false when it cannot be lit.
   bool UpdateIllumination(vtkInformation* inInfo);
 
+  int IlluminationMethod = 0;
   bool UseLightKit = true;
   int UpdateMode = 0;
   double UpdateSeconds = 0.0;

@@ -34,6 +34,7 @@ vtkIlluminatedVolumeRepresentation::vtkIlluminatedVolumeRepresentation()
   // Replace the superclass's volume mapper with the illuminated one (the actor is the
   // superclass's; it is given the mapper in UpdateMapperParameters).
   this->VolumeMapper = vtkSmartPointer<vtkIlluminatedVolumeMapper>::New();
+  this->SetProgressText("Illuminating the volume");
 }
 
 //------------------------------------------------------------------------------
@@ -113,6 +114,7 @@ vtkIlluminationVolumeAlgorithm* vtkIlluminatedVolumeRepresentation::GetIlluminat
         filter = vtkSmartPointer<vtkMultiLightIlluminationVolume>::New();
         break;
     }
+    volillum::ForwardProgress(filter, this);
   }
   return filter;
 }

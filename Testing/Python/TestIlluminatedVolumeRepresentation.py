@@ -143,10 +143,18 @@ check(mode == 1 and passes < full_passes,
       "moving one of four lights is selective (%d passes, a full update %d)" % (passes, full_passes))
 Delete(full)
 
-# A colour map change recomputes everything.
+# A colour map change recomputes everything, and the update reports progress (ParaView's
+# progress bar listens to the representation).
+progress = []
+active = rep.GetClientSideObject().GetActiveRepresentation()
+observer = active.AddObserver("ProgressEvent", lambda o, e: progress.append(o.GetProgress()))
 pwf.Points = [0.0, 0.0, 0.5, 0.0, 0.3, 0.1, 0.5, 0.0, 1.0, 0.6, 0.5, 0.0]
 compare("after an opacity change", lights())
 check(info(rep, "IlluminationUpdateMode")[0] == 0, "an opacity change forces a full update")
+active.RemoveObserver(observer)
+check(len(progress) > 2 and max(progress) == 1.0,
+      "the full update reported progress (%d events, last %s)" %
+      (len(progress), progress[-1] if progress else None))
 
 # The light kit counts only with Use Light Kit on.
 for light in (side, rim):
