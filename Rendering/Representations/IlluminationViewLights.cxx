@@ -7,6 +7,7 @@
 #include "vtkDataObject.h"
 #include "vtkDataSet.h"
 #include "vtkFieldData.h"
+#include "vtkInformation.h"
 #include "vtkLightCollection.h"
 #include "vtkMatrix4x4.h"
 #include "vtkNew.h"
@@ -114,6 +115,19 @@ double ReportedValue(vtkDataObject* output, const char* name)
 {
   vtkDataArray* a = output ? output->GetFieldData()->GetArray(name) : nullptr;
   return a && a->GetNumberOfTuples() > 0 ? a->GetTuple1(0) : 0.0;
+}
+
+//------------------------------------------------------------------------------
+vtkDataArray* ColouredPointScalars(
+  vtkAlgorithm* representation, vtkDataSet* data, const char*& name)
+{
+  vtkInformation* info = representation->GetInputArrayInformation(0);
+  name = info->Has(vtkDataObject::FIELD_NAME()) ? info->Get(vtkDataObject::FIELD_NAME()) : nullptr;
+  const bool pointArray = info->Has(vtkDataObject::FIELD_ASSOCIATION()) &&
+    info->Get(vtkDataObject::FIELD_ASSOCIATION()) == vtkDataObject::FIELD_ASSOCIATION_POINTS;
+  vtkDataArray* scalars =
+    data && name && pointArray ? data->GetPointData()->GetArray(name) : nullptr;
+  return scalars && scalars->GetNumberOfComponents() == 1 ? scalars : nullptr;
 }
 
 //------------------------------------------------------------------------------

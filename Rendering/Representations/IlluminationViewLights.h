@@ -19,7 +19,9 @@
 #include <vector>
 
 class vtkAlgorithm;
+class vtkDataArray;
 class vtkDataObject;
+class vtkDataSet;
 class vtkPVRenderView;
 
 namespace volillum
@@ -73,6 +75,14 @@ bool IsInteractiveRender(vtkPVRenderView* view);
 /// A value the illumination filters report in their output's field data (UpdateMode,
 /// UpdateSeconds, PropagationPasses, ...); 0 when absent.
 double ReportedValue(vtkDataObject* output, const char* name);
+
+/**
+ * The array a representation colours by (its input array 0) in the data it renders, when
+ * it is a one-component point array that the illumination filters can classify; nullptr
+ * otherwise. name receives the array's name.
+ */
+vtkDataArray* ColouredPointScalars(
+  vtkAlgorithm* representation, vtkDataSet* data, const char*& name);
 
 /// Report the progress of an illumination filter as progress of a representation, so
 /// that ParaView's progress bar moves during long updates.

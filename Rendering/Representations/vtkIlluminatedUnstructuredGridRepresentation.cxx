@@ -2,7 +2,6 @@
 
 #include "IlluminationViewLights.h"
 #include "vtkAlgorithmOutput.h"
-#include "vtkDataArray.h"
 #include "vtkInformation.h"
 #include "vtkObjectFactory.h"
 #include "vtkPVLODVolume.h"
@@ -119,15 +118,8 @@ bool vtkIlluminatedUnstructuredGridRepresentation::UpdateIllumination(vtkInforma
   vtkAlgorithmOutput* port = vtkPVRenderView::GetPieceProducer(inInfo, this);
   auto* grid =
     port ? vtkUnstructuredGrid::SafeDownCast(port->GetProducer()->GetOutputDataObject(0)) : nullptr;
-  vtkInformation* arrayInfo = this->GetInputArrayInformation(0);
-  const char* name = arrayInfo->Has(vtkDataObject::FIELD_NAME())
-    ? arrayInfo->Get(vtkDataObject::FIELD_NAME())
-    : nullptr;
-  const bool pointArray = arrayInfo->Has(vtkDataObject::FIELD_ASSOCIATION()) &&
-    arrayInfo->Get(vtkDataObject::FIELD_ASSOCIATION()) == vtkDataObject::FIELD_ASSOCIATION_POINTS;
-  vtkDataArray* scalars =
-    grid && name && pointArray ? grid->GetPointData()->GetArray(name) : nullptr;
-  if (!scalars || scalars->GetNumberOfComponents() != 1 || grid->GetNumberOfCells() == 0)
+  const char* name = nullptr;
+  if (!volillum::ColouredPointScalars(this, grid, name) || grid->GetNumberOfCells() == 0)
   {
     return false;
   }

@@ -2,7 +2,6 @@
 
 #include "IlluminationViewLights.h"
 #include "vtkAlgorithmOutput.h"
-#include "vtkDataArray.h"
 #include "vtkFilteredVolumetricShadows.h"
 #include "vtkIlluminatedVolumeMapper.h"
 #include "vtkImageData.h"
@@ -11,7 +10,6 @@
 #include "vtkObjectFactory.h"
 #include "vtkPVLODVolume.h"
 #include "vtkPVRenderView.h"
-#include "vtkPointData.h"
 #include "vtkRayMarchedIllumination.h"
 #include "vtkRenderWindow.h"
 #include "vtkVolumeProperty.h"
@@ -169,15 +167,8 @@ void vtkIlluminatedVolumeRepresentation::UpdateIllumination(vtkInformation* inIn
   vtkAlgorithmOutput* port = vtkPVRenderView::GetPieceProducer(inInfo, this, 0);
   auto* image =
     port ? vtkImageData::SafeDownCast(port->GetProducer()->GetOutputDataObject(0)) : nullptr;
-  vtkInformation* arrayInfo = this->GetInputArrayInformation(0);
-  const char* name = arrayInfo->Has(vtkDataObject::FIELD_NAME())
-    ? arrayInfo->Get(vtkDataObject::FIELD_NAME())
-    : nullptr;
-  const bool pointArray = arrayInfo->Has(vtkDataObject::FIELD_ASSOCIATION()) &&
-    arrayInfo->Get(vtkDataObject::FIELD_ASSOCIATION()) == vtkDataObject::FIELD_ASSOCIATION_POINTS;
-  vtkDataArray* scalars =
-    image && name && pointArray ? image->GetPointData()->GetArray(name) : nullptr;
-  if (!scalars || scalars->GetNumberOfComponents() != 1)
+  const char* name = nullptr;
+  if (!volillum::ColouredPointScalars(this, image, name))
   {
     // Nothing this representation can light: draw as the Volume representation does.
     mapper->SetIlluminationData(nullptr);

@@ -6,6 +6,47 @@ import sys
 from paraview import servermanager
 
 
+class Checks:
+    """Prints each check as it is made and remembers the failures (for finish)."""
+
+    def __init__(self):
+        self.failures = []
+
+    def __call__(self, condition, message):
+        print(("ok    " if condition else "FAIL  ") + message)
+        if not condition:
+            self.failures.append(message)
+
+
+def illuminated_view(source, size):
+    """A new render view with the light kit off, showing source as "Illuminated Volume"
+    coloured by its Density array."""
+    from paraview.simple import ColorBy, CreateView, Show
+    view = CreateView("RenderView")
+    view.ViewSize = size
+    view.OrientationAxesVisibility = 0
+    view.UseLight = 0
+    rep = Show(source, view)
+    rep.SetRepresentationType("Illuminated Volume")
+    ColorBy(rep, ("POINTS", "Density"))
+    return view, rep
+
+
+def scene_light(view, position, focal_point, colour, point=False, intensity=1.0):
+    """A Light Inspector light in scene coordinates: directional, or a point light."""
+    from paraview.simple import AddLight
+    light = AddLight(view=view)
+    light.Coords = "Scene"
+    if point:
+        light.Type = "Positional"
+        light.ConeAngle = 180
+    light.Position = position
+    light.FocalPoint = focal_point
+    light.DiffuseColor = colour
+    light.Intensity = intensity
+    return light
+
+
 def info(rep, name):
     """A read-only property of the representation, fresh from where it rendered."""
     rep.SMProxy.UpdatePropertyInformation()

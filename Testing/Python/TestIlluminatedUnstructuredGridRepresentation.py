@@ -14,48 +14,26 @@ import sys
 from paraview.simple import *
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from IlluminatedVolumeTestUtilities import (finish, info, light_parameters, mean_colours,
+from IlluminatedVolumeTestUtilities import (Checks, finish, illuminated_view, info, light_parameters,
+                                            mean_colours, scene_light,
                                             mean_illumination, relative_difference)
 
 LoadPlugin(sys.argv[1], remote=False, ns=globals())
 out = sys.argv[2]
-failures = []
-
-
-def check(condition, message):
-    print(("ok    " if condition else "FAIL  ") + message)
-    if not condition:
-        failures.append(message)
+check = Checks()
 
 
 phantom = IlluminationPhantom(Scene="Three Spheres", Dimensions=[24, 24, 24])
 mesh = Tetrahedralize(Input=phantom)
-view = CreateView("RenderView")
-view.ViewSize = [300, 300]
-view.OrientationAxesVisibility = 0
-view.UseLight = 0
-rep = Show(mesh, view)
-rep.SetRepresentationType("Illuminated Volume")
-ColorBy(rep, ("POINTS", "Density"))
+view, rep = illuminated_view(mesh, [300, 300])
 rep.Level0Resolution = [32, 32, 32]
 lut = GetColorTransferFunction("Density")
 lut.ApplyPreset("Grayscale", True)
 pwf = GetOpacityTransferFunction("Density")
 view.ResetCamera()
 
-key = AddLight(view=view)
-key.Coords = "Scene"
-key.Type = "Directional"
-key.Position = [0, 30, 40]
-key.FocalPoint = [12, 12, 12]
-key.DiffuseColor = [1.0, 0.6, 0.2]
-fill = AddLight(view=view)
-fill.Coords = "Scene"
-fill.Type = "Positional"
-fill.ConeAngle = 180
-fill.Position = [-20, 12, 12]
-fill.FocalPoint = [12, 12, 12]
-fill.DiffuseColor = [0.3, 0.5, 1.0]
+key = scene_light(view, [0, 30, 40], [12, 12, 12], [1.0, 0.6, 0.2])
+fill = scene_light(view, [-20, 12, 12], [12, 12, 12], [0.3, 0.5, 1.0], point=True)
 
 
 def parameters():
@@ -97,4 +75,4 @@ r_b, _, b_b = mean_colours(blue)
 check((r_o - b_o) - (r_b - b_b) > 10, "image colours follow the lights (red - blue: %.1f vs %.1f)" %
       (r_o - b_o, r_b - b_b))
 
-finish(failures)
+finish(check.failures)

@@ -17,39 +17,23 @@ import time
 from paraview.simple import *
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from IlluminatedVolumeTestUtilities import finish, image_difference
+from IlluminatedVolumeTestUtilities import finish, illuminated_view, image_difference, scene_light
 
 plugin, out, pvserver = sys.argv[1:4]
 
 
 def scene(path, remote_render_threshold=None):
     phantom = IlluminationPhantom(Scene="CT Phantom", Dimensions=[48, 48, 48])
-    view = CreateView("RenderView")
-    view.ViewSize = [240, 240]
-    view.OrientationAxesVisibility = 0
-    view.UseLight = 0
+    view, rep = illuminated_view(phantom, [240, 240])
     if remote_render_threshold is not None:
         view.RemoteRenderThreshold = remote_render_threshold
-    rep = Show(phantom, view)
-    rep.SetRepresentationType("Illuminated Volume")
-    ColorBy(rep, ("POINTS", "Density"))
     GetColorTransferFunction("Density").ApplyPreset("Viridis (matplotlib)", True)
     GetOpacityTransferFunction("Density").Points = [0.0, 0.0, 0.5, 0.0, 0.3, 0.05, 0.5, 0.0,
                                                     1.0, 0.5, 0.5, 0.0]
     view.ResetCamera()
     GetActiveCamera().Azimuth(35)
-    key = AddLight(view=view)
-    key.Coords = "Scene"
-    key.Position = [-40, 70, 80]
-    key.FocalPoint = [24, 24, 24]
-    key.DiffuseColor = [1.0, 0.7, 0.4]
-    fill = AddLight(view=view)
-    fill.Coords = "Scene"
-    fill.Type = "Positional"
-    fill.ConeAngle = 180
-    fill.Position = [80, 10, 30]
-    fill.FocalPoint = [24, 24, 24]
-    fill.DiffuseColor = [0.4, 0.6, 1.0]
+    scene_light(view, [-40, 70, 80], [24, 24, 24], [1.0, 0.7, 0.4])
+    scene_light(view, [80, 10, 30], [24, 24, 24], [0.4, 0.6, 1.0], point=True)
     Render(view)
     SaveScreenshot(path, view)
     Delete(view)

@@ -18,29 +18,18 @@ import sys
 from paraview.simple import *
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from IlluminatedVolumeTestUtilities import (finish, camera_to_world, info, light_parameters,
+from IlluminatedVolumeTestUtilities import (Checks, finish, camera_to_world, illuminated_view, info,
+                                            light_parameters, scene_light,
                                             mean_colours, mean_illumination,
                                             relative_difference)
 
 LoadPlugin(sys.argv[1], remote=False, ns=globals())
 out = sys.argv[2]
-failures = []
-
-
-def check(condition, message):
-    print(("ok    " if condition else "FAIL  ") + message)
-    if not condition:
-        failures.append(message)
+check = Checks()
 
 
 phantom = IlluminationPhantom(Scene="CT Phantom", Dimensions=[64, 64, 64])
-view = CreateView("RenderView")
-view.ViewSize = [300, 300]
-view.OrientationAxesVisibility = 0
-view.UseLight = 0
-rep = Show(phantom, view)
-rep.SetRepresentationType("Illuminated Volume")
-ColorBy(rep, ("POINTS", "Density"))
+view, rep = illuminated_view(phantom, [300, 300])
 lut = GetColorTransferFunction("Density")
 lut.ApplyPreset("Cool to Warm", True)
 pwf = GetOpacityTransferFunction("Density")
@@ -50,20 +39,8 @@ camera = GetActiveCamera()
 camera.Azimuth(30)
 camera.Elevation(20)
 
-key = AddLight(view=view)
-key.Coords = "Scene"
-key.Type = "Directional"
-key.Position = [-60, 80, 100]
-key.FocalPoint = [32, 32, 32]
-key.DiffuseColor = [1.0, 0.7, 0.3]
-fill = AddLight(view=view)
-fill.Coords = "Scene"
-fill.Type = "Positional"
-fill.ConeAngle = 180
-fill.Position = [110, 20, 40]
-fill.FocalPoint = [32, 32, 32]
-fill.DiffuseColor = [0.3, 0.5, 1.0]
-fill.Intensity = 0.8
+key = scene_light(view, [-60, 80, 100], [32, 32, 32], [1.0, 0.7, 0.3])
+fill = scene_light(view, [110, 20, 40], [32, 32, 32], [0.3, 0.5, 1.0], point=True, intensity=0.8)
 
 
 def scene_parameters(light):
@@ -121,13 +98,7 @@ compare("still render after the camera moved",
         [scene_parameters(key), scene_parameters(fill), camera_parameters(side)])
 
 # Four lights; editing one in the Light Inspector re-propagates that light only.
-rim = AddLight(view=view)
-rim.Coords = "Scene"
-rim.Type = "Directional"
-rim.Position = [32, -80, -60]
-rim.FocalPoint = [32, 32, 32]
-rim.DiffuseColor = [1.0, 1.0, 1.0]
-rim.Intensity = 0.6
+rim = scene_light(view, [32, -80, -60], [32, 32, 32], [1.0, 1.0, 1.0], intensity=0.6)
 lights = lambda: [scene_parameters(key), scene_parameters(fill), camera_parameters(side),
                   scene_parameters(rim)]
 compare("four lights", lights())
@@ -193,4 +164,4 @@ for method, label in ((1, "Filtered Shadows"), (2, "Ray-Marched Reference")):
     m = info(rep, "IlluminationMean")
     check(m[2] > 0, "%s renders with illumination (mean %s)" % (label, ["%.4f" % v for v in m]))
 
-finish(failures)
+finish(check.failures)

@@ -13,7 +13,7 @@ import sys
 from paraview.simple import *
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from IlluminatedVolumeTestUtilities import finish, image_difference
+from IlluminatedVolumeTestUtilities import finish, illuminated_view, image_difference, scene_light
 
 LoadPlugin(sys.argv[1], remote=False, ns=globals())
 out = sys.argv[2]
@@ -22,13 +22,7 @@ before = os.path.join(out, "IlluminatedVolumeStateSaved.png")
 after = os.path.join(out, "IlluminatedVolumeStateLoaded.png")
 
 phantom = IlluminationPhantom(Scene="CT Phantom", Dimensions=[64, 64, 64])
-view = CreateView("RenderView")
-view.ViewSize = [300, 300]
-view.OrientationAxesVisibility = 0
-view.UseLight = 0
-rep = Show(phantom, view)
-rep.SetRepresentationType("Illuminated Volume")
-ColorBy(rep, ("POINTS", "Density"))
+view, rep = illuminated_view(phantom, [300, 300])
 rep.IlluminationMethod = "Filtered Shadows"
 rep.ShadowFilterWidth = 5
 rep.IlluminationAmbient = 0.2
@@ -37,18 +31,8 @@ GetOpacityTransferFunction("Density").Points = [0.0, 0.0, 0.5, 0.0, 0.25, 0.08, 
                                                 1.0, 0.5, 0.5, 0.0]
 view.ResetCamera()
 GetActiveCamera().Elevation(25)
-key = AddLight(view=view)
-key.Coords = "Scene"
-key.Position = [-40, 90, 90]
-key.FocalPoint = [32, 32, 32]
-key.DiffuseColor = [1.0, 0.8, 0.5]
-rim = AddLight(view=view)
-rim.Coords = "Scene"
-rim.Type = "Positional"
-rim.ConeAngle = 180
-rim.Position = [100, 10, -30]
-rim.FocalPoint = [32, 32, 32]
-rim.DiffuseColor = [0.4, 0.6, 1.0]
+scene_light(view, [-40, 90, 90], [32, 32, 32], [1.0, 0.8, 0.5])
+scene_light(view, [100, 10, -30], [32, 32, 32], [0.4, 0.6, 1.0], point=True)
 Render(view)
 SaveScreenshot(before, view)
 SaveState(state)
