@@ -146,7 +146,9 @@ struct TransferTable
     for (int i = 0; i < Size; ++i)
     {
       const double a = std::min(std::max(opacity[i], 0.0), MaximumOpacity);
-      this->Sigma[i] = static_cast<float>(-std::log1p(-a) / s.UnitDistance);
+      // A tiny unit distance makes the extinction huge: keep it finite (it is opaque either
+      // way), so that products with zero step lengths stay zero instead of NaN.
+      this->Sigma[i] = static_cast<float>(std::min(-std::log1p(-a) / s.UnitDistance, 1e30));
       for (int c = 0; c < 3; ++c)
       {
         const double col = std::min(std::max(rgb[3 * i + c], 0.0), 1.0);

@@ -11,9 +11,13 @@
 #include "vtkIntArray.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
+#include "vtkPointSet.h"
+#include "vtkPoints.h"
 #include "vtkSMPTools.h"
 
+#include <cmath>
 #include <cstdlib>
+#include <sstream>
 
 namespace volillum
 {
@@ -67,11 +71,46 @@ vtkDataArray* FindPointScalars(vtkAlgorithm* algorithm, vtkDataSet* input, std::
 }
 
 //------------------------------------------------------------------------------
+std::string CheckPoints(vtkDataSet* input, vtkDataArray* scalars)
+{
+  std::ostringstream message;
+  if (scalars->GetNumberOfTuples() != input->GetNumberOfPoints())
+  {
+    message << "The scalars '" << (scalars->GetName() ? scalars->GetName() : "") << "' have "
+            << scalars->GetNumberOfTuples() << " values for " << input->GetNumberOfPoints()
+            << " points; the dataset is inconsistent.";
+    return message.str();
+  }
+  vtkPointSet* pointSet = vtkPointSet::SafeDownCast(input);
+  vtkDataArray* coordinates =
+    pointSet && pointSet->GetPoints() ? pointSet->GetPoints()->GetData() : nullptr;
+  if (coordinates)
+  {
+    for (vtkIdType p = 0; p < coordinates->GetNumberOfTuples(); ++p)
+    {
+      for (int a = 0; a < 3; ++a)
+      {
+        if (!std::isfinite(coordinates->GetComponent(p, a)))
+        {
+          message << "Point " << p << " has a coordinate that is not a finite number.";
+          return message.str();
+        }
+      }
+    }
+  }
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
 vtkDataArray* CheckScalarsAndLights(
   vtkAlgorithm* algorithm, vtkDataSet* input, const LightList& lights, std::string& error)
 {
   vtkDataArray* scalars = FindPointScalars(algorithm, input, error);
   if (scalars)
+  {
+    error = CheckPoints(input, scalars);
+  }
+  if (scalars && error.empty())
   {
     error = lights.Validate();
   }

@@ -32,8 +32,12 @@ VOLILLUMFILTERS_EXPORT void UseThreadedBackend();
 VOLILLUMFILTERS_EXPORT vtkDataArray* FindPointScalars(
   vtkAlgorithm* algorithm, vtkDataSet* input, std::string& error);
 
-/// FindPointScalars, then the lights' own check (LightList::Validate): nullptr with the
-/// reason in error when either fails.
+/// Empty when the scalars have one value per point and every point coordinate is finite;
+/// otherwise what is wrong.
+VOLILLUMFILTERS_EXPORT std::string CheckPoints(vtkDataSet* input, vtkDataArray* scalars);
+
+/// FindPointScalars, CheckPoints, then the lights' own check (LightList::Validate): nullptr
+/// with the reason in error when any fails.
 VOLILLUMFILTERS_EXPORT vtkDataArray* CheckScalarsAndLights(
   vtkAlgorithm* algorithm, vtkDataSet* input, const LightList& lights, std::string& error);
 

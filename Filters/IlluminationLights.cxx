@@ -11,21 +11,65 @@
 namespace volillum
 {
 
+namespace
+{
+// Unit vector from a toward b without overflow: the halves of the coordinates are
+// subtracted (that cannot overflow) and the difference is scaled by its largest component
+// before the norm is taken. ok is false when a equals b.
+std::array<double, 3> UnitVector(const double a[3], const double b[3], bool& ok)
+{
+  std::array<double, 3> d{ { 0.5 * b[0] - 0.5 * a[0], 0.5 * b[1] - 0.5 * a[1],
+    0.5 * b[2] - 0.5 * a[2] } };
+  const double scale = std::max({ std::abs(d[0]), std::abs(d[1]), std::abs(d[2]) });
+  ok = scale > 0.0;
+  if (!ok)
+  {
+    return { { 0.0, 0.0, 0.0 } };
+  }
+  for (double& v : d)
+  {
+    v /= scale;
+  }
+  const double n = vtkMath::Norm(d.data());
+  return { { d[0] / n, d[1] / n, d[2] / n } };
+}
+
+// Spot-cone factor for a ray leaving the light at an angle of cosine cosAngle to its axis.
+double SpotFactor(const LightState& light, double cosAngle)
+{
+  const double cosCone = std::cos(vtkMath::RadiansFromDegrees(light.ConeAngle));
+  return cosAngle < cosCone ? 0.0 : std::pow(std::max(cosAngle, 0.0), light.Exponent);
+}
+
+// Distance from a to b, computed like UnitVector (infinite only beyond the double range).
+double Distance(const double a[3], const double b[3])
+{
+  double d[3], scale = 0.0;
+  for (int i = 0; i < 3; ++i)
+  {
+    d[i] = 0.5 * b[i] - 0.5 * a[i];
+    scale = std::max(scale, std::abs(d[i]));
+  }
+  if (!(scale > 0.0))
+  {
+    return 0.0;
+  }
+  for (double& v : d)
+  {
+    v /= scale;
+  }
+  return 2.0 * scale * vtkMath::Norm(d);
+}
+}
+
 std::array<double, 3> LightState::Direction() const
 {
-  std::array<double, 3> d{ { this->FocalPoint[0] - this->Position[0],
-    this->FocalPoint[1] - this->Position[1], this->FocalPoint[2] - this->Position[2] } };
-  const double n = vtkMath::Norm(d.data());
-  if (n > 0.0)
-  {
-    d[0] /= n;
-    d[1] /= n;
-    d[2] /= n;
-  }
-  else
+  bool ok;
+  const auto d = UnitVector(this->Position.data(), this->FocalPoint.data(), ok);
+  if (!ok)
   {
     // A light whose position equals its focal point shines along -z, as a headlight would.
-    d = { { 0.0, 0.0, -1.0 } };
+    return { { 0.0, 0.0, -1.0 } };
   }
   return d;
 }
@@ -119,21 +163,59 @@ Incidence ComputeIncidence(const LightState& light, const double point[3])
     const auto axis = light.Direction();
     // Cosine between the cone axis and the ray leaving the light toward the point.
     const double cosAngle = -vtkMath::Dot(axis.data(), inc.ToLight.data());
-    const double cosCone = std::cos(vtkMath::RadiansFromDegrees(light.ConeAngle));
-    if (inc.Distance == 0.0)
-    {
-      inc.ConeFactor = 1.0;
-    }
-    else if (cosAngle < cosCone)
-    {
-      inc.ConeFactor = 0.0;
-    }
-    else
-    {
-      inc.ConeFactor = std::pow(std::max(cosAngle, 0.0), light.Exponent);
-    }
+    inc.ConeFactor = inc.Distance == 0.0 ? 1.0 : SpotFactor(light, cosAngle);
   }
   return inc;
+}
+
+std::vector<LightState> ForBounds(const std::vector<LightState>& lights, const double bounds[6])
+{
+  double centre[3], diagonal = 0.0;
+  for (int a = 0; a < 3; ++a)
+  {
+    centre[a] = 0.5 * (bounds[2 * a] + bounds[2 * a + 1]);
+    diagonal += (bounds[2 * a + 1] - bounds[2 * a]) * (bounds[2 * a + 1] - bounds[2 * a]);
+  }
+  diagonal = diagonal > 0.0 ? std::sqrt(diagonal) : 1.0;
+  const double farthest = FarLightDistance * diagonal;
+  std::vector<LightState> tamed = lights;
+  for (LightState& light : tamed)
+  {
+    const auto direction = light.Direction();
+    if (light.Kind == LightKind::Directional)
+    {
+      // Only the direction matters: keep it, with a position one unit from the centre.
+      for (int a = 0; a < 3; ++a)
+      {
+        light.FocalPoint[a] = centre[a];
+        light.Position[a] = centre[a] - direction[a];
+      }
+      continue;
+    }
+    if (Distance(centre, light.Position.data()) > farthest)
+    {
+      // A far light: its rays are parallel across the volume. A spot light keeps the cone
+      // factor it has at the centre.
+      bool ok;
+      const auto travel = UnitVector(light.Position.data(), centre, ok);
+      if (light.Kind == LightKind::Spot)
+      {
+        light.Intensity *= SpotFactor(light, vtkMath::Dot(travel.data(), direction.data()));
+      }
+      light.Kind = LightKind::Directional;
+      for (int a = 0; a < 3; ++a)
+      {
+        light.FocalPoint[a] = centre[a];
+        light.Position[a] = centre[a] - travel[a];
+      }
+      continue;
+    }
+    for (int a = 0; a < 3; ++a)
+    {
+      light.FocalPoint[a] = light.Position[a] + direction[a];
+    }
+  }
+  return tamed;
 }
 
 bool IsLightInside(const LightState& light, const double bounds[6])
@@ -277,10 +359,25 @@ std::string LightList::Validate() const
         return message.str();
       }
     }
-    if (CaptureLight(this->Lights[i]).Intensity < 0.0)
+    const LightState state = CaptureLight(this->Lights[i]);
+    if (state.Intensity < 0.0)
     {
       message << "Light " << i << " has a negative intensity.";
       return message.str();
+    }
+    for (double c : state.Color)
+    {
+      if (c < 0.0)
+      {
+        message << "Light " << i << " has a negative colour component.";
+        return message.str();
+      }
+      if (c * state.Intensity > MaximumRadiance)
+      {
+        message << "Light " << i << " is too bright: colour x intensity " << c * state.Intensity
+                << " exceeds the limit " << MaximumRadiance << ".";
+        return message.str();
+      }
     }
   }
   return std::string();

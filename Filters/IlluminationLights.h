@@ -81,6 +81,25 @@ struct Incidence
 
 VOLILLUMFILTERS_EXPORT Incidence ComputeIncidence(const LightState& light, const double point[3]);
 
+/// Brightest light accepted (colour x intensity per channel): illumination volumes sum light
+/// in 64-bit fixed point with 32 fraction bits, which holds sums up to about 2e9.
+constexpr double MaximumRadiance = 1e6;
+
+/// A point or spot light farther than this many volume diagonals from the volume's centre
+/// is a far light: ForBounds makes it a directional light.
+constexpr double FarLightDistance = 1e4;
+
+/**
+ * The lights as the kernels see them for a volume with these bounds: a directional light
+ * keeps its direction (computed without overflow, however large its coordinates) with a
+ * position one unit from the centre; a point or spot light farther than FarLightDistance
+ * diagonals becomes a directional light shining from where it is toward the centre (a spot
+ * light's intensity takes its cone factor at the centre); a nearer spot light's focal
+ * point becomes its position plus its unit axis.
+ */
+VOLILLUMFILTERS_EXPORT std::vector<LightState> ForBounds(
+  const std::vector<LightState>& lights, const double bounds[6]);
+
 /// True when the light position lies inside the axis-aligned box bounds
 /// (xmin, xmax, ymin, ymax, zmin, zmax). Directional lights are never inside.
 VOLILLUMFILTERS_EXPORT bool IsLightInside(const LightState& light, const double bounds[6]);
@@ -133,7 +152,7 @@ public:
   /// Latest modification time of the lights (0 without lights).
   vtkMTimeType GetMTime() const;
   /// Empty when every light is usable, otherwise what is wrong (non-finite parameter,
-  /// negative intensity).
+  /// negative intensity or colour, colour x intensity above MaximumRadiance).
   std::string Validate() const;
 
 private:

@@ -41,6 +41,13 @@ struct RaySource
 // state removed later cancels to the last unit.
 inline std::int64_t RoundToFixed(double x)
 {
+  // Light sums stay far below this (MaximumRadiance); the clamp only keeps a NaN or an
+  // overflowing product from becoming an undefined conversion.
+  constexpr double limit = 4.0e18;
+  if (!(std::abs(x) < limit))
+  {
+    return std::isnan(x) ? 0 : static_cast<std::int64_t>(std::copysign(limit, x));
+  }
   return static_cast<std::int64_t>(x >= 0.0 ? x + 0.5 : x - 0.5);
 }
 

@@ -102,6 +102,13 @@ bool vtkIlluminationVolumeAlgorithm::ValidGeometry(
     data.Dimensions[a] = dims[a];
     data.Spacing[a] = spacing[a];
     data.Origin[a] = origin[a] + ext[2 * a] * spacing[a];
+    const double last = data.Origin[a] + (dims[a] - 1) * spacing[a];
+    if (!(std::abs(data.Origin[a]) <= MaximumCoordinate) || !(std::abs(last) <= MaximumCoordinate))
+    {
+      vtkErrorMacro("The input's bounds must lie within +-" << MaximumCoordinate
+                                                            << " (check its origin and spacing).");
+      return false;
+    }
   }
   target = volillum::ScaledGeometry(data, this->ResolutionScale);
   if (target.NumberOfPoints() > MaximumOutputPoints)
@@ -191,7 +198,10 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
     vtkErrorMacro(<< error);
     return 1;
   }
-  const std::vector<volillum::LightState> lights = this->GetLightStates();
+  double bounds[6];
+  data.GetBounds(bounds);
+  const std::vector<volillum::LightState> lights =
+    volillum::ForBounds(this->GetLightStates(), bounds);
 
   ClassificationKey key;
   key.Scalars = scalars->GetMTime();

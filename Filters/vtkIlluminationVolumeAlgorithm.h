@@ -19,9 +19,11 @@
  * the meaning they have in vtkVolumeProperty (see IlluminationClassification.h); without
  * them a grey ramp over the scalar range applies.
  *
- * Bad input (no or non-numeric scalars, a 2D or empty image, non-finite light parameters,
- * an unsupported resolution scale, an absurd output size) is reported with vtkErrorMacro
- * and gives an empty output.
+ * Bad input (no or non-numeric scalars, scalars of another length than the points, a 2D
+ * or empty image, non-finite light parameters, a light brighter than MaximumRadiance, an
+ * origin or spacing putting the bounds beyond MaximumCoordinate, an unsupported resolution
+ * scale, an absurd output size) is reported with vtkErrorMacro and gives an empty output.
+ * Very distant lights are far lights (see volillum::ForBounds).
  */
 #ifndef vtkIlluminationVolumeAlgorithm_h
 #define vtkIlluminationVolumeAlgorithm_h
@@ -121,6 +123,9 @@ public:
 
   /// Upper bound on the number of illumination points (a bigger request is an error).
   static constexpr long long MaximumOutputPoints = 1LL << 29;
+
+  /// Largest coordinate magnitude of the input's bounds (beyond, lengths would overflow).
+  static constexpr double MaximumCoordinate = 1e100;
 
 protected:
   vtkIlluminationVolumeAlgorithm();

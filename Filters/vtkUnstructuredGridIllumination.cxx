@@ -85,6 +85,25 @@ bool vtkUnstructuredGridIllumination::PrepareMesh(vtkUnstructuredGrid* input)
   this->SolutionKey.clear();
   this->Cache.clear();
 
+  // Point ids outside the grid would be read (and split) as if they were points.
+  const vtkIdType numberOfPoints = input->GetNumberOfPoints();
+  auto ids = vtk::TakeSmartPointer(input->GetCells()->NewIterator());
+  for (ids->GoToFirstCell(); !ids->IsDoneWithTraversal(); ids->GoToNextCell())
+  {
+    vtkIdType n;
+    const vtkIdType* cell;
+    ids->GetCurrentCell(n, cell);
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      if (cell[i] < 0 || cell[i] >= numberOfPoints)
+      {
+        vtkErrorMacro("Cell " << ids->GetCurrentCellId() << " refers to point " << cell[i]
+                              << ", but the grid has " << numberOfPoints << " points.");
+        return false;
+      }
+    }
+  }
+
   vtkSmartPointer<vtkUnstructuredGrid> tetrahedra = input;
   bool onlyTetrahedra = true;
   bool any3D = false;
@@ -248,17 +267,16 @@ int vtkUnstructuredGridIllumination::RequestData(
     vtkErrorMacro(<< error);
     return 1;
   }
-  const long long level0Points = static_cast<long long>(this->Level0Resolution[0]) *
-    this->Level0Resolution[1] * this->Level0Resolution[2];
-  for (int r : this->Level0Resolution)
+  // Each axis is checked before the product (three huge axes would overflow it).
+  const int* r = this->Level0Resolution;
+  const auto axisOk = [](int n) { return n >= 2 && n <= 1024; };
+  if (!axisOk(r[0]) || !axisOk(r[1]) || !axisOk(r[2]) ||
+    static_cast<long long>(r[0]) * r[1] * r[2] > MaximumLevel0Points)
   {
-    if (r < 2 || r > 1024 || level0Points > MaximumLevel0Points)
-    {
-      vtkErrorMacro("Level0Resolution must be 2 to 1024 points per axis and at most "
-        << MaximumLevel0Points << " points in all; it is " << this->Level0Resolution[0] << " x "
-        << this->Level0Resolution[1] << " x " << this->Level0Resolution[2] << ".");
-      return 1;
-    }
+    vtkErrorMacro("Level0Resolution must be 2 to 1024 points per axis and at most "
+      << MaximumLevel0Points << " points in all; it is " << r[0] << " x " << r[1] << " x " << r[2]
+      << ".");
+    return 1;
   }
   const auto meshStart = Clock::now();
   if (!this->PrepareMesh(input))
@@ -295,7 +313,8 @@ int vtkUnstructuredGridIllumination::RequestData(
   const double resampleSeconds = SecondsSince(resampleStart);
 
   // Lights whose transmittance is missing or was computed for another geometry.
-  const std::vector<volillum::LightState> lights = this->Lights.States();
+  const std::vector<volillum::LightState> lights =
+    volillum::ForBounds(this->Lights.States(), input->GetBounds());
   this->Cache.resize(lights.size());
   std::vector<int> stale;
   for (size_t l = 0; l < lights.size(); ++l)

@@ -9,6 +9,7 @@
 #include "vtkDoubleArray.h"
 #include "vtkExtractCells.h"
 #include "vtkFieldData.h"
+#include "vtkFloatArray.h"
 #include "vtkGenericCell.h"
 #include "vtkIdList.h"
 #include "vtkPiecewiseFunction.h"
@@ -601,6 +602,31 @@ TEST(UnstructuredGridIllumination, BadInputGivesAnErrorAndAnEmptyOutput)
     flatPoints->InsertNextPoint(x[0], x[1], 0.0);
   }
   flat->SetPoints(flatPoints);
+  const auto withScalarCount = [&good](vtkIdType count)
+  {
+    auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
+    grid->ShallowCopy(good);
+    vtkNew<vtkFloatArray> values;
+    values->SetName("values");
+    values->SetNumberOfTuples(count);
+    values->FillValue(1.0f);
+    grid->GetPointData()->SetScalars(values);
+    return grid;
+  };
+  auto moreScalars = withScalarCount(good->GetNumberOfPoints() + 1);
+  auto fewerScalars = withScalarCount(good->GetNumberOfPoints() - 1);
+  vtkNew<vtkUnstructuredGrid> nanPoint;
+  nanPoint->DeepCopy(good);
+  nanPoint->GetPoints()->SetPoint(7, 0.5, std::nan(""), 0.5);
+  const auto withCell = [&good](int type, std::vector<vtkIdType> ids)
+  {
+    auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
+    grid->DeepCopy(good);
+    grid->InsertNextCell(type, static_cast<vtkIdType>(ids.size()), ids.data());
+    return grid;
+  };
+  auto badTetra = withCell(VTK_TETRA, { 0, 1, 2, 99999 });
+  auto badHexahedron = withCell(VTK_HEXAHEDRON, { 0, 1, 2, 3, 4, 5, 6, -3 });
 
   struct Case
   {
@@ -615,6 +641,15 @@ TEST(UnstructuredGridIllumination, BadInputGivesAnErrorAndAnEmptyOutput)
     { "zero-volume cells", flat, [](vtkUnstructuredGridIllumination*) {} },
     { "NaN light", good,
       [](vtkUnstructuredGridIllumination* f) { f->SetLightParameter(1, std::nan("")); } },
+    { "light of intensity 1e10", good,
+      [](vtkUnstructuredGridIllumination* f) { f->SetLightParameter(10, 1e10); } },
+    { "one scalar more than points", moreScalars, [](vtkUnstructuredGridIllumination*) {} },
+    { "one scalar less than points", fewerScalars, [](vtkUnstructuredGridIllumination*) {} },
+    { "a NaN point coordinate", nanPoint, [](vtkUnstructuredGridIllumination*) {} },
+    { "a tetrahedron with a point id beyond the points", badTetra,
+      [](vtkUnstructuredGridIllumination*) {} },
+    { "a hexahedron with a negative point id", badHexahedron,
+      [](vtkUnstructuredGridIllumination*) {} },
     { "level-0 resolution 1", good,
       [](vtkUnstructuredGridIllumination* f) { f->SetLevel0Resolution(1, 64, 64); } },
     { "level-0 resolution 5000", good,
