@@ -8,9 +8,12 @@
 #include "vtkCommand.h"
 #include "vtkFloatArray.h"
 #include "vtkGenericCell.h"
+#include "vtkIlluminationPhantomSource.h"
 #include "vtkImageData.h"
 #include "vtkLight.h"
 #include "vtkNew.h"
+#include "vtkPiecewiseFunction.h"
+#include "vtkPointData.h"
 #include "vtkSMPTools.h"
 #include "vtkSmartPointer.h"
 #include "vtkStaticCellLocator.h"
@@ -209,6 +212,39 @@ inline std::vector<double> BruteForceTransmittance(vtkUnstructuredGrid* grid,
       }
     });
   return t;
+}
+
+/// A phantom of the given scene (vtkIlluminationPhantomSource) with n points per axis.
+inline vtkSmartPointer<vtkImageData> PhantomScene(int scene, int n)
+{
+  vtkNew<vtkIlluminationPhantomSource> source;
+  source->SetScene(scene);
+  source->SetDimensions(n, n, n);
+  source->SetSlabBegin(n / 4);
+  source->SetSlabEnd(3 * n / 4 - 1);
+  source->Update();
+  return source->GetOutput();
+}
+
+/// Opacity rising linearly from 0 to maximum over the image's scalar range.
+inline vtkSmartPointer<vtkPiecewiseFunction> RampOpacity(vtkImageData* image, double maximum)
+{
+  double range[2];
+  image->GetPointData()->GetScalars()->GetRange(range);
+  auto otf = vtkSmartPointer<vtkPiecewiseFunction>::New();
+  otf->AddPoint(range[0], 0.0);
+  otf->AddPoint(range[1], maximum);
+  return otf;
+}
+
+/// An image illumination filter of the given class on image with opacity otf.
+template <typename Filter>
+vtkSmartPointer<Filter> ImageFilter(vtkImageData* image, vtkPiecewiseFunction* otf)
+{
+  auto filter = vtkSmartPointer<Filter>::New();
+  filter->SetInputData(image);
+  filter->SetOpacityFunction(otf);
+  return filter;
 }
 
 inline vtkSmartPointer<vtkLight> DirectionalLight(

@@ -1,6 +1,7 @@
 // Tests of vtkMultiLightIlluminationVolume: accuracy against the ray-marched reference,
 // selective updates against full recomputes, grouped against one-light-per-pass
-// propagation, continuity across propagation groups, memory, budgets, abort and bad input.
+// propagation, continuity across propagation groups, budgets, abort and bad input (the
+// peak-memory test is TestPeakMemory.cxx, an executable of its own).
 #include "IlluminationTestUtilities.h"
 #include "vtkIlluminationPhantomSource.h"
 #include "vtkMultiLightIlluminationVolume.h"
@@ -16,79 +17,19 @@
 
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <cmath>
 #include <cstdlib>
-#include <new>
 
 using volillumtest::DirectionalLight;
 using volillumtest::ErrorCounter;
+using volillumtest::ImageFilter;
+using volillumtest::PhantomScene;
 using volillumtest::PointLight;
+using volillumtest::RampOpacity;
 using volillumtest::RmsRelative;
 
-// ---------------------------------------------------------------- allocation accounting
-// Every operator new of this test program is counted so that the peak memory of an update
-// can be measured.
 namespace
 {
-std::atomic<long long> CurrentBytes(0);
-std::atomic<long long> PeakBytes(0);
-}
-
-void* operator new(std::size_t size)
-{
-  auto* block = static_cast<std::size_t*>(std::malloc(size + sizeof(std::max_align_t)));
-  if (!block)
-  {
-    throw std::bad_alloc();
-  }
-  *block = size;
-  const long long now = CurrentBytes += static_cast<long long>(size);
-  long long peak = PeakBytes.load();
-  while (now > peak && !PeakBytes.compare_exchange_weak(peak, now))
-  {
-  }
-  return reinterpret_cast<char*>(block) + sizeof(std::max_align_t);
-}
-
-void operator delete(void* p) noexcept
-{
-  if (p)
-  {
-    auto* block = reinterpret_cast<std::size_t*>(static_cast<char*>(p) - sizeof(std::max_align_t));
-    CurrentBytes -= static_cast<long long>(*block);
-    std::free(block);
-  }
-}
-
-void operator delete(void* p, std::size_t) noexcept
-{
-  operator delete(p);
-}
-
-namespace
-{
-vtkSmartPointer<vtkImageData> Scene(int scene, int n)
-{
-  vtkNew<vtkIlluminationPhantomSource> source;
-  source->SetScene(scene);
-  source->SetDimensions(n, n, n);
-  source->SetSlabBegin(n / 4);
-  source->SetSlabEnd(3 * n / 4 - 1);
-  source->Update();
-  return source->GetOutput();
-}
-
-vtkSmartPointer<vtkPiecewiseFunction> Opacity(vtkImageData* image, double maximum)
-{
-  double range[2];
-  image->GetPointData()->GetScalars()->GetRange(range);
-  auto otf = vtkSmartPointer<vtkPiecewiseFunction>::New();
-  otf->AddPoint(range[0], 0.0);
-  otf->AddPoint(range[1], maximum);
-  return otf;
-}
-
 vtkSmartPointer<vtkFloatArray> Result(vtkImageAlgorithm* filter)
 {
   auto copy = vtkSmartPointer<vtkFloatArray>::New();
@@ -113,14 +54,6 @@ int Field(vtkImageAlgorithm* filter, const char* name)
   return static_cast<int>(filter->GetOutput()->GetFieldData()->GetArray(name)->GetTuple1(0));
 }
 
-template <typename Filter>
-vtkSmartPointer<Filter> MakeFilter(vtkImageData* image, vtkPiecewiseFunction* otf)
-{
-  auto filter = vtkSmartPointer<Filter>::New();
-  filter->SetInputData(image);
-  filter->SetOpacityFunction(otf);
-  return filter;
-}
 }
 
 TEST(MultiLightIlluminationVolume, ApproximatesTheRayMarchedReference)
@@ -135,10 +68,10 @@ TEST(MultiLightIlluminationVolume, ApproximatesTheRayMarchedReference)
   for (const Case& c : { Case{ "slab", vtkIlluminationPhantomSource::Slab, 0.05, 0.05 },
          Case{ "three spheres", vtkIlluminationPhantomSource::ThreeSpheres, 0.3, 0.1 } })
   {
-    auto image = Scene(c.Scene, 64);
-    auto otf = Opacity(image, c.Opacity);
-    auto reference = MakeFilter<vtkRayMarchedIllumination>(image, otf);
-    auto propagated = MakeFilter<vtkMultiLightIlluminationVolume>(image, otf);
+    auto image = PhantomScene(c.Scene, 64);
+    auto otf = RampOpacity(image, c.Opacity);
+    auto reference = ImageFilter<vtkRayMarchedIllumination>(image, otf);
+    auto propagated = ImageFilter<vtkMultiLightIlluminationVolume>(image, otf);
     auto point = PointLight(-64, 32, 51, 1, 1, 0);
     auto directional = DirectionalLight(-0.3, -0.2, -1, 0, 0.5, 1);
     for (vtkIlluminationVolumeAlgorithm* f :
@@ -158,9 +91,9 @@ TEST(MultiLightIlluminationVolume, ApproximatesTheRayMarchedReference)
 
 TEST(MultiLightIlluminationVolume, SelectiveUpdatesMatchAFullRecompute)
 {
-  auto image = Scene(vtkIlluminationPhantomSource::ThreeSpheres, 24);
-  auto otf = Opacity(image, 0.3);
-  auto filter = MakeFilter<vtkMultiLightIlluminationVolume>(image, otf);
+  auto image = PhantomScene(vtkIlluminationPhantomSource::ThreeSpheres, 24);
+  auto otf = RampOpacity(image, 0.3);
+  auto filter = ImageFilter<vtkMultiLightIlluminationVolume>(image, otf);
   std::vector<vtkSmartPointer<vtkLight>> lights = { PointLight(-20, 12, 12, 1, 1, 0),
     PointLight(40, 10, 14, 0, 0, 1), DirectionalLight(0.2, -0.1, -1),
     DirectionalLight(1, 0.3, 0.1, 0.5, 1, 0.5), PointLight(12, 40, 5, 1, 0.3, 0.3) };
@@ -198,7 +131,7 @@ TEST(MultiLightIlluminationVolume, SelectiveUpdatesMatchAFullRecompute)
     filter->Update();
     selective += Field(filter, "UpdateMode");
   }
-  auto fresh = MakeFilter<vtkMultiLightIlluminationVolume>(image, otf);
+  auto fresh = ImageFilter<vtkMultiLightIlluminationVolume>(image, otf);
   for (auto& l : lights)
   {
     fresh->AddLight(l);
@@ -213,9 +146,9 @@ TEST(MultiLightIlluminationVolume, SelectiveUpdatesMatchAFullRecompute)
 
 TEST(MultiLightIlluminationVolume, TogglingALightRestoresTheVolume)
 {
-  auto image = Scene(vtkIlluminationPhantomSource::ThreeSpheres, 32);
-  auto otf = Opacity(image, 0.3);
-  auto filter = MakeFilter<vtkMultiLightIlluminationVolume>(image, otf);
+  auto image = PhantomScene(vtkIlluminationPhantomSource::ThreeSpheres, 32);
+  auto otf = RampOpacity(image, 0.3);
+  auto filter = ImageFilter<vtkMultiLightIlluminationVolume>(image, otf);
   auto a = PointLight(-20, 16, 16, 1, 1, 0);
   auto b = PointLight(50, 16, 16, 0, 0, 1);
   auto c = DirectionalLight(0, 0.3, -1);
@@ -241,10 +174,10 @@ TEST(MultiLightIlluminationVolume, TogglingALightRestoresTheVolume)
 
 TEST(MultiLightIlluminationVolume, GroupedPropagationEqualsOneLightPerPass)
 {
-  auto image = Scene(vtkIlluminationPhantomSource::ThreeSpheres, 32);
-  auto otf = Opacity(image, 0.3);
-  auto coherent = MakeFilter<vtkMultiLightIlluminationVolume>(image, otf);
-  auto sequential = MakeFilter<vtkMultiLightIlluminationVolume>(image, otf);
+  auto image = PhantomScene(vtkIlluminationPhantomSource::ThreeSpheres, 32);
+  auto otf = RampOpacity(image, 0.3);
+  auto coherent = ImageFilter<vtkMultiLightIlluminationVolume>(image, otf);
+  auto sequential = ImageFilter<vtkMultiLightIlluminationVolume>(image, otf);
   sequential->CoherentPropagationOff();
   for (vtkMultiLightIlluminationVolume* f : { coherent.Get(), sequential.Get() })
   {
@@ -261,13 +194,13 @@ TEST(MultiLightIlluminationVolume, GroupedPropagationEqualsOneLightPerPass)
 
 TEST(MultiLightIlluminationVolume, RotatingLightChangesContinuouslyAcrossGroups)
 {
-  auto image = Scene(vtkIlluminationPhantomSource::ThreeSpheres, 32);
-  auto otf = Opacity(image, 0.3);
+  auto image = PhantomScene(vtkIlluminationPhantomSource::ThreeSpheres, 32);
+  auto otf = RampOpacity(image, 0.3);
   // A directional light turning through the boundary of the -z and -x groups (in the x-z
   // plane at 45 degrees) and through the swap of the second and third closest axes.
   auto check = [&](auto direction, double a0, double a1, const char* what)
   {
-    auto filter = MakeFilter<vtkMultiLightIlluminationVolume>(image, otf);
+    auto filter = ImageFilter<vtkMultiLightIlluminationVolume>(image, otf);
     auto light = DirectionalLight(0, 0, -1);
     filter->AddLight(light);
     std::vector<vtkSmartPointer<vtkFloatArray>> results;
@@ -306,38 +239,12 @@ TEST(MultiLightIlluminationVolume, RotatingLightChangesContinuouslyAcrossGroups)
     -0.02, 0.02, "second/third group swap");
 }
 
-TEST(MultiLightIlluminationVolume, MemoryDoesNotGrowWithLightsBeyondSliceBuffers)
-{
-  auto image = Scene(vtkIlluminationPhantomSource::ThreeSpheres, 48);
-  auto otf = Opacity(image, 0.3);
-  auto peakFor = [&](int count, size_t& buffers)
-  {
-    auto filter = MakeFilter<vtkMultiLightIlluminationVolume>(image, otf);
-    for (int i = 0; i < count; ++i)
-    {
-      const double angle = 2.0 * vtkMath::Pi() * i / count;
-      filter->AddLight(PointLight(24 + 60 * std::cos(angle), 24 + 60 * std::sin(angle), 30));
-    }
-    const long long base = CurrentBytes.load();
-    PeakBytes = base;
-    filter->Update();
-    buffers = filter->GetLastPeakBufferBytes();
-    return PeakBytes.load() - base;
-  };
-  size_t buffers1 = 0, buffers64 = 0;
-  const long long one = peakFor(1, buffers1);
-  const long long many = peakFor(64, buffers64);
-  std::cout << "peak bytes: 1 light " << one << " (buffers " << buffers1 << "), 64 lights " << many
-            << " (buffers " << buffers64 << ")" << std::endl;
-  EXPECT_LE(double(many - buffers64), 1.1 * double(one - buffers1));
-}
-
 TEST(MultiLightIlluminationVolume, PassBudgetContinuesOnTheNextUpdate)
 {
-  auto image = Scene(vtkIlluminationPhantomSource::ThreeSpheres, 32);
-  auto otf = Opacity(image, 0.3);
-  auto budgeted = MakeFilter<vtkMultiLightIlluminationVolume>(image, otf);
-  auto complete = MakeFilter<vtkMultiLightIlluminationVolume>(image, otf);
+  auto image = PhantomScene(vtkIlluminationPhantomSource::ThreeSpheres, 32);
+  auto otf = RampOpacity(image, 0.3);
+  auto budgeted = ImageFilter<vtkMultiLightIlluminationVolume>(image, otf);
+  auto complete = ImageFilter<vtkMultiLightIlluminationVolume>(image, otf);
   budgeted->SetMaximumPassesPerUpdate(1);
   for (vtkMultiLightIlluminationVolume* f : { budgeted.Get(), complete.Get() })
   {
@@ -362,9 +269,9 @@ TEST(MultiLightIlluminationVolume, PassBudgetContinuesOnTheNextUpdate)
 
 TEST(MultiLightIlluminationVolume, AbortKeepsThePreviousOutput)
 {
-  auto image = Scene(vtkIlluminationPhantomSource::ThreeSpheres, 32);
-  auto otf = Opacity(image, 0.3);
-  auto filter = MakeFilter<vtkMultiLightIlluminationVolume>(image, otf);
+  auto image = PhantomScene(vtkIlluminationPhantomSource::ThreeSpheres, 32);
+  auto otf = RampOpacity(image, 0.3);
+  auto filter = ImageFilter<vtkMultiLightIlluminationVolume>(image, otf);
   auto light = PointLight(-20, 16, 16);
   filter->AddLight(light);
   filter->Update();
@@ -379,7 +286,7 @@ TEST(MultiLightIlluminationVolume, AbortKeepsThePreviousOutput)
   filter->SetAbortExecute(0);
   filter->Modified();
   filter->Update();
-  auto fresh = MakeFilter<vtkMultiLightIlluminationVolume>(image, otf);
+  auto fresh = ImageFilter<vtkMultiLightIlluminationVolume>(image, otf);
   fresh->AddLight(light);
   fresh->Update();
   EXPECT_EQ(Field(filter, "UpdateMode"), 0);
@@ -388,12 +295,12 @@ TEST(MultiLightIlluminationVolume, AbortKeepsThePreviousOutput)
 
 TEST(MultiLightIlluminationVolume, CostEstimatesChooseTheUpdate)
 {
-  auto image = Scene(vtkIlluminationPhantomSource::ThreeSpheres, 24);
-  auto otf = Opacity(image, 0.3);
+  auto image = PhantomScene(vtkIlluminationPhantomSource::ThreeSpheres, 24);
+  auto otf = RampOpacity(image, 0.3);
   for (int estimate : { vtkMultiLightIlluminationVolume::ChangedLightFraction,
          vtkMultiLightIlluminationVolume::PropagationPasses })
   {
-    auto filter = MakeFilter<vtkMultiLightIlluminationVolume>(image, otf);
+    auto filter = ImageFilter<vtkMultiLightIlluminationVolume>(image, otf);
     filter->SetCostEstimate(estimate);
     std::vector<vtkSmartPointer<vtkLight>> lights;
     for (int i = 0; i < 4; ++i)
@@ -426,16 +333,16 @@ TEST(MultiLightIlluminationVolume, CostEstimatesChooseTheUpdate)
 
 TEST(MultiLightIlluminationVolume, LightInsideTheVolumeAndSpotLights)
 {
-  auto image = Scene(vtkIlluminationPhantomSource::ThreeSpheres, 48);
-  auto otf = Opacity(image, 0.3);
+  auto image = PhantomScene(vtkIlluminationPhantomSource::ThreeSpheres, 48);
+  auto otf = RampOpacity(image, 0.3);
   auto inside = PointLight(24, 24, 30, 1, 1, 1);
   auto spot = PointLight(24, 24, 90, 1, 0.5, 0);
   spot->SetFocalPoint(24, 24, 0);
   spot->SetConeAngle(20);
   for (vtkLight* light : { inside.Get(), spot.Get() })
   {
-    auto reference = MakeFilter<vtkRayMarchedIllumination>(image, otf);
-    auto propagated = MakeFilter<vtkMultiLightIlluminationVolume>(image, otf);
+    auto reference = ImageFilter<vtkRayMarchedIllumination>(image, otf);
+    auto propagated = ImageFilter<vtkMultiLightIlluminationVolume>(image, otf);
     reference->AddLight(light);
     propagated->AddLight(light);
     reference->Update();
@@ -472,14 +379,14 @@ TEST(MultiLightIlluminationVolume, BadInputGivesAnErrorAndAnEmptyOutput)
 
 TEST(MultiLightIlluminationVolume, ResolutionScalesFollowTheReference)
 {
-  auto image = Scene(vtkIlluminationPhantomSource::ThreeSpheres, 64);
-  auto otf = Opacity(image, 0.3);
+  auto image = PhantomScene(vtkIlluminationPhantomSource::ThreeSpheres, 64);
+  auto otf = RampOpacity(image, 0.3);
   double inBounds[6];
   image->GetBounds(inBounds);
   for (double scale : { 0.5, 0.25 })
   {
-    auto reference = MakeFilter<vtkRayMarchedIllumination>(image, otf);
-    auto propagated = MakeFilter<vtkMultiLightIlluminationVolume>(image, otf);
+    auto reference = ImageFilter<vtkRayMarchedIllumination>(image, otf);
+    auto propagated = ImageFilter<vtkMultiLightIlluminationVolume>(image, otf);
     for (vtkIlluminationVolumeAlgorithm* f :
       { static_cast<vtkIlluminationVolumeAlgorithm*>(reference),
         static_cast<vtkIlluminationVolumeAlgorithm*>(propagated) })

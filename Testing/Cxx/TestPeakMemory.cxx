@@ -1,0 +1,126 @@
+// Peak memory of a multi-light propagation update, measured by counting every allocation
+// of this program. It is an executable of its own: it replaces the global operator new and
+// delete (all their forms, so that every allocation and release goes through the same
+// counting pair), which a sanitizer build must not have in its other tests.
+#include "IlluminationTestUtilities.h"
+#include "vtkMultiLightIlluminationVolume.h"
+
+#include "vtkMath.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <new>
+
+namespace
+{
+std::atomic<long long> CurrentBytes(0);
+std::atomic<long long> PeakBytes(0);
+
+// Every block carries its size in a header of max_align_t alignment.
+void* CountedAllocate(std::size_t size) noexcept
+{
+  auto* block = static_cast<std::size_t*>(std::malloc(size + sizeof(std::max_align_t)));
+  if (!block)
+  {
+    return nullptr;
+  }
+  *block = size;
+  const long long now = CurrentBytes += static_cast<long long>(size);
+  long long peak = PeakBytes.load();
+  while (now > peak && !PeakBytes.compare_exchange_weak(peak, now))
+  {
+  }
+  return reinterpret_cast<char*>(block) + sizeof(std::max_align_t);
+}
+
+void CountedRelease(void* p) noexcept
+{
+  if (p)
+  {
+    auto* block = reinterpret_cast<std::size_t*>(static_cast<char*>(p) - sizeof(std::max_align_t));
+    CurrentBytes -= static_cast<long long>(*block);
+    std::free(block);
+  }
+}
+
+void* AllocateOrThrow(std::size_t size)
+{
+  void* p = CountedAllocate(size);
+  if (!p)
+  {
+    throw std::bad_alloc();
+  }
+  return p;
+}
+}
+
+void* operator new(std::size_t size)
+{
+  return AllocateOrThrow(size);
+}
+void* operator new[](std::size_t size)
+{
+  return AllocateOrThrow(size);
+}
+void* operator new(std::size_t size, const std::nothrow_t&) noexcept
+{
+  return CountedAllocate(size);
+}
+void* operator new[](std::size_t size, const std::nothrow_t&) noexcept
+{
+  return CountedAllocate(size);
+}
+void operator delete(void* p) noexcept
+{
+  CountedRelease(p);
+}
+void operator delete[](void* p) noexcept
+{
+  CountedRelease(p);
+}
+void operator delete(void* p, std::size_t) noexcept
+{
+  CountedRelease(p);
+}
+void operator delete[](void* p, std::size_t) noexcept
+{
+  CountedRelease(p);
+}
+void operator delete(void* p, const std::nothrow_t&) noexcept
+{
+  CountedRelease(p);
+}
+void operator delete[](void* p, const std::nothrow_t&) noexcept
+{
+  CountedRelease(p);
+}
+
+TEST(PeakMemory, MultiLightMemoryDoesNotGrowWithLightsBeyondSliceBuffers)
+{
+  auto image = volillumtest::PhantomScene(vtkIlluminationPhantomSource::ThreeSpheres, 48);
+  auto otf = volillumtest::RampOpacity(image, 0.3);
+  auto peakFor = [&](int count, size_t& buffers)
+  {
+    auto filter = volillumtest::ImageFilter<vtkMultiLightIlluminationVolume>(image, otf);
+    for (int i = 0; i < count; ++i)
+    {
+      const double angle = 2.0 * vtkMath::Pi() * i / count;
+      filter->AddLight(
+        volillumtest::PointLight(24 + 60 * std::cos(angle), 24 + 60 * std::sin(angle), 30));
+    }
+    const long long base = CurrentBytes.load();
+    PeakBytes = base;
+    filter->Update();
+    buffers = filter->GetLastPeakBufferBytes();
+    return PeakBytes.load() - base;
+  };
+  size_t buffers1 = 0, buffers64 = 0;
+  const long long one = peakFor(1, buffers1);
+  const long long many = peakFor(64, buffers64);
+  std::cout << "peak bytes: 1 light " << one << " (buffers " << buffers1 << "), 64 lights " << many
+            << " (buffers " << buffers64 << ")" << std::endl;
+  EXPECT_LE(double(many - buffers64), 1.1 * double(one - buffers1));
+}
