@@ -1,6 +1,8 @@
 #include "IlluminationFilterSupport.h"
 
 #include "vtkAlgorithm.h"
+#include "vtkCellArray.h"
+#include "vtkCellArrayIterator.h"
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
 #include "vtkDataObject.h"
@@ -14,6 +16,7 @@
 #include "vtkPointSet.h"
 #include "vtkPoints.h"
 #include "vtkSMPTools.h"
+#include "vtkUnstructuredGrid.h"
 
 #include <cmath>
 #include <cstdlib>
@@ -95,6 +98,30 @@ std::string CheckPoints(vtkDataSet* input, vtkDataArray* scalars)
           message << "Point " << p << " has a coordinate that is not a finite number.";
           return message.str();
         }
+      }
+    }
+  }
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
+std::string CheckPointIds(vtkUnstructuredGrid* grid)
+{
+  const vtkIdType numberOfPoints = grid->GetNumberOfPoints();
+  auto cells = vtk::TakeSmartPointer(grid->GetCells()->NewIterator());
+  for (cells->GoToFirstCell(); !cells->IsDoneWithTraversal(); cells->GoToNextCell())
+  {
+    vtkIdType n;
+    const vtkIdType* ids;
+    cells->GetCurrentCell(n, ids);
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      if (ids[i] < 0 || ids[i] >= numberOfPoints)
+      {
+        std::ostringstream message;
+        message << "Cell " << cells->GetCurrentCellId() << " refers to point " << ids[i]
+                << ", but the grid has " << numberOfPoints << " points.";
+        return message.str();
       }
     }
   }

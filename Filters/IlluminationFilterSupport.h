@@ -16,6 +16,7 @@ class vtkAlgorithm;
 class vtkDataArray;
 class vtkDataSet;
 class vtkFieldData;
+class vtkUnstructuredGrid;
 
 namespace volillum
 {
@@ -31,6 +32,9 @@ VOLILLUMFILTERS_EXPORT void UseThreadedBackend();
  */
 VOLILLUMFILTERS_EXPORT vtkDataArray* FindPointScalars(
   vtkAlgorithm* algorithm, vtkDataSet* input, std::string& error);
+
+/// Empty when every cell's point ids lie within the grid's points; otherwise which does not.
+VOLILLUMFILTERS_EXPORT std::string CheckPointIds(vtkUnstructuredGrid* grid);
 
 /// Empty when the scalars have one value per point and every point coordinate is finite;
 /// otherwise what is wrong.

@@ -20,6 +20,7 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <stdexcept>
 
 vtkStandardNewMacro(vtkAdaptiveTetrahedralMesh);
 
@@ -123,9 +124,35 @@ int vtkAdaptiveTetrahedralMesh::RequestData(
   double bounds[6], spacing[3];
   image->GetBounds(bounds);
   image->GetSpacing(spacing);
+  for (int a = 0; a < 3; ++a)
+  {
+    if (!(spacing[a] > 0.0) || !std::isfinite(bounds[2 * a]) ||
+      !std::isfinite(bounds[2 * a + 1] - bounds[2 * a]))
+    {
+      vtkErrorMacro("Cannot mesh: the image's spacing must be positive and its bounds finite.");
+      return 1;
+    }
+  }
   const double mean = (spacing[0] + spacing[1] + spacing[2]) / 3.0;
   const double cellSize = this->CellSize > 0.0 ? this->CellSize : 4.0 * mean;
   const double facetDistance = this->FacetDistance > 0.0 ? this->FacetDistance : 0.5 * mean;
+  // Tetrahedra of circumradius cellSize have a volume of about cellSize^3 / 2: bound the
+  // count by the region's volume (the points at or above the iso-value) before meshing.
+  long long pointsInside = 0;
+  for (vtkIdType i = 0; i < scalars->GetNumberOfTuples(); ++i)
+  {
+    pointsInside += scalars->GetComponent(i, 0) >= this->IsoValue ? 1 : 0;
+  }
+  const double regionVolume =
+    static_cast<double>(pointsInside) * spacing[0] * spacing[1] * spacing[2];
+  const double estimate = regionVolume / (0.5 * cellSize * cellSize * cellSize);
+  if (!(estimate <= MaximumTetrahedra))
+  {
+    vtkErrorMacro("Cannot mesh: a Cell Size of " << cellSize << " would make about " << estimate
+                                                 << " tetrahedra, more than the limit of "
+                                                 << MaximumTetrahedra << "; raise Cell Size.");
+    return 1;
+  }
 
   // Negative inside: the scalar above the iso-value; positive outside the image.
   const double iso = this->IsoValue;
@@ -150,8 +177,17 @@ int vtkAdaptiveTetrahedralMesh::RequestData(
     params::facet_distance = facetDistance, params::cell_radius_edge_ratio = 3,
     params::cell_size = cellSize);
   this->UpdateProgress(0.1);
-  Complex complex =
-    CGAL::make_mesh_3<Complex>(domain, criteria, params::no_perturb(), params::no_exude());
+  Complex complex;
+  try
+  {
+    complex =
+      CGAL::make_mesh_3<Complex>(domain, criteria, params::no_perturb(), params::no_exude());
+  }
+  catch (const std::exception& e)
+  {
+    vtkErrorMacro("Cannot mesh: CGAL failed (" << e.what() << ").");
+    return 1;
+  }
   this->UpdateProgress(0.9);
 
   const Triangulation& tr = complex.triangulation();

@@ -23,6 +23,9 @@ public:
   vtkTypeMacro(vtkAdaptiveTetrahedralMesh, vtkUnstructuredGridAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
+  /// Most tetrahedra a Cell Size may ask for (estimated from the region's volume).
+  static constexpr double MaximumTetrahedra = 2e7;
+
   ///@{
   /** Scalar value bounding the meshed region (inside: at least this). Default 0.5. */
   vtkSetMacro(IsoValue, double);

@@ -4,6 +4,7 @@
 #include "vtkCellArrayIterator.h"
 #include "vtkIdList.h"
 #include "vtkInformation.h"
+#include "vtkMath.h"
 #include "vtkObjectFactory.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
@@ -14,6 +15,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <map>
 #include <sstream>
 #include <vector>
@@ -73,6 +75,40 @@ int vtkTetrahedralizeSurface::FillInputPortInformation(int, vtkInformation* info
 }
 
 //------------------------------------------------------------------------------
+namespace
+{
+bool Finite(vtkPolyData* surface)
+{
+  for (vtkIdType i = 0; i < surface->GetNumberOfPoints(); ++i)
+  {
+    const double* p = surface->GetPoint(i);
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+// Volume enclosed by a closed triangulated surface (divergence theorem; the sign follows
+// the orientation).
+double EnclosedVolume(vtkPolyData* surface, const std::vector<std::array<vtkIdType, 3>>& triangles)
+{
+  double volume = 0.0;
+  for (const auto& t : triangles)
+  {
+    double a[3], b[3], c[3], bc[3];
+    surface->GetPoint(t[0], a);
+    surface->GetPoint(t[1], b);
+    surface->GetPoint(t[2], c);
+    vtkMath::Cross(b, c, bc);
+    volume += vtkMath::Dot(a, bc) / 6.0;
+  }
+  return volume;
+}
+}
+
+//------------------------------------------------------------------------------
 int vtkTetrahedralizeSurface::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -92,6 +128,33 @@ int vtkTetrahedralizeSurface::RequestData(
   {
     vtkErrorMacro("Cannot tetrahedralize: the surface is open (an edge is not shared by "
                   "exactly two polygons). Close it first, for example with Fill Holes.");
+    return 1;
+  }
+  // TetGen aborts the process on non-finite or flat input: refuse it here.
+  double bounds[6];
+  input->GetBounds(bounds);
+  double diagonal = 0.0;
+  for (int a = 0; a < 3; ++a)
+  {
+    diagonal += (bounds[2 * a + 1] - bounds[2 * a]) * (bounds[2 * a + 1] - bounds[2 * a]);
+  }
+  diagonal = std::sqrt(diagonal);
+  if (!std::isfinite(diagonal) || !Finite(input))
+  {
+    vtkErrorMacro("Cannot tetrahedralize: the surface has points that are not finite numbers.");
+    return 1;
+  }
+  const double volume = std::abs(EnclosedVolume(input, triangles));
+  if (!(volume > 1e-9 * diagonal * diagonal * diagonal))
+  {
+    vtkErrorMacro("Cannot tetrahedralize: the surface encloses no volume (it is flat).");
+    return 1;
+  }
+  if (this->MaximumVolume > 0.0 && volume / this->MaximumVolume > MaximumTetrahedra)
+  {
+    vtkErrorMacro("Cannot tetrahedralize: a Maximum Volume of "
+      << this->MaximumVolume << " would make about " << volume / this->MaximumVolume
+      << " tetrahedra, more than the limit of " << MaximumTetrahedra << "; raise Maximum Volume.");
     return 1;
   }
 

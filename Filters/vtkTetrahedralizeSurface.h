@@ -5,8 +5,10 @@
  * Input: a closed vtkPolyData surface (triangles or other polygons, which are split into
  * triangles). Output: a vtkUnstructuredGrid of tetrahedra filling it, made by TetGen with
  * a radius-edge ratio bound (RadiusEdgeRatio) and optionally a maximum tetrahedron volume
- * (MaximumVolume). Open surfaces (an edge not shared by exactly two triangles) and
- * self-intersecting ones are reported with vtkErrorMacro and give an empty output.
+ * (MaximumVolume). Open surfaces (an edge not shared by exactly two triangles),
+ * self-intersecting or flat ones, surfaces with non-finite points and a MaximumVolume that
+ * would make more than MaximumTetrahedra tetrahedra are reported with vtkErrorMacro and
+ * give an empty output.
  */
 #ifndef vtkTetrahedralizeSurface_h
 #define vtkTetrahedralizeSurface_h
@@ -26,6 +28,9 @@ public:
   vtkSetClampMacro(MaximumVolume, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(MaximumVolume, double);
   ///@}
+
+  /// Most tetrahedra a MaximumVolume may ask for (enclosed volume / MaximumVolume).
+  static constexpr double MaximumTetrahedra = 2e7;
 
   ///@{
   /** Bound on circumradius / shortest edge of every tetrahedron (TetGen's -q). Default 2. */

@@ -86,22 +86,11 @@ bool vtkUnstructuredGridIllumination::PrepareMesh(vtkUnstructuredGrid* input)
   this->Cache.clear();
 
   // Point ids outside the grid would be read (and split) as if they were points.
-  const vtkIdType numberOfPoints = input->GetNumberOfPoints();
-  auto ids = vtk::TakeSmartPointer(input->GetCells()->NewIterator());
-  for (ids->GoToFirstCell(); !ids->IsDoneWithTraversal(); ids->GoToNextCell())
+  const std::string badIds = volillum::CheckPointIds(input);
+  if (!badIds.empty())
   {
-    vtkIdType n;
-    const vtkIdType* cell;
-    ids->GetCurrentCell(n, cell);
-    for (vtkIdType i = 0; i < n; ++i)
-    {
-      if (cell[i] < 0 || cell[i] >= numberOfPoints)
-      {
-        vtkErrorMacro("Cell " << ids->GetCurrentCellId() << " refers to point " << cell[i]
-                              << ", but the grid has " << numberOfPoints << " points.");
-        return false;
-      }
-    }
+    vtkErrorMacro(<< badIds);
+    return false;
   }
 
   vtkSmartPointer<vtkUnstructuredGrid> tetrahedra = input;

@@ -5,6 +5,7 @@
 //
 // Run with --help for the options and the JSON format. Any failure prints one line that
 // starts with "volillum-render: error:" and exits with status 1.
+#include "IlluminationFilterSupport.h"
 #include "vtkFilteredVolumetricShadows.h"
 #include "vtkIlluminatedVolumeMapper.h"
 #include "vtkIlluminationPhantomSource.h"
@@ -15,14 +16,17 @@
 #include "vtkAppendFilter.h"
 #include "vtkCamera.h"
 #include "vtkColorTransferFunction.h"
+#include "vtkCommand.h"
 #include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
 #include "vtkDataArray.h"
+#include "vtkDataSetAttributes.h"
 #include "vtkDataSetReader.h"
 #include "vtkDataSetTriangleFilter.h"
 #include "vtkExodusIIReader.h"
 #include "vtkFieldData.h"
 #include "vtkImageData.h"
+#include "vtkInformation.h"
 #include "vtkLight.h"
 #include "vtkMetaImageReader.h"
 #include "vtkNIFTIImageReader.h"
@@ -38,6 +42,7 @@
 #include "vtkSLCReader.h"
 #include "vtkSMPTools.h"
 #include "vtkSmartPointer.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkTimerLog.h"
 #include "vtkUnstructuredGrid.h"
 #include "vtkVolume.h"
@@ -54,6 +59,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <new>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -276,6 +282,101 @@ const struct
   { ".nhdr", &MakeReader<vtkNrrdReader> }, { ".slc", &MakeReader<vtkSLCReader> },
   { ".nii", &MakeReader<vtkNIFTIImageReader> }, { ".nii.gz", &MakeReader<vtkNIFTIImageReader> } };
 
+// Largest volume the CLI reads: the illumination filters' own limit on output points.
+constexpr long long MaximumVolumePoints = 1LL << 29;
+
+// Remembers the first error or warning a reader reports (a truncated or corrupt file).
+class ReaderProblem : public vtkCommand
+{
+public:
+  static ReaderProblem* New() { return new ReaderProblem; }
+  void Execute(vtkObject*, unsigned long, void* data) override
+  {
+    if (this->Message.empty() && data)
+    {
+      this->Message = static_cast<const char*>(data);
+      this->Message.erase(this->Message.find_last_not_of(" \n") + 1);
+      const size_t line = this->Message.rfind('\n');
+      if (line != std::string::npos)
+      {
+        this->Message = this->Message.substr(line + 1);
+      }
+    }
+  }
+  std::string Message;
+};
+
+// Whether a single-file .mha or .nrrd stores its voxels uncompressed (then the file must
+// hold them all).
+bool RawSingleFile(const std::string& path)
+{
+  const std::string name = Lower(path);
+  const bool mha = EndsWith(name, ".mha"), nrrd = EndsWith(name, ".nrrd");
+  if (!mha && !nrrd)
+  {
+    return false;
+  }
+  std::ifstream in(path, std::ios::binary);
+  std::string header(4096, '\0');
+  in.read(&header[0], static_cast<std::streamsize>(header.size()));
+  header = Lower(header.substr(0, static_cast<size_t>(in.gcount())));
+  if (mha)
+  {
+    return header.find("compresseddata = true") == std::string::npos &&
+      header.find("elementdatafile = local") != std::string::npos;
+  }
+  return header.find("data file:") == std::string::npos &&
+    header.find("datafile:") == std::string::npos &&
+    (header.find("encoding: raw") != std::string::npos);
+}
+
+// Checks what an image file's header declares before anything is allocated: its extent
+// against the size limit and, for uncompressed single files, the file's length.
+void CheckImageHeader(vtkAlgorithm* reader, const std::string& path)
+{
+  reader->UpdateInformation();
+  vtkInformation* info = reader->GetOutputInformation(0);
+  if (!info || !info->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+  {
+    return; // not an image: unstructured grids are checked after reading
+  }
+  int extent[6];
+  info->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent);
+  long long points = 1;
+  for (int a = 0; a < 3; ++a)
+  {
+    const long long n = static_cast<long long>(extent[2 * a + 1]) - extent[2 * a] + 1;
+    if (n < 1 || n > MaximumVolumePoints)
+    {
+      Fail(path + " declares an invalid extent (" + std::to_string(n) + " points along axis " +
+        std::to_string(a) + ")");
+    }
+    points *= n;
+    if (points > MaximumVolumePoints)
+    {
+      Fail(path + " declares more than " + std::to_string(MaximumVolumePoints) +
+        " points, the limit this tool reads");
+    }
+  }
+  vtkInformation* scalars = vtkDataObject::GetActiveFieldInformation(
+    info, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
+  if (scalars && RawSingleFile(path))
+  {
+    const int components = scalars->Has(vtkDataObject::FIELD_NUMBER_OF_COMPONENTS())
+      ? scalars->Get(vtkDataObject::FIELD_NUMBER_OF_COMPONENTS())
+      : 1;
+    const long long bytes = points * components *
+      vtkDataArray::GetDataTypeSize(scalars->Get(vtkDataObject::FIELD_ARRAY_TYPE()));
+    std::ifstream in(path, std::ios::binary | std::ios::ate);
+    const long long length = static_cast<long long>(in.tellg());
+    if (length < bytes)
+    {
+      Fail(path + " is truncated: its header declares " + std::to_string(bytes) +
+        " bytes of voxels, the file has " + std::to_string(length) + " bytes in all");
+    }
+  }
+}
+
 // Reads the volume or unstructured grid (or generates the phantom); fails with one line on
 // any problem.
 vtkSmartPointer<vtkDataSet> LoadData(const Options& o)
@@ -336,7 +437,18 @@ vtkSmartPointer<vtkDataSet> LoadData(const Options& o)
         " (.vti .vtk .mha .mhd .nrrd .nhdr .slc .nii .nii.gz .vtu .ex2 .exo .e)");
     }
   }
+  vtkNew<ReaderProblem> problem;
+  if (!o.Input.empty())
+  {
+    reader->AddObserver(vtkCommand::ErrorEvent, problem);
+    reader->AddObserver(vtkCommand::WarningEvent, problem);
+    CheckImageHeader(reader, o.Input);
+  }
   reader->Update();
+  if (!problem->Message.empty())
+  {
+    Fail("cannot read " + o.Input + ": " + problem->Message);
+  }
   vtkSmartPointer<vtkDataSet> image = vtkDataSet::SafeDownCast(reader->GetOutputDataObject(0));
   if (auto blocks = vtkCompositeDataSet::SafeDownCast(reader->GetOutputDataObject(0)))
   {
@@ -368,6 +480,16 @@ vtkSmartPointer<vtkDataSet> LoadData(const Options& o)
   if (!scalars)
   {
     Fail((o.Input.empty() ? o.Phantom : o.Input) + " has no point scalars to render");
+  }
+  // Inconsistent datasets are refused before any filter or mapper reads them.
+  std::string inconsistency = volillum::CheckPoints(image, scalars);
+  if (auto grid = vtkUnstructuredGrid::SafeDownCast(image))
+  {
+    inconsistency = inconsistency.empty() ? volillum::CheckPointIds(grid) : inconsistency;
+  }
+  if (!inconsistency.empty())
+  {
+    Fail(o.Input + ": " + inconsistency);
   }
   if (scalars->GetNumberOfComponents() != 1)
   {
@@ -408,6 +530,32 @@ double Number(const json& object, const char* key, double fallback)
   return object[key].get<double>();
 }
 
+bool Flag(const json& object, const char* key, bool fallback)
+{
+  if (!object.contains(key))
+  {
+    return fallback;
+  }
+  if (!object[key].is_boolean())
+  {
+    Fail(std::string("'") + key + "' must be true or false");
+  }
+  return object[key].get<bool>();
+}
+
+std::string Text(const json& object, const char* key, const std::string& fallback)
+{
+  if (!object.contains(key))
+  {
+    return fallback;
+  }
+  if (!object[key].is_string())
+  {
+    Fail(std::string("'") + key + "' must be a string");
+  }
+  return object[key].get<std::string>();
+}
+
 // The default lights: a warm key light above-left-front, a cool fill light from the
 // right and a white rim light from behind, all outside the volume.
 json DefaultLights()
@@ -436,8 +584,8 @@ std::vector<vtkSmartPointer<vtkLight>> BuildLights(const json& config, const dou
     {
       Fail("each light must be a JSON object");
     }
-    const std::string type = l.value("type", std::string("directional"));
-    const bool relative = l.value("relative", false);
+    const std::string type = Text(l, "type", "directional");
+    const bool relative = Flag(l, "relative", false);
     auto place = [&](const char* key, std::vector<double> fallback)
     {
       std::vector<double> p = l.contains(key) ? Numbers(l[key], 3, key) : fallback;
@@ -473,7 +621,7 @@ std::vector<vtkSmartPointer<vtkLight>> BuildLights(const json& config, const dou
       l.contains("color") ? Numbers(l["color"], 3, "color") : std::vector<double>{ 1.0, 1.0, 1.0 };
     light->SetDiffuseColor(color.data());
     light->SetIntensity(Number(l, "intensity", 1.0));
-    light->SetSwitch(l.value("on", true));
+    light->SetSwitch(Flag(l, "on", true));
     out.push_back(light);
   }
   return out;
@@ -488,7 +636,7 @@ void BuildTransferFunctions(const json& config, const double range[2],
   {
     Fail("'transfer_function' must be a JSON object");
   }
-  const bool relative = tf.value("relative", true);
+  const bool relative = Flag(tf, "relative", true);
   const double width = range[1] > range[0] ? range[1] - range[0] : 1.0;
   auto scalar = [&](double s) { return relative ? range[0] + s * width : s; };
   const json color = tf.contains("color") ? tf["color"]
@@ -553,7 +701,7 @@ double LightImage(const json& config, const std::string& method, vtkImageData* i
   illumination->SetOpacityFunction(otf);
   illumination->SetScalarOpacityUnitDistance(unitDistance);
   illumination->SetResolutionScale(Number(config, "resolution_scale", 1.0));
-  illumination->SetChromaticAttenuation(config.value("chromatic_attenuation", false));
+  illumination->SetChromaticAttenuation(Flag(config, "chromatic_attenuation", false));
   vtkNew<vtkTimerLog> timer;
   timer->StartTimer();
   illumination->Update();
@@ -568,7 +716,7 @@ double LightImage(const json& config, const std::string& method, vtkImageData* i
   mapper->SetIlluminationData(lit);
   mapper->SetAmbient(Number(config, "ambient", 0.1));
   mapper->SetDiffuse(Number(config, "diffuse", 1.0));
-  mapper->SetGradientShading(config.value("gradient_shading", false));
+  mapper->SetGradientShading(Flag(config, "gradient_shading", false));
   volume->SetMapper(mapper);
   return timer->GetElapsedTime();
 }
@@ -599,7 +747,7 @@ double LightGrid(const json& config, vtkUnstructuredGrid* grid,
   illumination->SetColorTransferFunction(ctf);
   illumination->SetOpacityFunction(otf);
   illumination->SetScalarOpacityUnitDistance(unitDistance);
-  illumination->SetChromaticAttenuation(config.value("chromatic_attenuation", false));
+  illumination->SetChromaticAttenuation(Flag(config, "chromatic_attenuation", false));
   const int resolution = static_cast<int>(Number(config, "level0_resolution", 128));
   illumination->SetLevel0Resolution(resolution, resolution, resolution);
   illumination->SetAbsorption(Number(config, "absorption", 1.0));
@@ -627,11 +775,13 @@ double LightGrid(const json& config, vtkUnstructuredGrid* grid,
   return timer->GetElapsedTime();
 }
 
-int main(int argc, char* argv[])
+int Run(int argc, char* argv[])
 {
   vtkSMPTools::SetBackend("STDThread");
   const Options options = ParseArguments(argc, argv);
   const json& config = options.Config;
+  // Checked before any work: a bad value must not cost a whole render first.
+  const std::string output = Text(config, "output", "volillum.png");
 
   // VTK's own warnings still reach stderr; its error pop-ups do not exist here.
   vtkSmartPointer<vtkDataSet> data = LoadData(options);
@@ -674,7 +824,7 @@ int main(int argc, char* argv[])
   double illuminationSeconds = 0.0;
   if (image)
   {
-    method = config.value("method", std::string("propagation"));
+    method = Text(config, "method", "propagation");
     illuminationSeconds = LightImage(config, method, image, lights, ctf, otf, unitDistance, volume);
   }
   else
@@ -731,7 +881,6 @@ int main(int argc, char* argv[])
   timer->StopTimer();
   const double frameSeconds = timer->GetElapsedTime();
 
-  const std::string output = config.value("output", std::string("volillum.png"));
   vtkNew<vtkPNGWriter> writer;
   writer->SetFileName(output.c_str());
   writer->SetInputData(firstFrame);
@@ -746,4 +895,25 @@ int main(int argc, char* argv[])
             << "frame: " << frameSeconds << " s\n"
             << "wrote " << output << std::endl;
   return 0;
+}
+
+int main(int argc, char* argv[])
+{
+  // Every failure ends with one line and status 1, also the ones a library throws.
+  try
+  {
+    return Run(argc, argv);
+  }
+  catch (const json::exception& e)
+  {
+    Fail(std::string("invalid settings: ") + e.what());
+  }
+  catch (const std::bad_alloc&)
+  {
+    Fail("out of memory");
+  }
+  catch (const std::exception& e)
+  {
+    Fail(e.what());
+  }
 }

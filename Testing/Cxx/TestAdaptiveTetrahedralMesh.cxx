@@ -83,13 +83,16 @@ TEST(AdaptiveTetrahedralMesh, ImagesItCannotMeshAreErrors)
   vtkNew<vtkImageData> empty3D;
   empty3D->SetDimensions(8, 8, 8);
   auto ball = Ball();
-  for (int trial = 0; trial < 2; ++trial)
+  // An empty image, an iso-value above the data and a cell size that would ask for far too
+  // many tetrahedra (refused before meshing).
+  for (int trial = 0; trial < 3; ++trial)
   {
     vtkNew<vtkAdaptiveTetrahedralMesh> mesher;
     vtkNew<ErrorCounter> errors;
     mesher->AddObserver(vtkCommand::ErrorEvent, errors);
     mesher->SetInputData(trial == 0 ? empty3D.Get() : ball.Get());
-    mesher->SetIsoValue(trial == 0 ? 0.0 : 50.0); // the ball's values stay below 50
+    mesher->SetIsoValue(trial == 1 ? 50.0 : 0.0); // the ball's values stay below 50
+    mesher->SetCellSize(trial == 2 ? 1e-4 : 0.0);
     mesher->Update();
     EXPECT_EQ(errors->Count, 1);
     std::cout << errors->LastMessage << std::endl;

@@ -1,6 +1,6 @@
 // Tests of vtkTetrahedralizeSurface (TetGen): valid, conforming meshes that fill the
-// surface exactly and respect the volume bound; open and self-intersecting surfaces are
-// errors.
+// surface exactly and respect the volume bound; open, self-intersecting, flat and
+// non-finite surfaces and absurd volume bounds are errors.
 #include "IlluminationTestUtilities.h"
 #include "vtkTetrahedralizeSurface.h"
 
@@ -12,6 +12,8 @@
 #include "vtkUnstructuredGrid.h"
 
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 using volillumtest::ErrorCounter;
 
@@ -56,7 +58,7 @@ TEST(TetrahedralizeSurface, MeshIsValidConformingAndFillsTheSurface)
   EXPECT_NEAR(mesh.TotalVolume, mass->GetVolume(), 1e-9 * mass->GetVolume());
 }
 
-TEST(TetrahedralizeSurface, OpenAndSelfIntersectingSurfacesAreErrors)
+TEST(TetrahedralizeSurface, SurfacesItCannotMeshAreErrors)
 {
   // A sphere with one triangle removed.
   auto sphere = Sphere(0, 1.0);
@@ -76,12 +78,33 @@ TEST(TetrahedralizeSurface, OpenAndSelfIntersectingSurfacesAreErrors)
   overlapping->AddInputData(Sphere(0, 1.0));
   overlapping->AddInputData(Sphere(0.8, 1.0));
   overlapping->Update();
-  for (vtkPolyData* bad : { open.Get(), overlapping->GetOutput() })
+  // The sphere squashed flat (closed, but enclosing no volume), and one with a NaN point:
+  // TetGen would abort the process on either.
+  vtkNew<vtkPolyData> flat;
+  flat->DeepCopy(sphere);
+  vtkNew<vtkPolyData> nan;
+  nan->DeepCopy(sphere);
+  for (vtkIdType p = 0; p < flat->GetNumberOfPoints(); ++p)
+  {
+    double x[3];
+    flat->GetPoint(p, x);
+    flat->GetPoints()->SetPoint(p, x[0], x[1], 0.0);
+  }
+  nan->GetPoints()->SetPoint(5, std::nan(""), 0.0, 0.0);
+  // A volume bound that would ask for about 4e9 tetrahedra (refused before meshing).
+  struct Case
+  {
+    vtkPolyData* Surface;
+    double MaximumVolume;
+  };
+  for (const Case& bad : { Case{ open, 0.0 }, Case{ overlapping->GetOutput(), 0.0 },
+         Case{ flat, 0.0 }, Case{ nan, 0.0 }, Case{ sphere, 1e-9 } })
   {
     vtkNew<vtkTetrahedralizeSurface> mesher;
     vtkNew<ErrorCounter> errors;
     mesher->AddObserver(vtkCommand::ErrorEvent, errors);
-    mesher->SetInputData(bad);
+    mesher->SetInputData(bad.Surface);
+    mesher->SetMaximumVolume(bad.MaximumVolume);
     mesher->Update();
     EXPECT_EQ(errors->Count, 1);
     std::cout << errors->LastMessage << std::endl;

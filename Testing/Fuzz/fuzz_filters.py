@@ -38,8 +38,8 @@ READERS = {
     ".vti": ("XMLImageDataReader", "FileName"),
     ".vtu": ("XMLUnstructuredGridReader", "FileName"),
     ".vtp": ("XMLPolyDataReader", "FileName"),
-    ".mha": ("MetaImageReader", "FileNames"),
-    ".mhd": ("MetaImageReader", "FileNames"),
+    ".mha": ("MetaFileSeriesReader", "FileNames"),
+    ".mhd": ("MetaFileSeriesReader", "FileNames"),
     ".nrrd": ("NrrdReader", "FileName"),
     ".nhdr": ("NrrdReader", "FileName"),
     ".vtk": ("LegacyVTKReader", "FileNames"),
@@ -124,7 +124,7 @@ def run_job(job, ns):
         ext = os.path.splitext(path)[1].lower()
         if ext in READERS:
             name, prop = READERS[ext]
-            reader = getattr(simple, name)(**{prop: [path] if prop == "FileNames" else path})
+            reader = ns[name](**{prop: [path] if prop == "FileNames" else path})
         else:
             reader = simple.OpenDataFile(path)
         state["reader"] = reader
