@@ -17,6 +17,7 @@
 #include <CGAL/Mesh_triangulation_3.h>
 #include <CGAL/make_mesh_3.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -121,17 +122,25 @@ int vtkAdaptiveTetrahedralMesh::RequestData(
       << this->IsoValue << " (range " << range[0] << " .. " << range[1] << ").");
     return 1;
   }
-  double bounds[6], spacing[3];
-  image->GetBounds(bounds);
+  double spacing[3], origin[3];
   image->GetSpacing(spacing);
+  image->GetOrigin(origin);
   for (int a = 0; a < 3; ++a)
   {
-    if (!(spacing[a] > 0.0) || !std::isfinite(bounds[2 * a]) ||
-      !std::isfinite(bounds[2 * a + 1] - bounds[2 * a]))
+    if (!(spacing[a] > 0.0) || !std::isfinite(spacing[a]) || !(std::abs(origin[a]) <= 1e100))
     {
-      vtkErrorMacro("Cannot mesh: the image's spacing must be positive and its bounds finite.");
+      vtkErrorMacro("Cannot mesh: the image's spacing must be positive and finite and its "
+                    "origin within +-1e100.");
       return 1;
     }
+  }
+  const double smallest = std::min({ spacing[0], spacing[1], spacing[2] });
+  const double largest = std::max({ spacing[0], spacing[1], spacing[2] });
+  if (largest > 1e6 * smallest)
+  {
+    vtkErrorMacro("Cannot mesh: the image's spacings differ by more than a factor of 1e6 ("
+      << spacing[0] << ", " << spacing[1] << ", " << spacing[2] << ").");
+    return 1;
   }
   const double mean = (spacing[0] + spacing[1] + spacing[2]) / 3.0;
   const double cellSize = this->CellSize > 0.0 ? this->CellSize : 4.0 * mean;
@@ -154,6 +163,18 @@ int vtkAdaptiveTetrahedralMesh::RequestData(
     return 1;
   }
 
+  // CGAL meshes the image at unit scale (origin 0, mean spacing 1; the orientation is not
+  // used): its tolerances are absolute enough to fail on extreme coordinates. The mesh
+  // points are mapped back at the end.
+  vtkNew<vtkImageData> unit;
+  unit->ShallowCopy(image);
+  unit->SetOrigin(0.0, 0.0, 0.0);
+  unit->SetSpacing(spacing[0] / mean, spacing[1] / mean, spacing[2] / mean);
+  unit->SetDirectionMatrix(1, 0, 0, 0, 1, 0, 0, 0, 1);
+  double bounds[6];
+  unit->GetBounds(bounds);
+  image = unit;
+
   // Negative inside: the scalar above the iso-value; positive outside the image.
   const double iso = this->IsoValue;
   std::function<double(const Point&)> inside = [&](const Point& q)
@@ -167,15 +188,16 @@ int vtkAdaptiveTetrahedralMesh::RequestData(
   double radius2 = 0.0;
   for (int a = 0; a < 3; ++a)
   {
-    const double half = 0.5 * (bounds[2 * a + 1] - bounds[2 * a]) + mean;
+    const double half =
+      0.5 * (bounds[2 * a + 1] - bounds[2 * a]) + 1.0; // one (unit) cell of margin
     radius2 += half * half;
   }
   namespace params = CGAL::parameters;
   Domain domain = Domain::create_implicit_mesh_domain(
     inside, Kernel::Sphere_3(centre, radius2), params::relative_error_bound = 1e-6);
-  Criteria criteria(params::facet_angle = 25, params::facet_size = cellSize,
-    params::facet_distance = facetDistance, params::cell_radius_edge_ratio = 3,
-    params::cell_size = cellSize);
+  Criteria criteria(params::facet_angle = 25, params::facet_size = cellSize / mean,
+    params::facet_distance = facetDistance / mean, params::cell_radius_edge_ratio = 3,
+    params::cell_size = cellSize / mean);
   this->UpdateProgress(0.1);
   Complex complex;
   try
@@ -216,7 +238,7 @@ int vtkAdaptiveTetrahedralMesh::RequestData(
     vtkErrorMacro("Cannot mesh: CGAL produced no tetrahedra (region too thin for CellSize?).");
     return 1;
   }
-  // The input's scalars at the mesh points.
+  // The input's scalars at the mesh points, which then go back to the input's coordinates.
   vtkSmartPointer<vtkDataArray> carried;
   carried.TakeReference(scalars->NewInstance());
   carried->SetName(scalars->GetName() ? scalars->GetName() : "Scalars");
@@ -228,6 +250,7 @@ int vtkAdaptiveTetrahedralMesh::RequestData(
     points->GetPoint(i, p);
     const double v = Interpolate(image, scalars, p);
     carried->SetTuple1(i, std::isnan(v) ? iso : v);
+    points->SetPoint(i, origin[0] + mean * p[0], origin[1] + mean * p[1], origin[2] + mean * p[2]);
   }
   output->SetPoints(points);
   output->SetCells(VTK_TETRA, cells);

@@ -256,6 +256,12 @@ int vtkUnstructuredGridIllumination::RequestData(
     vtkErrorMacro(<< error);
     return 1;
   }
+  if (!std::isfinite(this->Absorption) || !std::isfinite(this->ScatteringStrength[0]) ||
+    !std::isfinite(this->ScatteringStrength[1]) || !std::isfinite(this->ScatteringStrength[2]))
+  {
+    vtkErrorMacro("Absorption and ScatteringStrength must be finite numbers.");
+    return 1;
+  }
   // Each axis is checked before the product (three huge axes would overflow it).
   const int* r = this->Level0Resolution;
   const auto axisOk = [](int n) { return n >= 2 && n <= 1024; };

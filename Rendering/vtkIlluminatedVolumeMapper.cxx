@@ -12,6 +12,8 @@
 #include "vtkUniforms.h"
 #include "vtkVolume.h"
 
+#include <cmath>
+
 #include "IlluminatedShadingDec.h"
 #include "IlluminatedShadingImpl.h"
 
@@ -183,8 +185,40 @@ void vtkIlluminatedVolumeMapper::SetShadingUniforms(vtkOpenGLShaderProperty* pro
 }
 
 //------------------------------------------------------------------------------
+bool vtkIlluminatedVolumeMapper::InputIsRenderable()
+{
+  vtkDataSet* input = this->GetInput();
+  if (!input)
+  {
+    return true;
+  }
+  double bounds[6];
+  input->GetBounds(bounds);
+  for (double b : bounds)
+  {
+    if (!(std::abs(b) <= MaximumCoordinate))
+    {
+      if (this->RefusedInputTime < input->GetMTime())
+      {
+        vtkErrorMacro("The volume's bounds reach "
+          << b << ", beyond the +-" << MaximumCoordinate
+          << " the GPU ray caster renders (its single-precision coordinates would not "
+             "advance along the rays); it is not drawn. Rescale its spacing or origin.");
+        this->RefusedInputTime.Modified();
+      }
+      return false;
+    }
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
 void vtkIlluminatedVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
 {
+  if (!this->InputIsRenderable())
+  {
+    return;
+  }
   auto* property = vtkOpenGLShaderProperty::SafeDownCast(vol->GetShaderProperty());
   // The array the superclass renders (ParaView selects it by name, not as active scalars).
   int cellFlag = 0;

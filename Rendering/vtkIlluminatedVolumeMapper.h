@@ -78,11 +78,22 @@ public:
 
   void ReleaseGraphicsResources(vtkWindow* window) override;
 
+  /**
+   * Largest coordinate magnitude of a volume the mapper draws. Beyond it (an absurd spacing
+   * or origin) the ray caster's single-precision positions stop advancing and a frame
+   * takes minutes: the mapper reports an error and draws nothing instead.
+   */
+  static constexpr double MaximumCoordinate = 1e15;
+
 protected:
   vtkIlluminatedVolumeMapper();
   ~vtkIlluminatedVolumeMapper() override;
 
   void GPURender(vtkRenderer* ren, vtkVolume* vol) override;
+
+  /// False (with an error, once per input change) when the input's bounds exceed
+  /// MaximumCoordinate.
+  bool InputIsRenderable();
 
   /// Upload the illumination texture when needed; false when there is nothing to shade with.
   bool UpdateIlluminationTexture(vtkRenderer* ren);
@@ -100,6 +111,7 @@ protected:
 
   vtkNew<vtkTextureObject> IlluminationTexture;
   vtkTimeStamp IlluminationUploadTime;
+  vtkTimeStamp RefusedInputTime;
 
 private:
   vtkIlluminatedVolumeMapper(const vtkIlluminatedVolumeMapper&) = delete;

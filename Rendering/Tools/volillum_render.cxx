@@ -60,6 +60,7 @@
 #include <fstream>
 #include <iostream>
 #include <new>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -147,7 +148,7 @@ Options ParseArguments(int argc, char* argv[])
     {
       size_t used = 0;
       const double v = std::stod(text, &used);
-      if (used != text.size())
+      if (used != text.size() || !std::isfinite(v))
       {
         throw std::invalid_argument(text);
       }
@@ -490,6 +491,19 @@ vtkSmartPointer<vtkDataSet> LoadData(const Options& o)
   if (!inconsistency.empty())
   {
     Fail(o.Input + ": " + inconsistency);
+  }
+  double bounds[6];
+  image->GetBounds(bounds);
+  for (double b : bounds)
+  {
+    if (!(std::abs(b) <= vtkIlluminatedVolumeMapper::MaximumCoordinate))
+    {
+      std::ostringstream message;
+      message << o.Input << ": its bounds reach " << b << ", beyond the +-"
+              << vtkIlluminatedVolumeMapper::MaximumCoordinate
+              << " this tool renders; rescale its spacing or origin";
+      Fail(message.str());
+    }
   }
   if (scalars->GetNumberOfComponents() != 1)
   {
@@ -837,7 +851,7 @@ int Run(int argc, char* argv[])
   const json size =
     config.contains("image_size") ? config["image_size"] : json::array({ 512, 512 });
   const auto wh = Numbers(size, 2, "image_size");
-  if (wh[0] < 16 || wh[1] < 16 || wh[0] > 8192 || wh[1] > 8192)
+  if (!(wh[0] >= 16 && wh[1] >= 16 && wh[0] <= 8192 && wh[1] <= 8192))
   {
     Fail("image_size must be between 16 and 8192 pixels per side");
   }

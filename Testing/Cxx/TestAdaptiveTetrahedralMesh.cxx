@@ -78,6 +78,50 @@ TEST(AdaptiveTetrahedralMesh, BallIsMeshedWithValidConformingTetrahedra)
   EXPECT_LE(worst, 0.1);
 }
 
+TEST(AdaptiveTetrahedralMesh, MeshingDoesNotDependOnTheImageScale)
+{
+  // The ball at spacing 1 and at extreme spacings and origins (sizes given in proportion)
+  // gives the same mesh, scaled: CGAL sees the image at unit scale.
+  auto mesh = [](double spacing, double origin)
+  {
+    auto image = Ball();
+    image->SetSpacing(spacing, spacing, spacing);
+    image->SetOrigin(origin, -origin, 0.0);
+    vtkNew<vtkAdaptiveTetrahedralMesh> mesher;
+    mesher->SetInputData(image);
+    mesher->SetIsoValue(0.0);
+    mesher->SetCellSize(2.0 * spacing);
+    mesher->SetFacetDistance(0.15 * spacing);
+    mesher->Update();
+    auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
+    grid->ShallowCopy(mesher->GetOutput());
+    return grid;
+  };
+  auto reference = mesh(1.0, 0.0);
+  for (const double spacing : { 1e-30, 1e20 })
+  {
+    const double origin = 1e5 * spacing;
+    auto scaled = mesh(spacing, origin);
+    ASSERT_EQ(scaled->GetNumberOfCells(), reference->GetNumberOfCells()) << spacing;
+    ASSERT_EQ(scaled->GetNumberOfPoints(), reference->GetNumberOfPoints()) << spacing;
+    double worst = 0.0;
+    for (vtkIdType i = 0; i < reference->GetNumberOfPoints(); ++i)
+    {
+      const double* p = reference->GetPoint(i);
+      const double* q = scaled->GetPoint(i);
+      const double expected[3] = { origin + spacing * p[0], -origin + spacing * p[1],
+        spacing * p[2] };
+      for (int a = 0; a < 3; ++a)
+      {
+        worst = std::max(worst, std::abs(q[a] - expected[a]) / spacing);
+      }
+    }
+    std::cout << "spacing " << spacing << ": largest point difference " << worst << " cells"
+              << std::endl;
+    EXPECT_LE(worst, 1e-6) << spacing;
+  }
+}
+
 TEST(AdaptiveTetrahedralMesh, ImagesItCannotMeshAreErrors)
 {
   vtkNew<vtkImageData> empty3D;
