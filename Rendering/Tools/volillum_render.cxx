@@ -307,13 +307,14 @@ public:
   std::string Message;
 };
 
-// Whether a single-file .mha or .nrrd stores its voxels uncompressed (then the file must
-// hold them all).
+// Whether a single-file .mha, .nrrd or .vti stores its voxels uncompressed (then the file
+// must hold them all).
 bool RawSingleFile(const std::string& path)
 {
   const std::string name = Lower(path);
-  const bool mha = EndsWith(name, ".mha"), nrrd = EndsWith(name, ".nrrd");
-  if (!mha && !nrrd)
+  const bool mha = EndsWith(name, ".mha"), nrrd = EndsWith(name, ".nrrd"),
+             vti = EndsWith(name, ".vti");
+  if (!mha && !nrrd && !vti)
   {
     return false;
   }
@@ -325,6 +326,11 @@ bool RawSingleFile(const std::string& path)
   {
     return header.find("compresseddata = true") == std::string::npos &&
       header.find("elementdatafile = local") != std::string::npos;
+  }
+  if (vti)
+  {
+    return header.find("compressor=") == std::string::npos &&
+      header.find("<appendeddata encoding=\"raw\"") != std::string::npos;
   }
   return header.find("data file:") == std::string::npos &&
     header.find("datafile:") == std::string::npos &&
@@ -441,11 +447,18 @@ vtkSmartPointer<vtkDataSet> LoadData(const Options& o)
   vtkNew<ReaderProblem> problem;
   if (!o.Input.empty())
   {
-    reader->AddObserver(vtkCommand::ErrorEvent, problem);
-    reader->AddObserver(vtkCommand::WarningEvent, problem);
+    // Readers delegate to helpers (legacy readers, XML parsers) whose messages reach only
+    // the output window: listen there too.
+    for (vtkObject* source :
+      { static_cast<vtkObject*>(reader), static_cast<vtkObject*>(vtkOutputWindow::GetInstance()) })
+    {
+      source->AddObserver(vtkCommand::ErrorEvent, problem);
+      source->AddObserver(vtkCommand::WarningEvent, problem);
+    }
     CheckImageHeader(reader, o.Input);
   }
   reader->Update();
+  vtkOutputWindow::GetInstance()->RemoveObserver(problem);
   if (!problem->Message.empty())
   {
     Fail("cannot read " + o.Input + ": " + problem->Message);
