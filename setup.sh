@@ -2,7 +2,8 @@
 # Set-up, build and run VolumetricIllumination on Debian 12.
 #
 #   ./setup.sh demo    install, build, render the demo phantom lit by three coloured lights
-#   ./setup.sh test    install, build, run every test and a benchmark smoke run
+#   ./setup.sh test    install, build, run every test, a benchmark smoke run and the
+#                      sanitizer (ASan + UBSan) build's tests and fuzz corpus
 #   ./setup.sh build   install and build only
 #
 # Installs Debian packages with apt-get (never libvtk9-dev or python3-vtk9: they would
@@ -42,6 +43,25 @@ build() {
   cmake --build build -j"$(nproc)"
 }
 
+# AddressSanitizer + UndefinedBehaviorSanitizer: a second build folder with the C++ tests
+# and the CLI, run on the tests and on the fuzz corpus. Any report in the project's code
+# fails; leaks inside the GL stack are suppressed by Testing/Sanitizers/lsan.supp.
+sanitize() {
+  local flags="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined"
+  cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DCMAKE_C_FLAGS="$flags" -DCMAKE_CXX_FLAGS="$flags" \
+    -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
+    -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=address,undefined" \
+    -DCMAKE_MODULE_LINKER_FLAGS="-fsanitize=address,undefined"
+  cmake --build build-asan -j"$(nproc)" --target VolIllumFilterTests volillum-render
+  ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS="suppressions=$PWD/Testing/Sanitizers/lsan.supp" \
+    UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 build-asan/bin/VolIllumFilterTests
+  VOLILLUM_SANITIZED_CLI="$PWD/build-asan/bin/volillum-render" python3 Testing/Fuzz/run_fuzz.py \
+    --cli Testing/Sanitizers/sanitized-cli.sh --pvpython pvpython --no-filters --memory-limit 0 \
+    --plugin build/lib/paraview-5.11/plugins/VolumetricIllumination/VolumetricIllumination.so \
+    --corpus build-asan/fuzz-corpus --generate --jobs 2
+}
+
 export VTK_SMP_BACKEND_IN_USE=STDThread
 
 case "${1:-}" in
@@ -53,13 +73,15 @@ case "${1:-}" in
     build
     # One X server for the tests and the benchmark smoke runs (each xvfb-run start is a
     # chance for a display race).
+    export -f sanitize
     xvfb-run -a bash -c 'set -e
       (cd build && ctest --output-on-failure)
       build/bin/volillum-benchmark --smoke --json build/benchmark-smoke.json
       build/bin/volillum-unstructured-benchmark --smoke
       pvpython Testing/Benchmarks/IlluminatedVolumeBenchmark.py \
         build/lib/paraview-5.11/plugins/VolumetricIllumination/VolumetricIllumination.so \
-        ../shared/data --smoke --json build/representation-benchmark-smoke.json'
+        ../shared/data --smoke --json build/representation-benchmark-smoke.json
+      sanitize'
     ;;
   build)
     build

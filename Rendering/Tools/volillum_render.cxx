@@ -56,6 +56,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
@@ -113,10 +114,16 @@ struct Options
   json Config = json::object();
 };
 
+// A failure: main prints its one line and exits with status 1 once everything the run
+// made has been released.
+struct Failure : std::runtime_error
+{
+  using std::runtime_error::runtime_error;
+};
+
 [[noreturn]] void Fail(const std::string& message)
 {
-  std::cerr << "volillum-render: error: " << message << std::endl;
-  std::exit(1);
+  throw Failure(message);
 }
 
 std::string Lower(std::string s)
@@ -807,8 +814,20 @@ int Run(int argc, char* argv[])
   vtkSMPTools::SetBackend("STDThread");
   const Options options = ParseArguments(argc, argv);
   const json& config = options.Config;
-  // Checked before any work: a bad value must not cost a whole render first.
+  // Checked before any work: a bad value must not cost a whole render first (and VTK's
+  // PNG writer leaks when it cannot open its file).
   const std::string output = Text(config, "output", "volillum.png");
+  {
+    const bool existed = std::ifstream(output).good();
+    if (!std::ofstream(output, std::ios::binary | std::ios::app))
+    {
+      Fail("cannot write " + output);
+    }
+    if (!existed)
+    {
+      std::remove(output.c_str());
+    }
+  }
 
   // VTK's own warnings still reach stderr; its error pop-ups do not exist here.
   vtkSmartPointer<vtkDataSet> data = LoadData(options);
@@ -927,20 +946,27 @@ int Run(int argc, char* argv[])
 int main(int argc, char* argv[])
 {
   // Every failure ends with one line and status 1, also the ones a library throws.
+  std::string message;
   try
   {
     return Run(argc, argv);
   }
+  catch (const Failure& e)
+  {
+    message = e.what();
+  }
   catch (const json::exception& e)
   {
-    Fail(std::string("invalid settings: ") + e.what());
+    message = std::string("invalid settings: ") + e.what();
   }
   catch (const std::bad_alloc&)
   {
-    Fail("out of memory");
+    message = "out of memory";
   }
   catch (const std::exception& e)
   {
-    Fail(e.what());
+    message = e.what();
   }
+  std::cerr << "volillum-render: error: " << message << std::endl;
+  return 1;
 }

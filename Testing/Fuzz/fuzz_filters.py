@@ -7,12 +7,17 @@ JOBS.json is a list of jobs written by run_fuzz.py:
     {"case": "grid__nan_vertex.vtu", "file": "/abs/path/grid__nan_vertex.vtu",
      "filters": ["UnstructuredGridIllumination"],
      "properties": {filter: {property: value}},   # optional, set before the first update
-     "then": {filter: {property: value}}}         # optional, set after it, then update again
+     "then": {filter: {property: value}},         # optional, set after it, then update again
+     "prepare": {"scalar_tuples": N, "spacing": [...], "origin": [...]}}   # optional
 
 For each job the worker loads the file with the reader matching its extension (as the
-CLI does; the reader a ParaView user would pick for that file), then runs every listed
-filter (paraview.simple names) on the reader's output, one at a time, with small
-settings so that each finishes quickly. Every step is framed by two marker lines on
+CLI does; the reader a ParaView user would pick for that file); with "prepare" a
+Programmable Filter then changes the data in memory, as a user's script could, in ways
+no file can carry because the readers check them: the active point scalars get N more
+tuples than the data set has points (N < 0: fewer), or the image gets a NaN or
+infinite spacing or origin.
+It then runs every listed filter (paraview.simple names) on that output, one at a time,
+with small settings so that each finishes quickly. Every step is framed by two marker lines on
 stdout, flushed before the step starts, so that the runner can tell which step crashed,
 hung or printed a sanitizer report even though VTK writes its messages to stderr
 (the runner merges both streams):
@@ -48,6 +53,42 @@ READERS = {
 # The server-manager XML names of the filters, for cases that use them.
 ALIASES = {"TetrahedralizeSurface": "TetrahedralizeSurfaceTetGen",
            "AdaptiveTetrahedralMesh": "AdaptiveTetrahedralMeshCGAL"}
+
+# Programmable Filter script for "prepare" (run in pvpython's __main__; the JSON text of
+# the prepare object is substituted for PREPARE). Non-finite numbers come as the strings
+# NaN / Infinity / -Infinity, which float() reads.
+PREPARE_SCRIPT = """
+import json as _json
+prep = _json.loads(PREPARE)
+data = self.GetInputDataObject(0, 0)
+out = self.GetOutputDataObject(0)
+out.ShallowCopy(data)
+if "spacing" in prep:
+    out.SetSpacing(*[float(v) for v in prep["spacing"]])
+    print("spacing set to %s" % (out.GetSpacing(),))
+if "origin" in prep:
+    out.SetOrigin(*[float(v) for v in prep["origin"]])
+    print("origin set to %s" % (out.GetOrigin(),))
+if "scalar_tuples" in prep:
+    old = data.GetPointData().GetScalars()
+    if old is None and data.GetPointData().GetNumberOfArrays() > 0:
+        old = data.GetPointData().GetArray(0)
+    if old is not None:
+        new = old.NewInstance()
+        new.DeepCopy(old)
+        count = old.GetNumberOfTuples() + int(prep["scalar_tuples"])
+        if count < 0:
+            count = 0
+        new.Resize(count)
+        new.SetNumberOfTuples(count)
+        for i in range(old.GetNumberOfTuples(), count):
+            for c in range(new.GetNumberOfComponents()):
+                new.SetComponent(i, c, 0.5)
+        out.GetPointData().RemoveArray(old.GetName())
+        out.GetPointData().AddArray(new)
+        out.GetPointData().SetActiveScalars(new.GetName())
+        print("scalars resized to %d tuples for %d points" % (count, data.GetNumberOfPoints()))
+"""
 
 IMAGE_LIGHT_FILTERS = ("RayMarchedIllumination", "MultiLightIlluminationVolume",
                        "FilteredVolumetricShadows")
@@ -103,6 +144,19 @@ def apply(proxy, settings):
         setattr(proxy, key, finite(value))
 
 
+# This module's namespace once the plugin is loaded. A Programmable Filter runs its script
+# in __main__ (this module) and imports numpy_interface.algorithms there, whose max, all
+# and others would then replace the builtins; each step ends by restoring the namespace.
+PRISTINE = {}
+
+
+def restore_namespace():
+    space = globals()
+    for key in [k for k in space if k not in PRISTINE]:
+        del space[key]
+    space.update(PRISTINE)
+
+
 def run_step(case, step, action):
     """Runs action() between the markers; action returns the info dict."""
     emit("BEGIN", case, step)
@@ -112,13 +166,15 @@ def run_step(case, step, action):
     except Exception as error:  # a Python-level failure is a clean error, not a crash
         traceback.print_exc()
         info["exception"] = "%s: %s" % (type(error).__name__, error)
+    finally:
+        restore_namespace()
     emit("END", case, step, json.dumps(info))
 
 
 def run_job(job, ns):
     simple = ns["__simple"]
     case, path = job["case"], job["file"]
-    state = {"reader": None, "bounds": []}
+    state = {"reader": None, "source": None, "bounds": []}
 
     def load():
         ext = os.path.splitext(path)[1].lower()
@@ -132,6 +188,19 @@ def run_job(job, ns):
         info = describe(reader)
         state["bounds"] = list(reader.GetDataInformation().GetBounds())
         info["arrays"] = list(reader.PointData.keys())
+        prepare = job.get("prepare")
+        if prepare:
+            script = PREPARE_SCRIPT.replace("PREPARE", repr(json.dumps(prepare)), 1)
+            changed = simple.ProgrammableFilter(Input=reader, CopyArrays=0, Script=script)
+            state["source"] = changed
+            changed.UpdatePipeline()
+            if "scalar_tuples" in prepare:
+                arrays = changed.PointData
+                wanted = info["points"] + int(prepare["scalar_tuples"])
+                got = [arrays[name].GetNumberOfTuples() for name in arrays.keys()]
+                if wanted not in got:
+                    raise RuntimeError("prepare failed: %d scalar tuples wanted, arrays have %s"
+                                       % (wanted, got))
         return info
 
     run_step(case, "reader", load)
@@ -142,7 +211,7 @@ def run_job(job, ns):
             make = ns.get(ALIASES.get(name, name))
             if make is None:
                 raise RuntimeError("paraview.simple has no filter %s" % name)
-            proxy = make(Input=state["reader"])
+            proxy = make(Input=state["source"] or state["reader"])
             try:
                 configure(ALIASES.get(name, name), proxy, state["bounds"])
                 apply(proxy, job.get("properties", {}).get(name))
@@ -159,8 +228,9 @@ def run_job(job, ns):
         run_step(case, name, run_filter)
 
     def close():
-        if state["reader"] is not None:
-            simple.Delete(state["reader"])
+        for key in ("source", "reader"):
+            if state[key] is not None:
+                simple.Delete(state[key])
         return {}
     run_step(case, "close", close)
 
@@ -176,6 +246,7 @@ def main(argv):
     ns = globals()
     simple.LoadPlugin(plugin, remote=False, ns=ns)
     ns["__simple"] = simple
+    PRISTINE.update(ns)
     emit("READY")
     for job in jobs:
         run_job(job, ns)

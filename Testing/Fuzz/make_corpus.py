@@ -16,6 +16,12 @@ that a case pairs with a bad one), and ``cases.json``, a list of
      "filters": [...],                        # paraview.simple filter names for pvpython
      "properties": {filter: {prop: value}},   # optional: set before the first update
      "then": {filter: {prop: value}},         # optional: set after it, then update again
+     "prepare": {"scalar_tuples": 20},        # optional: pvpython changes the data in
+                                              # memory first, as a Programmable Filter
+                                              # could: 20 more scalar tuples than points
+                                              # (negative: fewer), or "spacing"/"origin"
+                                              # [x, y, z] (NaN, Infinity): things no file
+                                              # can carry, since the readers check them
      "expect": {"cli": "error", ...},         # optional: targets that must refuse the
                                               # input (an exit-0 run is then reported)
      "note": "..."}                           # what the case is about
@@ -367,7 +373,7 @@ class Corpus:
             f.write(data)
 
     def add(self, klass, case, ext, data, cli_args=None, filters=(), expect=None,
-            properties=None, then=None, note=""):
+            properties=None, then=None, note="", prepare=None):
         """Writes <class>__<case>.<ext>. cli_args: a list, or 'auto' for the default
         arguments of the file's kind (with the file name at the end)."""
         name = "%s__%s.%s" % (klass, case, ext)
@@ -385,6 +391,8 @@ class Corpus:
             entry["properties"] = _strict(properties)
         if then:
             entry["then"] = _strict(then)
+        if prepare:
+            entry["prepare"] = prepare
         if expect:
             entry["expect"] = expect
         if note:
@@ -524,13 +532,22 @@ def build(corpus):
         image_case(corpus, S, "vti_" + case, "vti", vti_bytes(dims, spacing=spacing), None,
                    "Spacing %s" % nums(spacing))
     image_case(corpus, S, "vti_origin_1e300", "vti", vti_bytes(dims, origin=(1e300,) * 3), None,
-               "Origin 1e300 (bounds overflow nothing, but the light positions may)")
+               "Origin 1e300 (finite bounds near the largest double)")
     image_case(corpus, S, "vti_origin_nan", "vti", vti_bytes(dims, origin=(NAN, 0.0, 0.0)), None,
                "Origin nan 0 0")
     image_case(corpus, S, "vti_direction_zero", "vti", vti_bytes(dims, direction=(0.0,) * 9),
                None, "Direction matrix all zeros")
     image_case(corpus, S, "mha_spacing_1e30", "mha", mha_bytes(dims, spacing=(1e30,) * 3), None,
                "ElementSpacing 1e30")
+    image_case(corpus, S, "mha_spacing_nan", "mha", mha_bytes(dims, spacing=(NAN,) * 3), None,
+               "ElementSpacing nan nan nan (MetaIO parses it; VTK XML does not)")
+    for case, key, value in (("spacing_nan_in_memory", "spacing", [NAN, NAN, NAN]),
+                             ("spacing_inf_in_memory", "spacing", [INF, 1.0, 1.0]),
+                             ("origin_nan_in_memory", "origin", [NAN, 0.0, 0.0]),
+                             ("origin_inf_in_memory", "origin", [0.0, -INF, 0.0])):
+        corpus.add(S, case, "vti", valid_vti, filters=IMAGE_FILTERS,
+                   prepare={key: _strict(value)},
+                   note="valid file; in memory the image's %s becomes %s" % (key, nums(value)))
     image_case(corpus, S, "nrrd_spacing_zero", "nrrd", nrrd_bytes(dims, spacing=(0.0,) * 3),
                None, "spacings 0 0 0")
 
@@ -573,10 +590,16 @@ def build(corpus):
     # ---- bad settings for the CLI ----------------------------------------------------------
     C = "config"
 
-    def config(case, settings, note="", args=None, text=None, expect_cli="error"):
+    def config(case, settings, note="", grid=False, text=None, expect_cli="error"):
+        """A settings file paired with the spheres phantom, or (grid=True, for the keys
+        only grids read) with the valid grid and its fast settings, read first so that
+        the case's own value wins."""
         data = text.encode() if text is not None else json.dumps(settings).encode()
         name = "%s__%s.json" % (C, case)
-        cli = SMALL + ["--config", name] + (args if args is not None else PHANTOM)
+        if grid:
+            cli = SMALL + ["--config", GRID_CONFIG, "--config", name, "control__tets.vtu"]
+        else:
+            cli = SMALL + ["--config", name] + PHANTOM
         corpus.add(C, case, "json", data, cli_args=cli,
                    expect={"cli": expect_cli} if expect_cli else None, note=note)
 
@@ -585,7 +608,6 @@ def build(corpus):
         base.update(kw)
         return base
 
-    grid = [GRID_CONFIG, "control__tets.vtu"]
     # One value of the wrong type for each key the CLI reads.
     wrong = [("method_number", {"method": 5}), ("resolution_scale_string", {"resolution_scale": "half"}),
              ("image_size_string", {"image_size": "big"}), ("output_number", {"output": 5}),
@@ -616,7 +638,7 @@ def build(corpus):
     for case, settings in (("level0_resolution_string", {"level0_resolution": "x"}),
                            ("absorption_string", {"absorption": "x"}),
                            ("scattering_string", {"scattering": "x"})):
-        config(case, settings, "grid key of the wrong type", args=grid)
+        config(case, settings, "grid key of the wrong type", grid=True)
     # Numbers that are valid JSON but absurd.
     far = [("directional_far_1e200", [light(position=[1e200, 1e200, 1e200], relative=False,
                                             focal_point=[0.5, 0.5, 0.5])]),
@@ -646,7 +668,7 @@ def build(corpus):
                            ("level0_resolution_zero", {"level0_resolution": 0}),
                            ("absorption_negative", {"absorption": -1}),
                            ("scattering_1e308", {"scattering": [1e308, 1e308, 1e308]})):
-        config(case, settings, "absurd grid numbers", args=grid, expect_cli=None)
+        config(case, settings, "absurd grid numbers", grid=True, expect_cli=None)
     config("nan_literal", None, "NaN is not JSON", text='{"ambient": NaN, "image_size": [64, 64]}')
     config("truncated", None, "cut in the middle", text='{"lights": [ {"type": "point", "position": [1, 2 ')
     config("top_level_list", [1, 2, 3], "an array, not an object")
@@ -664,7 +686,7 @@ def build(corpus):
                        ("directory_as_input", SMALL + ["."]),
                        ("option_without_value", SMALL + PHANTOM + ["--config"])):
         corpus.add(L, case, "args", (" ".join(args) + "\n").encode(), cli_args=args,
-                   note="command line: " + " ".join(args))
+                   expect={"cli": "error"}, note="command line: " + " ".join(args))
 
     # ---- bad unstructured grids --------------------------------------------------------------
     G = "grid"
@@ -678,7 +700,14 @@ def build(corpus):
 
     s = ball_scalars(tets_pts)
     grid_case("scalars_more_tuples", tets_pts, tets, [("density", 1, s + [0.5] * 20)],
-              note="64 points, 84 scalar tuples")
+              expect_cli=None, note="64 points, 84 scalar values (the reader reads 64)")
+    for case, count in (("scalars_more_tuples_in_memory", 20), ("scalars_fewer_tuples_in_memory", -24)):
+        corpus.add(G, case, "vtu", valid_vtu, filters=GRID_FILTERS, prepare={"scalar_tuples": count},
+                   expect={"UnstructuredGridIllumination": "error"},
+                   note="valid file; in memory the scalars get %+d tuples" % count)
+        corpus.add(K, case, "vti", valid_vti, filters=IMAGE_FILTERS[:3], prepare={"scalar_tuples": count},
+                   expect={f: "error" for f in IMAGE_FILTERS[:3]},
+                   note="valid file; in memory the scalars get %+d tuples" % count)
     grid_case("scalars_fewer_tuples", tets_pts, tets, [("density", 1, s[:40])],
               note="64 points, 40 scalar tuples")
     nan_pts = list(tets_pts)
