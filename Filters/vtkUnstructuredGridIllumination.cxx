@@ -246,7 +246,8 @@ int vtkUnstructuredGridIllumination::RequestData(
   output->Initialize();
   if (!input || input->GetNumberOfPoints() == 0 || input->GetNumberOfCells() == 0)
   {
-    vtkErrorMacro("The input grid is empty.");
+    vtkErrorMacro("The input grid has no "
+      << (input && input->GetNumberOfPoints() > 0 ? "cells" : "points") << ".");
     return 1;
   }
   std::string error;

@@ -15,6 +15,7 @@
 
 #include "vtkAppendFilter.h"
 #include "vtkCamera.h"
+#include "vtkCellTypes.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkCommand.h"
 #include "vtkCompositeDataIterator.h"
@@ -511,6 +512,27 @@ vtkSmartPointer<vtkDataSet> LoadData(const Options& o)
   if (!inconsistency.empty())
   {
     Fail(o.Input + ": " + inconsistency);
+  }
+  if (auto volume = vtkImageData::SafeDownCast(image))
+  {
+    const double* spacing = volume->GetSpacing();
+    if (!(spacing[0] > 0.0 && spacing[1] > 0.0 && spacing[2] > 0.0))
+    {
+      Fail(o.Input + ": the spacing must be positive along each axis");
+    }
+  }
+  else
+  {
+    bool solid = false;
+    auto grid = vtkUnstructuredGrid::SafeDownCast(image);
+    for (vtkIdType c = 0; c < grid->GetNumberOfCells() && !solid; ++c)
+    {
+      solid = vtkCellTypes::GetDimension(grid->GetCellType(c)) == 3;
+    }
+    if (!solid)
+    {
+      Fail(o.Input + " has no 3D cells to light");
+    }
   }
   double bounds[6];
   image->GetBounds(bounds);
