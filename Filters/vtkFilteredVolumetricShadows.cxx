@@ -247,6 +247,22 @@ void vtkFilteredVolumetricShadows::AddOutputArrays(vtkPointData* pointData)
 }
 
 //------------------------------------------------------------------------------
+void vtkFilteredVolumetricShadows::SetFilterWidth(double value)
+{
+  if (!std::isfinite(value))
+  {
+    vtkErrorMacro("FilterWidth must be a finite number; it stays " << this->FilterWidth << ".");
+    return;
+  }
+  const double clamped = std::min(std::max(value, 0.0), 1000.0);
+  if (this->FilterWidth != clamped)
+  {
+    this->FilterWidth = clamped;
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
 void vtkFilteredVolumetricShadows::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);

@@ -37,8 +37,11 @@ public:
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
-  /** Side of the filter patch in voxels (0: hard shadows). Default 3. */
-  vtkSetClampMacro(FilterWidth, double, 0.0, 1000.0);
+  /**
+   * Side of the filter patch in voxels (0: hard shadows), clamped to [0, 1000]. Default 3.
+   * A value that is not a finite number is refused with an error.
+   */
+  void SetFilterWidth(double value);
   vtkGetMacro(FilterWidth, double);
   ///@}
 

@@ -3,6 +3,9 @@
 #include "RayMarchKernel.h"
 #include "vtkObjectFactory.h"
 
+#include <algorithm>
+#include <cmath>
+
 vtkStandardNewMacro(vtkRayMarchedIllumination);
 
 //------------------------------------------------------------------------------
@@ -20,6 +23,22 @@ bool vtkRayMarchedIllumination::ComputeIllumination(const volillum::ClassifiedVo
   }
   return volillum::RayMarchIllumination(
     volume, lights, target, settings, rgb, [this](double f) { return this->ReportProgress(f); });
+}
+
+//------------------------------------------------------------------------------
+void vtkRayMarchedIllumination::SetStepFraction(double value)
+{
+  if (!std::isfinite(value))
+  {
+    vtkErrorMacro("StepFraction must be a finite number; it stays " << this->StepFraction << ".");
+    return;
+  }
+  const double clamped = std::min(std::max(value, 0.01), 4.0);
+  if (this->StepFraction != clamped)
+  {
+    this->StepFraction = clamped;
+    this->Modified();
+  }
 }
 
 //------------------------------------------------------------------------------

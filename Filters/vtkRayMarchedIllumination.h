@@ -22,9 +22,10 @@ public:
 
   ///@{
   /**
-   * Step length of the marching as a fraction of the smallest input spacing. Default 0.5.
+   * Step length of the marching as a fraction of the smallest input spacing, clamped to
+   * [0.01, 4]. Default 0.5. A value that is not a finite number is refused with an error.
    */
-  vtkSetClampMacro(StepFraction, double, 0.01, 4.0);
+  void SetStepFraction(double value);
   vtkGetMacro(StepFraction, double);
   ///@}
 

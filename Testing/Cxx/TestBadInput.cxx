@@ -222,3 +222,20 @@ TEST(BadInput, ExtremeButValidSettingsGiveFiniteIllumination)
     }
   }
 }
+
+TEST(BadInput, NonFiniteSettingsAreRefusedAndTheOldValueKept)
+{
+  vtkNew<vtkFilteredVolumetricShadows> shadows;
+  vtkNew<vtkRayMarchedIllumination> reference;
+  vtkNew<ErrorCounter> errors;
+  shadows->AddObserver(vtkCommand::ErrorEvent, errors);
+  reference->AddObserver(vtkCommand::ErrorEvent, errors);
+  shadows->SetFilterWidth(5.0);
+  shadows->SetFilterWidth(std::nan(""));
+  reference->SetStepFraction(std::numeric_limits<double>::infinity());
+  EXPECT_EQ(errors->Count, 2);
+  EXPECT_EQ(shadows->GetFilterWidth(), 5.0);
+  EXPECT_EQ(reference->GetStepFraction(), 0.5);
+  shadows->SetFilterWidth(1e9); // finite: clamped
+  EXPECT_EQ(shadows->GetFilterWidth(), 1000.0);
+}
