@@ -73,7 +73,6 @@ case "${1:-}" in
     build
     # One X server for the tests and the benchmark smoke runs (each xvfb-run start is a
     # chance for a display race).
-    export -f sanitize
     xvfb-run -a bash -c 'set -e
       (cd build && ctest --output-on-failure)
       build/bin/volillum-benchmark --smoke --json build/benchmark-smoke.json
@@ -81,10 +80,14 @@ case "${1:-}" in
       pvpython Testing/Benchmarks/IlluminatedVolumeBenchmark.py \
         build/lib/paraview-5.11/plugins/VolumetricIllumination/VolumetricIllumination.so \
         ../shared/data --smoke --json build/representation-benchmark-smoke.json
-      sanitize'
+      ./setup.sh sanitize'
     ;;
   build)
     build
+    ;;
+  sanitize)
+    # The sanitizer stage of "test" (run by it under its X server; needs a display).
+    sanitize
     ;;
   *)
     echo "usage: ./setup.sh demo | test | build" >&2
