@@ -90,7 +90,7 @@ case "${1:-}" in
     sanitize
     ;;
   *)
-    echo "usage: ./setup.sh demo | test | build" >&2
+    echo "usage: ./setup.sh demo | test | build | sanitize" >&2
     exit 2
     ;;
 esac
