@@ -18,6 +18,7 @@
 #include "vtkSMPTools.h"
 #include "vtkUnstructuredGrid.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
@@ -102,6 +103,26 @@ std::string CheckPoints(vtkDataSet* input, vtkDataArray* scalars)
     }
   }
   return std::string();
+}
+
+//------------------------------------------------------------------------------
+bool SetFiniteClamped(
+  double& setting, double value, double lo, double hi, const char* name, std::string& error)
+{
+  if (!std::isfinite(value))
+  {
+    std::ostringstream message;
+    message << name << " must be a finite number; it stays " << setting << ".";
+    error = message.str();
+    return false;
+  }
+  const double clamped = std::min(std::max(value, lo), hi);
+  if (setting == clamped)
+  {
+    return false;
+  }
+  setting = clamped;
+  return true;
 }
 
 //------------------------------------------------------------------------------

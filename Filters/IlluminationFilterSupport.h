@@ -33,6 +33,14 @@ VOLILLUMFILTERS_EXPORT void UseThreadedBackend();
 VOLILLUMFILTERS_EXPORT vtkDataArray* FindPointScalars(
   vtkAlgorithm* algorithm, vtkDataSet* input, std::string& error);
 
+/**
+ * Setter body for a finite, clamped double setting: stores value clamped to [lo, hi] in
+ * setting and returns whether it changed. A value that is not a finite number leaves the
+ * setting unchanged and returns false with a message in error.
+ */
+VOLILLUMFILTERS_EXPORT bool SetFiniteClamped(
+  double& setting, double value, double lo, double hi, const char* name, std::string& error);
+
 /// Empty when every cell's point ids lie within the grid's points; otherwise which does not.
 VOLILLUMFILTERS_EXPORT std::string CheckPointIds(vtkUnstructuredGrid* grid);
 

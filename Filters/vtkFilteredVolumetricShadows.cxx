@@ -1,5 +1,6 @@
 #include "vtkFilteredVolumetricShadows.h"
 
+#include "IlluminationFilterSupport.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkSMPTools.h"
@@ -249,16 +250,14 @@ void vtkFilteredVolumetricShadows::AddOutputArrays(vtkPointData* pointData)
 //------------------------------------------------------------------------------
 void vtkFilteredVolumetricShadows::SetFilterWidth(double value)
 {
-  if (!std::isfinite(value))
+  std::string error;
+  if (volillum::SetFiniteClamped(this->FilterWidth, value, 0.0, 1000.0, "FilterWidth", error))
   {
-    vtkErrorMacro("FilterWidth must be a finite number; it stays " << this->FilterWidth << ".");
-    return;
-  }
-  const double clamped = std::min(std::max(value, 0.0), 1000.0);
-  if (this->FilterWidth != clamped)
-  {
-    this->FilterWidth = clamped;
     this->Modified();
+  }
+  else if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
   }
 }
 

@@ -1,10 +1,8 @@
 #include "vtkRayMarchedIllumination.h"
 
+#include "IlluminationFilterSupport.h"
 #include "RayMarchKernel.h"
 #include "vtkObjectFactory.h"
-
-#include <algorithm>
-#include <cmath>
 
 vtkStandardNewMacro(vtkRayMarchedIllumination);
 
@@ -28,16 +26,14 @@ bool vtkRayMarchedIllumination::ComputeIllumination(const volillum::ClassifiedVo
 //------------------------------------------------------------------------------
 void vtkRayMarchedIllumination::SetStepFraction(double value)
 {
-  if (!std::isfinite(value))
+  std::string error;
+  if (volillum::SetFiniteClamped(this->StepFraction, value, 0.01, 4.0, "StepFraction", error))
   {
-    vtkErrorMacro("StepFraction must be a finite number; it stays " << this->StepFraction << ".");
-    return;
-  }
-  const double clamped = std::min(std::max(value, 0.01), 4.0);
-  if (this->StepFraction != clamped)
-  {
-    this->StepFraction = clamped;
     this->Modified();
+  }
+  else if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
   }
 }
 
