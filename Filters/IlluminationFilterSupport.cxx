@@ -184,4 +184,18 @@ void AddUpdateFieldData(vtkFieldData* fieldData, const UpdateReport& report, dou
   fieldData->AddArray(time);
 }
 
+//------------------------------------------------------------------------------
+void ReadUpdateFieldData(vtkFieldData* fieldData, UpdateReport& report, double& seconds)
+{
+  const auto value = [fieldData](const char* name)
+  {
+    vtkDataArray* a = fieldData ? fieldData->GetArray(name) : nullptr;
+    return a && a->GetNumberOfTuples() > 0 ? a->GetTuple1(0) : 0.0;
+  };
+  report.Mode = static_cast<int>(value("UpdateMode"));
+  report.Passes = static_cast<int>(value("PropagationPasses"));
+  report.PendingPasses = static_cast<int>(value("PendingPasses"));
+  seconds = value("UpdateSeconds");
+}
+
 }

@@ -65,6 +65,10 @@ struct UpdateReport
 VOLILLUMFILTERS_EXPORT void AddUpdateFieldData(
   vtkFieldData* fieldData, const UpdateReport& report, double seconds);
 
+/// Read what AddUpdateFieldData wrote (zero for an array that is missing).
+VOLILLUMFILTERS_EXPORT void ReadUpdateFieldData(
+  vtkFieldData* fieldData, UpdateReport& report, double& seconds);
+
 }
 
 #endif

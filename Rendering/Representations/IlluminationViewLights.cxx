@@ -6,7 +6,6 @@
 #include "vtkDataArray.h"
 #include "vtkDataObject.h"
 #include "vtkDataSet.h"
-#include "vtkFieldData.h"
 #include "vtkInformation.h"
 #include "vtkLightCollection.h"
 #include "vtkMatrix4x4.h"
@@ -108,13 +107,6 @@ bool IsInteractiveRender(vtkPVRenderView* view)
 {
   vtkRenderWindow* window = view ? view->GetRenderWindow() : nullptr;
   return window && window->GetDesiredUpdateRate() >= InteractiveUpdateRate;
-}
-
-//------------------------------------------------------------------------------
-double ReportedValue(vtkDataObject* output, const char* name)
-{
-  vtkDataArray* a = output ? output->GetFieldData()->GetArray(name) : nullptr;
-  return a && a->GetNumberOfTuples() > 0 ? a->GetTuple1(0) : 0.0;
 }
 
 //------------------------------------------------------------------------------

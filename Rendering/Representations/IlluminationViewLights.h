@@ -13,14 +13,16 @@
 #ifndef IlluminationViewLights_h
 #define IlluminationViewLights_h
 
+#include "vtkDataObject.h"
 #include "vtkLight.h"
 #include "vtkSmartPointer.h"
+#include "vtkVolumeProperty.h"
 
 #include <vector>
 
 class vtkAlgorithm;
+class vtkAlgorithmOutput;
 class vtkDataArray;
-class vtkDataObject;
 class vtkDataSet;
 class vtkPVRenderView;
 
@@ -72,9 +74,21 @@ private:
  */
 bool IsInteractiveRender(vtkPVRenderView* view);
 
-/// A value the illumination filters report in their output's field data (UpdateMode,
-/// UpdateSeconds, PropagationPasses, ...); 0 when absent.
-double ReportedValue(vtkDataObject* output, const char* name);
+/**
+ * Hand an illumination filter what a representation shares with ParaView's Volume
+ * representation: the piece to light, its coloured point array, and the volume property's
+ * transfer functions and scalar opacity unit distance.
+ */
+template <class Filter>
+void SetVolumeInput(
+  Filter* filter, vtkAlgorithmOutput* piece, const char* array, vtkVolumeProperty* property)
+{
+  filter->SetInputConnection(piece);
+  filter->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, array);
+  filter->SetColorTransferFunction(property->GetRGBTransferFunction(0));
+  filter->SetOpacityFunction(property->GetScalarOpacity(0));
+  filter->SetScalarOpacityUnitDistance(property->GetScalarOpacityUnitDistance(0));
+}
 
 /**
  * The array a representation colours by (its input array 0) in the data it renders, when

@@ -72,12 +72,6 @@ void vtkIlluminatedUnstructuredGridRepresentation::SetScatteringIterations(int c
 }
 
 //------------------------------------------------------------------------------
-vtkUnstructuredGrid* vtkIlluminatedUnstructuredGridRepresentation::GetLitGrid()
-{
-  return this->Internals->Lit ? this->Illumination->GetOutput() : nullptr;
-}
-
-//------------------------------------------------------------------------------
 bool vtkIlluminatedUnstructuredGridRepresentation::RemoveFromView(vtkView* view)
 {
   if (auto* rview = vtkPVRenderView::SafeDownCast(view))
@@ -130,21 +124,14 @@ bool vtkIlluminatedUnstructuredGridRepresentation::UpdateIllumination(vtkInforma
   }
   this->Internals->Lights.Update(view, this->UseLightKit);
   this->Internals->Lights.ApplyTo(this->Illumination.Get());
-  this->Illumination->SetInputConnection(port);
-  this->Illumination->SetInputArrayToProcess(
-    0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, name);
-  this->Illumination->SetColorTransferFunction(this->Property->GetRGBTransferFunction(0));
-  this->Illumination->SetOpacityFunction(this->Property->GetScalarOpacity(0));
-  this->Illumination->SetScalarOpacityUnitDistance(this->Property->GetScalarOpacityUnitDistance(0));
+  volillum::SetVolumeInput(this->Illumination.Get(), port, name, this->Property);
   this->Illumination->Update();
   vtkUnstructuredGrid* lit = this->Illumination->GetOutput();
   if (!lit || !lit->GetPointData()->GetArray("LitColors"))
   {
     return false;
   }
-  this->UpdateMode = static_cast<int>(volillum::ReportedValue(lit, "UpdateMode"));
-  this->UpdateSeconds = volillum::ReportedValue(lit, "UpdateSeconds");
-  this->PropagationPasses = static_cast<int>(volillum::ReportedValue(lit, "PropagationPasses"));
+  volillum::ReadUpdateFieldData(lit->GetFieldData(), this->Report, this->UpdateSeconds);
   volillum::MeanIllumination(lit, this->MeanIllumination);
   return true;
 }
@@ -155,9 +142,9 @@ void vtkIlluminatedUnstructuredGridRepresentation::PrintSelf(ostream& os, vtkInd
   this->Superclass::PrintSelf(os, indent);
   os << indent << "IlluminationMethod: " << this->IlluminationMethod << "\n";
   os << indent << "UseLightKit: " << this->UseLightKit << "\n";
-  os << indent << "UpdateMode: " << this->UpdateMode << "\n";
+  os << indent << "UpdateMode: " << this->Report.Mode << "\n";
   os << indent << "UpdateSeconds: " << this->UpdateSeconds << "\n";
-  os << indent << "PropagationPasses: " << this->PropagationPasses << "\n";
+  os << indent << "PropagationPasses: " << this->Report.Passes << "\n";
   os << indent << "MeanIllumination: " << this->MeanIllumination[0] << " "
      << this->MeanIllumination[1] << " " << this->MeanIllumination[2] << "\n";
   os << indent << "Illumination: " << this->Illumination.Get() << "\n";

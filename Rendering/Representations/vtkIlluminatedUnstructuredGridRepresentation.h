@@ -18,6 +18,7 @@
 #ifndef vtkIlluminatedUnstructuredGridRepresentation_h
 #define vtkIlluminatedUnstructuredGridRepresentation_h
 
+#include "IlluminationFilterSupport.h" // for volillum::UpdateReport
 #include "VolIllumRepresentationsModule.h"
 #include "vtkNew.h"
 #include "vtkUnstructuredGridVolumeRepresentation.h"
@@ -66,14 +67,11 @@ public:
    * The last update: 0 full / 1 selective, its wall time and the lights propagated;
    * the mean illumination (r g b) over the illumination's points.
    */
-  vtkGetMacro(UpdateMode, int);
+  int GetUpdateMode() const { return this->Report.Mode; }
   vtkGetMacro(UpdateSeconds, double);
-  vtkGetMacro(PropagationPasses, int);
+  int GetPropagationPasses() const { return this->Report.Passes; }
   vtkGetVector3Macro(MeanIllumination, double);
   ///@}
-
-  /** The lit grid the last render drew (nullptr before the first). */
-  vtkUnstructuredGrid* GetLitGrid();
 
   int ProcessViewRequest(
     vtkInformationRequestKey* request, vtkInformation* inInfo, vtkInformation* outInfo) override;
@@ -91,9 +89,8 @@ protected:
 
   int IlluminationMethod = 0;
   bool UseLightKit = true;
-  int UpdateMode = 0;
+  volillum::UpdateReport Report;
   double UpdateSeconds = 0.0;
-  int PropagationPasses = 0;
   double MeanIllumination[3] = { 0.0, 0.0, 0.0 };
 
   vtkNew<vtkUnstructuredGridIllumination> Illumination;

@@ -12,7 +12,6 @@
 #include "vtkPVRenderView.h"
 #include "vtkRayMarchedIllumination.h"
 #include "vtkRenderWindow.h"
-#include "vtkVolumeProperty.h"
 
 #include <array>
 
@@ -42,12 +41,6 @@ vtkIlluminatedVolumeRepresentation::~vtkIlluminatedVolumeRepresentation() = defa
 vtkIlluminatedVolumeMapper* vtkIlluminatedVolumeRepresentation::GetIlluminatedMapper()
 {
   return static_cast<vtkIlluminatedVolumeMapper*>(this->VolumeMapper.GetPointer());
-}
-
-//------------------------------------------------------------------------------
-vtkImageData* vtkIlluminatedVolumeRepresentation::GetIlluminationData()
-{
-  return this->GetIlluminatedMapper()->GetIlluminationData();
 }
 
 //------------------------------------------------------------------------------
@@ -151,11 +144,8 @@ bool vtkIlluminatedVolumeRepresentation::UpdateFilter(vtkIlluminationVolumeAlgor
   {
     return false;
   }
-  this->UpdateMode = static_cast<int>(volillum::ReportedValue(output, "UpdateMode"));
-  this->UpdateSeconds = volillum::ReportedValue(output, "UpdateSeconds");
-  this->PropagationPasses = static_cast<int>(volillum::ReportedValue(output, "PropagationPasses"));
+  volillum::ReadUpdateFieldData(output->GetFieldData(), this->Report, this->UpdateSeconds);
   volillum::MeanIllumination(output, this->MeanIllumination);
-  this->PendingPasses = static_cast<int>(volillum::ReportedValue(output, "PendingPasses"));
   return true;
 }
 
@@ -186,11 +176,7 @@ void vtkIlluminatedVolumeRepresentation::UpdateIllumination(vtkInformation* inIn
 
   this->Internals->Lights.Update(view, this->UseLightKit);
   this->Internals->Lights.ApplyTo(filter);
-  filter->SetInputConnection(port);
-  filter->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, name);
-  filter->SetColorTransferFunction(this->Property->GetRGBTransferFunction(0));
-  filter->SetOpacityFunction(this->Property->GetScalarOpacity(0));
-  filter->SetScalarOpacityUnitDistance(this->Property->GetScalarOpacityUnitDistance(0));
+  volillum::SetVolumeInput(filter, port, name, this->Property);
   filter->SetResolutionScale(this->ResolutionScale);
   filter->SetChromaticAttenuation(this->ChromaticAttenuation);
   if (propagation)
@@ -222,10 +208,10 @@ void vtkIlluminatedVolumeRepresentation::PrintSelf(ostream& os, vtkIndent indent
   os << indent << "ShadowFilterKernel: " << this->ShadowFilterKernel << "\n";
   os << indent << "MaximumPassesPerUpdate: " << this->MaximumPassesPerUpdate << "\n";
   os << indent << "UseLightKit: " << this->UseLightKit << "\n";
-  os << indent << "UpdateMode: " << this->UpdateMode << "\n";
+  os << indent << "UpdateMode: " << this->Report.Mode << "\n";
   os << indent << "UpdateSeconds: " << this->UpdateSeconds << "\n";
-  os << indent << "PropagationPasses: " << this->PropagationPasses << "\n";
+  os << indent << "PropagationPasses: " << this->Report.Passes << "\n";
   os << indent << "MeanIllumination: " << this->MeanIllumination[0] << " "
      << this->MeanIllumination[1] << " " << this->MeanIllumination[2] << "\n";
-  os << indent << "PendingPasses: " << this->PendingPasses << "\n";
+  os << indent << "PendingPasses: " << this->Report.PendingPasses << "\n";
 }

@@ -25,6 +25,7 @@
 #ifndef vtkIlluminatedVolumeRepresentation_h
 #define vtkIlluminatedVolumeRepresentation_h
 
+#include "IlluminationFilterSupport.h" // for volillum::UpdateReport
 #include "VolIllumRepresentationsModule.h"
 #include "vtkImageVolumeRepresentation.h"
 #include "vtkSmartPointer.h"
@@ -33,7 +34,6 @@
 
 class vtkIlluminatedVolumeMapper;
 class vtkIlluminationVolumeAlgorithm;
-class vtkImageData;
 
 class VOLILLUMREPRESENTATIONS_EXPORT vtkIlluminatedVolumeRepresentation
   : public vtkImageVolumeRepresentation
@@ -104,15 +104,12 @@ public:
    * The last update: 0 full / 1 selective, its wall time, passes done and left; the
    * mean illumination (r g b) over the illumination volume's points.
    */
-  vtkGetMacro(UpdateMode, int);
+  int GetUpdateMode() const { return this->Report.Mode; }
   vtkGetMacro(UpdateSeconds, double);
-  vtkGetMacro(PropagationPasses, int);
+  int GetPropagationPasses() const { return this->Report.Passes; }
   vtkGetVector3Macro(MeanIllumination, double);
-  vtkGetMacro(PendingPasses, int);
+  int GetPendingPasses() const { return this->Report.PendingPasses; }
   ///@}
-
-  /** The illumination volume the last render used (nullptr before the first). */
-  vtkImageData* GetIlluminationData();
 
   int ProcessViewRequest(
     vtkInformationRequestKey* request, vtkInformation* inInfo, vtkInformation* outInfo) override;
@@ -138,11 +135,9 @@ protected:
   int MaximumPassesPerUpdate = 0;
   bool UseLightKit = true;
 
-  int UpdateMode = 0;
+  volillum::UpdateReport Report;
   double UpdateSeconds = 0.0;
-  int PropagationPasses = 0;
   double MeanIllumination[3] = { 0.0, 0.0, 0.0 };
-  int PendingPasses = 0;
 
 private:
   vtkIlluminatedVolumeRepresentation(const vtkIlluminatedVolumeRepresentation&) = delete;
