@@ -4,6 +4,7 @@
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
 #include "vtkCellData.h"
+#include "vtkCellTypes.h"
 #include "vtkDataArray.h"
 #include "vtkDataObject.h"
 #include "vtkDataSet.h"
@@ -123,6 +124,19 @@ bool SetFiniteClamped(
   }
   setting = clamped;
   return true;
+}
+
+//------------------------------------------------------------------------------
+bool HasSolidCells(vtkUnstructuredGrid* grid)
+{
+  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
+  {
+    if (vtkCellTypes::GetDimension(grid->GetCellType(c)) == 3)
+    {
+      return true;
+    }
+  }
+  return false;
 }
 
 //------------------------------------------------------------------------------

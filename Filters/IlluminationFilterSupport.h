@@ -41,6 +41,9 @@ VOLILLUMFILTERS_EXPORT vtkDataArray* FindPointScalars(
 VOLILLUMFILTERS_EXPORT bool SetFiniteClamped(
   double& setting, double value, double lo, double hi, const char* name, std::string& error);
 
+/// Whether the grid has a 3D cell (something to light).
+VOLILLUMFILTERS_EXPORT bool HasSolidCells(vtkUnstructuredGrid* grid);
+
 /// Empty when every cell's point ids lie within the grid's points; otherwise which does not.
 VOLILLUMFILTERS_EXPORT std::string CheckPointIds(vtkUnstructuredGrid* grid);
 

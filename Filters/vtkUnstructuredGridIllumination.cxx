@@ -4,7 +4,6 @@
 #include "IlluminationLightingMacros.h"
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
-#include "vtkCellTypes.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkDataArray.h"
 #include "vtkDataSetTriangleFilter.h"
@@ -95,14 +94,11 @@ bool vtkUnstructuredGridIllumination::PrepareMesh(vtkUnstructuredGrid* input)
 
   vtkSmartPointer<vtkUnstructuredGrid> tetrahedra = input;
   bool onlyTetrahedra = true;
-  bool any3D = false;
-  for (vtkIdType c = 0; c < input->GetNumberOfCells(); ++c)
+  for (vtkIdType c = 0; c < input->GetNumberOfCells() && onlyTetrahedra; ++c)
   {
-    const int type = input->GetCellType(c);
-    onlyTetrahedra = onlyTetrahedra && type == VTK_TETRA;
-    any3D = any3D || vtkCellTypes::GetDimension(type) == 3;
+    onlyTetrahedra = input->GetCellType(c) == VTK_TETRA;
   }
-  if (!any3D)
+  if (!volillum::HasSolidCells(input))
   {
     vtkErrorMacro("The input has no 3D cells to light.");
     return false;

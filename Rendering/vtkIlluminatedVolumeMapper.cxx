@@ -12,6 +12,7 @@
 #include "vtkUniforms.h"
 #include "vtkVolume.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "IlluminatedShadingDec.h"
@@ -185,31 +186,28 @@ void vtkIlluminatedVolumeMapper::SetShadingUniforms(vtkOpenGLShaderProperty* pro
 }
 
 //------------------------------------------------------------------------------
+bool vtkIlluminatedVolumeMapper::WithinReach(const double bounds[6])
+{
+  return std::all_of(bounds, bounds + 6, [](double b) { return std::abs(b) <= MaximumCoordinate; });
+}
+
+//------------------------------------------------------------------------------
 bool vtkIlluminatedVolumeMapper::InputIsRenderable()
 {
   vtkDataSet* input = this->GetInput();
-  if (!input)
+  if (!input || WithinReach(input->GetBounds()))
   {
     return true;
   }
-  double bounds[6];
-  input->GetBounds(bounds);
-  for (double b : bounds)
+  if (this->RefusedInputTime < input->GetMTime())
   {
-    if (!(std::abs(b) <= MaximumCoordinate))
-    {
-      if (this->RefusedInputTime < input->GetMTime())
-      {
-        vtkErrorMacro("The volume's bounds reach "
-          << b << ", beyond the +-" << MaximumCoordinate
-          << " the GPU ray caster renders (its single-precision coordinates would not "
-             "advance along the rays); it is not drawn. Rescale its spacing or origin.");
-        this->RefusedInputTime.Modified();
-      }
-      return false;
-    }
+    vtkErrorMacro("The volume's bounds reach beyond the +-"
+      << MaximumCoordinate
+      << " the GPU ray caster renders (its single-precision coordinates would not advance "
+         "along the rays); it is not drawn. Rescale its spacing or origin.");
+    this->RefusedInputTime.Modified();
   }
-  return true;
+  return false;
 }
 
 //------------------------------------------------------------------------------

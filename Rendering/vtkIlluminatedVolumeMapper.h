@@ -14,9 +14,9 @@
  * frame is lit (no reliance on UpdateShaderEvent). Supported: one-component scalars and
  * the composite blend mode; otherwise, or without illumination data, the mapper renders
  * as its superclass. Leave the volume property's Shade off: the illumination volume
- * replaces local lighting. Ray starts are jittered by a per-pixel random
- * fraction of a step so that samples at equal depths do not draw rings. The illumination bounds are
- * given in the data's coordinates.
+ * replaces local lighting. Ray starts are jittered by a per-pixel random fraction of a
+ * step so that samples at equal depths do not draw rings. The illumination bounds are given
+ * in the data's coordinates.
  */
 #ifndef vtkIlluminatedVolumeMapper_h
 #define vtkIlluminatedVolumeMapper_h
@@ -84,6 +84,9 @@ public:
    * takes minutes: the mapper reports an error and draws nothing instead.
    */
   static constexpr double MaximumCoordinate = 1e15;
+
+  /// Whether bounds (xmin, xmax, ymin, ymax, zmin, zmax) lie within MaximumCoordinate.
+  static bool WithinReach(const double bounds[6]);
 
 protected:
   vtkIlluminatedVolumeMapper();

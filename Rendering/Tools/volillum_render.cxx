@@ -15,7 +15,6 @@
 
 #include "vtkAppendFilter.h"
 #include "vtkCamera.h"
-#include "vtkCellTypes.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkCommand.h"
 #include "vtkCompositeDataIterator.h"
@@ -292,7 +291,7 @@ const struct
   { ".nii", &MakeReader<vtkNIFTIImageReader> }, { ".nii.gz", &MakeReader<vtkNIFTIImageReader> } };
 
 // Largest volume the CLI reads: the illumination filters' own limit on output points.
-constexpr long long MaximumVolumePoints = 1LL << 29;
+constexpr long long MaximumVolumePoints = vtkIlluminationVolumeAlgorithm::MaximumOutputPoints;
 
 // Remembers the first error or warning a reader reports (a truncated or corrupt file).
 class ReaderProblem : public vtkCommand
@@ -521,31 +520,17 @@ vtkSmartPointer<vtkDataSet> LoadData(const Options& o)
       Fail(o.Input + ": the spacing must be positive along each axis");
     }
   }
-  else
+  else if (!volillum::HasSolidCells(vtkUnstructuredGrid::SafeDownCast(image)))
   {
-    bool solid = false;
-    auto grid = vtkUnstructuredGrid::SafeDownCast(image);
-    for (vtkIdType c = 0; c < grid->GetNumberOfCells() && !solid; ++c)
-    {
-      solid = vtkCellTypes::GetDimension(grid->GetCellType(c)) == 3;
-    }
-    if (!solid)
-    {
-      Fail(o.Input + " has no 3D cells to light");
-    }
+    Fail(o.Input + " has no 3D cells to light");
   }
-  double bounds[6];
-  image->GetBounds(bounds);
-  for (double b : bounds)
+  if (!vtkIlluminatedVolumeMapper::WithinReach(image->GetBounds()))
   {
-    if (!(std::abs(b) <= vtkIlluminatedVolumeMapper::MaximumCoordinate))
-    {
-      std::ostringstream message;
-      message << o.Input << ": its bounds reach " << b << ", beyond the +-"
-              << vtkIlluminatedVolumeMapper::MaximumCoordinate
-              << " this tool renders; rescale its spacing or origin";
-      Fail(message.str());
-    }
+    std::ostringstream message;
+    message << o.Input << ": its bounds reach beyond the +-"
+            << vtkIlluminatedVolumeMapper::MaximumCoordinate
+            << " this tool renders; rescale its spacing or origin";
+    Fail(message.str());
   }
   if (scalars->GetNumberOfComponents() != 1)
   {
@@ -573,43 +558,36 @@ std::vector<double> Numbers(const json& value, size_t count, const std::string& 
   return out;
 }
 
-double Number(const json& object, const char* key, double fallback)
+// A setting of the JSON object: fallback when absent, one error line naming the key and
+// the expected type when it has another.
+template <typename T>
+T Setting(const json& object, const char* key, const T& fallback,
+  bool (json::*isExpected)() const noexcept, const char* expected)
 {
   if (!object.contains(key))
   {
     return fallback;
   }
-  if (!object[key].is_number())
+  if (!(object[key].*isExpected)())
   {
-    Fail(std::string("'") + key + "' must be a number");
+    Fail(std::string("'") + key + "' must be " + expected);
   }
-  return object[key].get<double>();
+  return object[key].get<T>();
+}
+
+double Number(const json& object, const char* key, double fallback)
+{
+  return Setting(object, key, fallback, &json::is_number, "a number");
 }
 
 bool Flag(const json& object, const char* key, bool fallback)
 {
-  if (!object.contains(key))
-  {
-    return fallback;
-  }
-  if (!object[key].is_boolean())
-  {
-    Fail(std::string("'") + key + "' must be true or false");
-  }
-  return object[key].get<bool>();
+  return Setting(object, key, fallback, &json::is_boolean, "true or false");
 }
 
 std::string Text(const json& object, const char* key, const std::string& fallback)
 {
-  if (!object.contains(key))
-  {
-    return fallback;
-  }
-  if (!object[key].is_string())
-  {
-    Fail(std::string("'") + key + "' must be a string");
-  }
-  return object[key].get<std::string>();
+  return Setting(object, key, fallback, &json::is_string, "a string");
 }
 
 // The default lights: a warm key light above-left-front, a cool fill light from the
