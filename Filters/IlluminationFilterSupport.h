@@ -33,6 +33,13 @@ VOLILLUMFILTERS_EXPORT void UseThreadedBackend();
 VOLILLUMFILTERS_EXPORT vtkDataArray* FindPointScalars(
   vtkAlgorithm* algorithm, vtkDataSet* input, std::string& error);
 
+/// Largest coordinate magnitude of an input's bounds the filters accept (beyond it, lengths
+/// and their squares would overflow).
+constexpr double MaximumCoordinate = 1e100;
+
+/// Most tetrahedra the meshing filters (TetGen, CGAL) may be asked to make.
+constexpr double MaximumTetrahedra = 2e7;
+
 /**
  * Setter body for a finite, clamped double setting: stores value clamped to [lo, hi] in
  * setting and returns whether it changed. A value that is not a finite number leaves the

@@ -13,24 +13,34 @@ namespace volillum
 
 namespace
 {
-// Unit vector from a toward b without overflow: the halves of the coordinates are
-// subtracted (that cannot overflow) and the difference is scaled by its largest component
-// before the norm is taken. ok is false when a equals b.
+// The difference b - a without overflow: the halves of the coordinates are subtracted
+// (that cannot overflow) and divided by the largest component, which is returned as the
+// scale (0 when a equals b): b - a = 2 x scale x d.
+double ScaledDifference(const double a[3], const double b[3], double d[3])
+{
+  double scale = 0.0;
+  for (int i = 0; i < 3; ++i)
+  {
+    d[i] = 0.5 * b[i] - 0.5 * a[i];
+    scale = std::max(scale, std::abs(d[i]));
+  }
+  for (int i = 0; scale > 0.0 && i < 3; ++i)
+  {
+    d[i] /= scale;
+  }
+  return scale;
+}
+
+// Unit vector from a toward b; ok is false when a equals b.
 std::array<double, 3> UnitVector(const double a[3], const double b[3], bool& ok)
 {
-  std::array<double, 3> d{ { 0.5 * b[0] - 0.5 * a[0], 0.5 * b[1] - 0.5 * a[1],
-    0.5 * b[2] - 0.5 * a[2] } };
-  const double scale = std::max({ std::abs(d[0]), std::abs(d[1]), std::abs(d[2]) });
-  ok = scale > 0.0;
+  double d[3];
+  ok = ScaledDifference(a, b, d) > 0.0;
   if (!ok)
   {
     return { { 0.0, 0.0, 0.0 } };
   }
-  for (double& v : d)
-  {
-    v /= scale;
-  }
-  const double n = vtkMath::Norm(d.data());
+  const double n = vtkMath::Norm(d);
   return { { d[0] / n, d[1] / n, d[2] / n } };
 }
 
@@ -41,24 +51,12 @@ double SpotFactor(const LightState& light, double cosAngle)
   return cosAngle < cosCone ? 0.0 : std::pow(std::max(cosAngle, 0.0), light.Exponent);
 }
 
-// Distance from a to b, computed like UnitVector (infinite only beyond the double range).
+// Distance from a to b (infinite only beyond the double range).
 double Distance(const double a[3], const double b[3])
 {
-  double d[3], scale = 0.0;
-  for (int i = 0; i < 3; ++i)
-  {
-    d[i] = 0.5 * b[i] - 0.5 * a[i];
-    scale = std::max(scale, std::abs(d[i]));
-  }
-  if (!(scale > 0.0))
-  {
-    return 0.0;
-  }
-  for (double& v : d)
-  {
-    v /= scale;
-  }
-  return 2.0 * scale * vtkMath::Norm(d);
+  double d[3];
+  const double scale = ScaledDifference(a, b, d);
+  return scale > 0.0 ? 2.0 * scale * vtkMath::Norm(d) : 0.0;
 }
 }
 
@@ -181,15 +179,20 @@ std::vector<LightState> ForBounds(const std::vector<LightState>& lights, const d
   std::vector<LightState> tamed = lights;
   for (LightState& light : tamed)
   {
+    // A directional light shining along travel, positioned one unit from the centre.
+    const auto makeDirectional = [&centre](LightState& l, const std::array<double, 3>& travel)
+    {
+      l.Kind = LightKind::Directional;
+      for (int a = 0; a < 3; ++a)
+      {
+        l.FocalPoint[a] = centre[a];
+        l.Position[a] = centre[a] - travel[a];
+      }
+    };
     const auto direction = light.Direction();
     if (light.Kind == LightKind::Directional)
     {
-      // Only the direction matters: keep it, with a position one unit from the centre.
-      for (int a = 0; a < 3; ++a)
-      {
-        light.FocalPoint[a] = centre[a];
-        light.Position[a] = centre[a] - direction[a];
-      }
+      makeDirectional(light, direction); // only the direction matters
       continue;
     }
     if (Distance(centre, light.Position.data()) > farthest)
@@ -202,12 +205,7 @@ std::vector<LightState> ForBounds(const std::vector<LightState>& lights, const d
       {
         light.Intensity *= SpotFactor(light, vtkMath::Dot(travel.data(), direction.data()));
       }
-      light.Kind = LightKind::Directional;
-      for (int a = 0; a < 3; ++a)
-      {
-        light.FocalPoint[a] = centre[a];
-        light.Position[a] = centre[a] - travel[a];
-      }
+      makeDirectional(light, travel);
       continue;
     }
     for (int a = 0; a < 3; ++a)

@@ -1,5 +1,7 @@
 #include "vtkAdaptiveTetrahedralMesh.h"
 
+#include "IlluminationFilterSupport.h"
+
 #include "vtkCellArray.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
@@ -127,10 +129,12 @@ int vtkAdaptiveTetrahedralMesh::RequestData(
   image->GetOrigin(origin);
   for (int a = 0; a < 3; ++a)
   {
-    if (!(spacing[a] > 0.0) || !std::isfinite(spacing[a]) || !(std::abs(origin[a]) <= 1e100))
+    if (!(spacing[a] > 0.0) || !std::isfinite(spacing[a]) ||
+      !(std::abs(origin[a]) <= volillum::MaximumCoordinate))
     {
       vtkErrorMacro("Cannot mesh: the image's spacing must be positive and finite and its "
-                    "origin within +-1e100.");
+                    "origin within +-"
+        << volillum::MaximumCoordinate << ".");
       return 1;
     }
   }

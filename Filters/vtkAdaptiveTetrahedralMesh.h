@@ -13,6 +13,7 @@
 #ifndef vtkAdaptiveTetrahedralMesh_h
 #define vtkAdaptiveTetrahedralMesh_h
 
+#include "IlluminationFilterSupport.h" // for the shared limits
 #include "VolIllumFiltersModule.h"
 #include "vtkUnstructuredGridAlgorithm.h"
 
@@ -24,7 +25,7 @@ public:
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   /// Most tetrahedra a Cell Size may ask for (estimated from the region's volume).
-  static constexpr double MaximumTetrahedra = 2e7;
+  static constexpr double MaximumTetrahedra = volillum::MaximumTetrahedra;
 
   ///@{
   /** Scalar value bounding the meshed region (inside: at least this). Default 0.5. */

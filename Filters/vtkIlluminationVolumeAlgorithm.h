@@ -125,7 +125,7 @@ public:
   static constexpr long long MaximumOutputPoints = 1LL << 29;
 
   /// Largest coordinate magnitude of the input's bounds (beyond, lengths would overflow).
-  static constexpr double MaximumCoordinate = 1e100;
+  static constexpr double MaximumCoordinate = volillum::MaximumCoordinate;
 
 protected:
   vtkIlluminationVolumeAlgorithm();

@@ -13,6 +13,7 @@
 #ifndef vtkTetrahedralizeSurface_h
 #define vtkTetrahedralizeSurface_h
 
+#include "IlluminationFilterSupport.h" // for the shared limits
 #include "VolIllumFiltersModule.h"
 #include "vtkUnstructuredGridAlgorithm.h"
 
@@ -30,7 +31,7 @@ public:
   ///@}
 
   /// Most tetrahedra a MaximumVolume may ask for (enclosed volume / MaximumVolume).
-  static constexpr double MaximumTetrahedra = 2e7;
+  static constexpr double MaximumTetrahedra = volillum::MaximumTetrahedra;
 
   ///@{
   /** Bound on circumradius / shortest edge of every tetrahedron (TetGen's -q). Default 2. */
