@@ -9,6 +9,9 @@ import os
 import subprocess
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from IlluminatedVolumeTestUtilities import finish, image_difference, mean_colours
+
 paraview, plugin, out = sys.argv[1:4]
 here = os.path.dirname(os.path.abspath(__file__))
 result_file = os.path.join(out, "gui_result.txt")
@@ -38,8 +41,6 @@ else:
         failures.append("light off: mean illumination %s, expected 0" % results["mean_off"])
     if results["mean_on_again"] != results["mean_on"]:
         failures.append("light on again: mean %s, first %s" % (results["mean_on_again"], results["mean_on"]))
-    sys.path.insert(0, here)
-    from IlluminatedVolumeTestUtilities import image_difference, mean_colours
     on, off, again = (os.path.join(out, "gui_%s.png" % s) for s in ("on", "off", "on_again"))
     brightness = [sum(mean_colours(p)) for p in (on, off)]
     print("image brightness, light on %.1f, off %.1f" % tuple(brightness))
@@ -50,7 +51,4 @@ else:
     print("light on again vs first image: %.3f" % difference)
     if difference > 0.5:
         failures.append("light on again differs from the first image by %.3f" % difference)
-for f in failures:
-    print("FAIL  " + f)
-print("%d check(s) failed" % len(failures) if failures else "all checks passed")
-sys.exit(1 if failures else 0)
+finish(failures)
