@@ -82,6 +82,18 @@ bool vtkIlluminatedUnstructuredGridRepresentation::RemoveFromView(vtkView* view)
 }
 
 //------------------------------------------------------------------------------
+double* vtkIlluminatedUnstructuredGridRepresentation::GetMeanIllumination()
+{
+  vtkDataObject* illumination = this->Internals->Lit ? this->Illumination->GetOutput() : nullptr;
+  if (illumination && illumination->GetMTime() > this->MeanTime)
+  {
+    volillum::MeanIllumination(illumination, this->MeanIllumination);
+    this->MeanTime.Modified();
+  }
+  return this->MeanIllumination;
+}
+
+//------------------------------------------------------------------------------
 int vtkIlluminatedUnstructuredGridRepresentation::ProcessViewRequest(
   vtkInformationRequestKey* request, vtkInformation* inInfo, vtkInformation* outInfo)
 {
@@ -132,7 +144,6 @@ bool vtkIlluminatedUnstructuredGridRepresentation::UpdateIllumination(vtkInforma
     return false;
   }
   volillum::ReadUpdateFieldData(lit->GetFieldData(), this->Report, this->UpdateSeconds);
-  volillum::MeanIllumination(lit, this->MeanIllumination);
   return true;
 }
 

@@ -70,7 +70,7 @@ public:
   int GetUpdateMode() const { return this->Report.Mode; }
   vtkGetMacro(UpdateSeconds, double);
   int GetPropagationPasses() const { return this->Report.Passes; }
-  vtkGetVector3Macro(MeanIllumination, double);
+  double* GetMeanIllumination() VTK_SIZEHINT(3);
   ///@}
 
   int ProcessViewRequest(
@@ -91,7 +91,9 @@ protected:
   bool UseLightKit = true;
   volillum::UpdateReport Report;
   double UpdateSeconds = 0.0;
+  // Computed when asked for, once per new illumination (a pass over every point).
   double MeanIllumination[3] = { 0.0, 0.0, 0.0 };
+  vtkTimeStamp MeanTime;
 
   vtkNew<vtkUnstructuredGridIllumination> Illumination;
   vtkNew<vtkProjectedTetrahedraMapper> LitMapper;

@@ -121,6 +121,18 @@ bool vtkIlluminatedVolumeRepresentation::RemoveFromView(vtkView* view)
 }
 
 //------------------------------------------------------------------------------
+double* vtkIlluminatedVolumeRepresentation::GetMeanIllumination()
+{
+  vtkDataObject* illumination = this->GetIlluminatedMapper()->GetIlluminationData();
+  if (illumination && illumination->GetMTime() > this->MeanTime)
+  {
+    volillum::MeanIllumination(illumination, this->MeanIllumination);
+    this->MeanTime.Modified();
+  }
+  return this->MeanIllumination;
+}
+
+//------------------------------------------------------------------------------
 int vtkIlluminatedVolumeRepresentation::ProcessViewRequest(
   vtkInformationRequestKey* request, vtkInformation* inInfo, vtkInformation* outInfo)
 {
@@ -145,7 +157,6 @@ bool vtkIlluminatedVolumeRepresentation::UpdateFilter(vtkIlluminationVolumeAlgor
     return false;
   }
   volillum::ReadUpdateFieldData(output->GetFieldData(), this->Report, this->UpdateSeconds);
-  volillum::MeanIllumination(output, this->MeanIllumination);
   return true;
 }
 

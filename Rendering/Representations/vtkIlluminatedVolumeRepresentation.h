@@ -107,7 +107,7 @@ public:
   int GetUpdateMode() const { return this->Report.Mode; }
   vtkGetMacro(UpdateSeconds, double);
   int GetPropagationPasses() const { return this->Report.Passes; }
-  vtkGetVector3Macro(MeanIllumination, double);
+  double* GetMeanIllumination() VTK_SIZEHINT(3);
   int GetPendingPasses() const { return this->Report.PendingPasses; }
   ///@}
 
@@ -137,7 +137,9 @@ protected:
 
   volillum::UpdateReport Report;
   double UpdateSeconds = 0.0;
+  // Computed when asked for, once per new illumination (a pass over every point).
   double MeanIllumination[3] = { 0.0, 0.0, 0.0 };
+  vtkTimeStamp MeanTime;
 
 private:
   vtkIlluminatedVolumeRepresentation(const vtkIlluminatedVolumeRepresentation&) = delete;
