@@ -137,8 +137,13 @@ void ForwardProgress(vtkAlgorithm* filter, vtkAlgorithm* representation)
 }
 
 //------------------------------------------------------------------------------
-void MeanIllumination(vtkDataObject* output, double mean[3])
+void MeanIllumination(vtkDataObject* output, double mean[3], vtkTimeStamp& computed)
 {
+  if (!output || output->GetMTime() <= computed)
+  {
+    return;
+  }
+  computed.Modified();
   mean[0] = mean[1] = mean[2] = 0.0;
   vtkDataSet* data = vtkDataSet::SafeDownCast(output);
   vtkDataArray* a = data ? data->GetPointData()->GetArray("Illumination") : nullptr;

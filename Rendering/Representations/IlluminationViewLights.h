@@ -16,6 +16,7 @@
 #include "vtkDataObject.h"
 #include "vtkLight.h"
 #include "vtkSmartPointer.h"
+#include "vtkTimeStamp.h"
 #include "vtkVolumeProperty.h"
 
 #include <vector>
@@ -102,8 +103,10 @@ vtkDataArray* ColouredPointScalars(
 /// that ParaView's progress bar moves during long updates.
 void ForwardProgress(vtkAlgorithm* filter, vtkAlgorithm* representation);
 
-/// Mean of the 3-component point array "Illumination" of a filter output (0 without it).
-void MeanIllumination(vtkDataObject* output, double mean[3]);
+/// Mean of the 3-component point array "Illumination" of a filter output (0 without it),
+/// recomputed only when the output is newer than computed (which it then updates); mean
+/// is left as it is without an output.
+void MeanIllumination(vtkDataObject* output, double mean[3], vtkTimeStamp& computed);
 
 }
 

@@ -84,12 +84,8 @@ bool vtkIlluminatedUnstructuredGridRepresentation::RemoveFromView(vtkView* view)
 //------------------------------------------------------------------------------
 double* vtkIlluminatedUnstructuredGridRepresentation::GetMeanIllumination()
 {
-  vtkDataObject* illumination = this->Internals->Lit ? this->Illumination->GetOutput() : nullptr;
-  if (illumination && illumination->GetMTime() > this->MeanTime)
-  {
-    volillum::MeanIllumination(illumination, this->MeanIllumination);
-    this->MeanTime.Modified();
-  }
+  volillum::MeanIllumination(this->Internals->Lit ? this->Illumination->GetOutput() : nullptr,
+    this->MeanIllumination, this->MeanTime);
   return this->MeanIllumination;
 }
 

@@ -123,12 +123,8 @@ bool vtkIlluminatedVolumeRepresentation::RemoveFromView(vtkView* view)
 //------------------------------------------------------------------------------
 double* vtkIlluminatedVolumeRepresentation::GetMeanIllumination()
 {
-  vtkDataObject* illumination = this->GetIlluminatedMapper()->GetIlluminationData();
-  if (illumination && illumination->GetMTime() > this->MeanTime)
-  {
-    volillum::MeanIllumination(illumination, this->MeanIllumination);
-    this->MeanTime.Modified();
-  }
+  volillum::MeanIllumination(
+    this->GetIlluminatedMapper()->GetIlluminationData(), this->MeanIllumination, this->MeanTime);
   return this->MeanIllumination;
 }
 
