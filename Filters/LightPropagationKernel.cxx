@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <set>
 
 namespace volillum
@@ -112,13 +113,116 @@ inline void Bilinear(
   }
 }
 
+// Catmull-Rom weights for the fraction f between the second and third of four samples.
+inline void CubicWeights(float f, float w[4])
+{
+  const float f2 = f * f;
+  const float f3 = f2 * f;
+  w[0] = 0.5f * (-f3 + 2.0f * f2 - f);
+  w[1] = 0.5f * (3.0f * f3 - 5.0f * f2 + 2.0f);
+  w[2] = 0.5f * (-3.0f * f3 + 4.0f * f2 + f);
+  w[3] = 0.5f * (f3 - f2);
+}
+
+// Bicubic (Catmull-Rom) interpolation of a 3-channel slice buffer (nb x nc pixels) at `at`,
+// limited to the range of the four surrounding pixels so that it adds no new extremes.
+inline void MonotoneBicubic(const float* base, int nb, int nc, const SlicePoint& at, float* out)
+{
+  if (nb < 4 || nc < 4)
+  {
+    Bilinear<3>(base, nb > 1 ? 3 : 0, nc > 1 ? 3LL * nb : 0, at, out);
+    return;
+  }
+  float wu[4], wv[4];
+  CubicWeights(at.FU, wu);
+  CubicWeights(at.FV, wv);
+  int iu[4], iv[4];
+  for (int m = 0; m < 4; ++m)
+  {
+    iu[m] = std::min(std::max(at.U - 1 + m, 0), nb - 1);
+    iv[m] = std::min(std::max(at.V - 1 + m, 0), nc - 1);
+  }
+  for (int ch = 0; ch < 3; ++ch)
+  {
+    float sum = 0.0f;
+    for (int mv = 0; mv < 4; ++mv)
+    {
+      const float* row = base + 3LL * nb * iv[mv] + ch;
+      sum += wv[mv] *
+        (wu[0] * row[3 * iu[0]] + wu[1] * row[3 * iu[1]] + wu[2] * row[3 * iu[2]] +
+          wu[3] * row[3 * iu[3]]);
+    }
+    const float a = base[3LL * nb * iv[1] + 3 * iu[1] + ch];
+    const float b = base[3LL * nb * iv[1] + 3 * iu[2] + ch];
+    const float c = base[3LL * nb * iv[2] + 3 * iu[1] + ch];
+    const float d = base[3LL * nb * iv[2] + 3 * iu[2] + ch];
+    out[ch] = std::min(std::max(sum, std::min(std::min(a, b), std::min(c, d))),
+      std::max(std::max(a, b), std::max(c, d)));
+  }
+}
+
+// Trilinear samples of the four optical properties of a classified volume, positions
+// clamped onto the grid (ClassifiedVolume::Sample inlined for the sweep's inner loop).
+struct VolumeSampler
+{
+  const float* Properties;
+  int Last[3];
+  double Origin[3], Inverse[3];
+  long long Stride[3];
+
+  explicit VolumeSampler(const ClassifiedVolume& v)
+    : Properties(v.Properties.data())
+  {
+    const auto& g = v.Geometry;
+    for (int a = 0; a < 3; ++a)
+    {
+      this->Last[a] = g.Dimensions[a] - 1;
+      this->Origin[a] = g.Origin[a];
+      this->Inverse[a] = 1.0 / g.Spacing[a];
+    }
+    this->Stride[0] = g.Dimensions[0] > 1 ? 4 : 0;
+    this->Stride[1] = g.Dimensions[1] > 1 ? 4LL * g.Dimensions[0] : 0;
+    this->Stride[2] = g.Dimensions[2] > 1 ? 4LL * g.Dimensions[0] * g.Dimensions[1] : 0;
+  }
+
+  inline void operator()(const double p[3], float out[4]) const
+  {
+    long long offset = 0;
+    float f[3];
+    for (int a = 0; a < 3; ++a)
+    {
+      const double u = std::min(std::max((p[a] - this->Origin[a]) * this->Inverse[a], 0.0),
+        static_cast<double>(this->Last[a]));
+      const int i = std::min(static_cast<int>(u), std::max(this->Last[a] - 1, 0));
+      f[a] = static_cast<float>(u - i);
+      offset += i * this->Stride[a];
+    }
+    const float* q = this->Properties + offset;
+    const long long dx = this->Stride[0], dy = this->Stride[1], dz = this->Stride[2];
+    for (int c = 0; c < 4; ++c)
+    {
+      const float c00 = q[c] + f[0] * (q[dx + c] - q[c]);
+      const float c10 = q[dy + c] + f[0] * (q[dy + dx + c] - q[dy + c]);
+      const float c01 = q[dz + c] + f[0] * (q[dz + dx + c] - q[dz + c]);
+      const float c11 = q[dz + dy + c] + f[0] * (q[dz + dy + dx + c] - q[dz + dy + c]);
+      const float c0 = c00 + f[1] * (c10 - c00);
+      const float c1 = c01 + f[1] * (c11 - c01);
+      out[c] = c0 + f[2] * (c1 - c0);
+    }
+  }
+};
+
+// One sweep over the illumination grid (N, Stride, Origin, Spacing, Bounds) along Axis
+// toward Sign; light is attenuated through the full-resolution volume the Sampler reads.
 struct SweepContext
 {
-  const ClassifiedVolume& Grid;
+  VolumeSampler Sampler;
+  double SegmentStep; // longest midpoint step: the volume's smallest spacing
   int Axis, Sign, B, C;
   int N[3];
   long long Stride[3];
   double Origin[3], Spacing[3];
+  double Bounds[6];
 };
 
 // A ray source as one sweep uses it; for a directional light everything that does not
@@ -149,11 +253,49 @@ struct SweepSource
   }
 };
 
+// Chromatic transmittance (multiplied into out) of the segment from p back along -d over
+// `length`, integrated through the full-resolution classification with the midpoint rule and
+// steps of at most its smallest spacing (read at full resolution, stored at the illumination
+// grid's: thin material between two coarse slices still casts its shadow). Halving the step
+// changes the material error of the fidelity tests by less than 0.1 %: the error left is the
+// interpolation of the light between slices.
+void SegmentTransmittance(
+  const SweepContext& s, const double p[3], const double d[3], double length, float out[3])
+{
+  const int n = std::max(1, static_cast<int>(std::ceil(length / s.SegmentStep - 1e-9)));
+  const double h = length / n;
+  float props[4];
+  for (int m = 0; m < n; ++m)
+  {
+    const double back = (m + 0.5) * h;
+    const double q[3] = { p[0] - back * d[0], p[1] - back * d[1], p[2] - back * d[2] };
+    s.Sampler(q, props);
+    const float a = 1.0f - std::exp(-props[0] * static_cast<float>(h));
+    for (int ch = 0; ch < 3; ++ch)
+    {
+      out[ch] *= 1.0f - a * props[1 + ch];
+    }
+  }
+}
+
+// Light that entered the box through a side face after the previous slice: out is the
+// transmittance of the part of the step inside the box.
+void EnteredThroughSide(
+  const SweepContext& s, const double p[3], const double d[3], double step, float out[3])
+{
+  out[0] = out[1] = out[2] = 1.0f;
+  const double back[3] = { -d[0], -d[1], -d[2] };
+  const double inside = std::min(step, DistanceToBoxExit(p, back, s.Bounds));
+  if (inside > 0.0)
+  {
+    SegmentTransmittance(s, p, d, inside, out);
+  }
+}
+
 // Transmittance of the ray from a source to point p of slice t (out), the unit direction the
 // light travels there (d) and the factor an inside light's group gives the point.
 void TransmittanceAtPoint(const SweepContext& s, const SweepSource& sweep, const float* readBuffer,
-  int t, int k, int ib, int ic, const double p[3], const float* current, float out[3], double d[3],
-  double& groupFactor)
+  int t, int ib, int ic, const double p[3], float out[3], double d[3], double& groupFactor)
 {
   const RaySource& source = sweep.Source;
   out[0] = out[1] = out[2] = 1.0f;
@@ -203,12 +345,8 @@ void TransmittanceAtPoint(const SweepContext& s, const SweepSource& sweep, const
       if (s.Sign * (p[a] - s.Sign * s.Spacing[a] - source.Position[a]) <= 0.0)
       {
         // The light lies between the previous slice and this point: attenuate over the
-        // short path from the light with this point's properties.
-        const double alpha = StepOpacity(current[0], distance);
-        for (int ch = 0; ch < 3; ++ch)
-        {
-          out[ch] = static_cast<float>(1.0 - alpha * current[1 + ch]);
-        }
+        // short path from the light.
+        SegmentTransmittance(s, p, d, distance, out);
         return;
       }
     }
@@ -227,20 +365,11 @@ void TransmittanceAtPoint(const SweepContext& s, const SweepSource& sweep, const
   SlicePoint at;
   if (!Locate(u, v, nb, nc, at))
   {
-    // The light entered the box through a side face after the previous slice.
+    EnteredThroughSide(s, p, d, step, out);
     return;
   }
-  float incoming[3];
-  Bilinear<3>(readBuffer, nb > 1 ? 3 : 0, nc > 1 ? 3LL * nb : 0, at, incoming);
-  float previous[4];
-  const float* slice = s.Grid.Properties.data() + 4 * (k - s.Sign) * s.Stride[a];
-  Bilinear<4>(slice, nb > 1 ? 4 * s.Stride[s.B] : 0, nc > 1 ? 4 * s.Stride[s.C] : 0, at, previous);
-  const float alpha =
-    1.0f - std::exp(-0.5f * (previous[0] + current[0]) * static_cast<float>(step));
-  for (int ch = 0; ch < 3; ++ch)
-  {
-    out[ch] = incoming[ch] * (1.0f - alpha * 0.5f * (previous[1 + ch] + current[1 + ch]));
-  }
+  MonotoneBicubic(readBuffer, nb, nc, at, out);
+  SegmentTransmittance(s, p, d, step, out);
 }
 
 // Transmittance of one source along row ic of slice t into out (3 floats a pixel), with
@@ -260,9 +389,8 @@ void RowTransmittance(const SweepContext& s, const SweepSource& sweep, const flo
     for (int ib = 0; ib < nb; ++ib)
     {
       p[s.B] = s.Origin[s.B] + ib * s.Spacing[s.B];
-      const long long index = k * s.Stride[s.Axis] + ib * s.Stride[s.B] + ic * s.Stride[s.C];
-      TransmittanceAtPoint(s, sweep, readBuffer, t, k, ib, ic, p,
-        s.Grid.Properties.data() + 4 * index, out + 3 * ib, direction + 3 * ib, groupFactor[ib]);
+      TransmittanceAtPoint(
+        s, sweep, readBuffer, t, ib, ic, p, out + 3 * ib, direction + 3 * ib, groupFactor[ib]);
     }
     return;
   }
@@ -273,56 +401,52 @@ void RowTransmittance(const SweepContext& s, const SweepSource& sweep, const flo
     direction[3 * ib + 2] = source.Travel[2];
     groupFactor[ib] = 1.0;
   }
-  const double v = ic - sweep.OffsetV;
-  if (t == 0 || sweep.Enters || v < 0.0 || v > nc - 1)
+  if (t == 0 || sweep.Enters)
   {
-    // Light enters the box here (first slice, side face, or no progress along the axis).
+    // Light enters the box here (first slice, or no progress along the axis).
     std::fill(out, out + 3 * nb, 1.0f);
     return;
   }
+  const double v = ic - sweep.OffsetV;
+  const bool rowInside = v >= 0.0 && v <= nc - 1;
   SlicePoint at;
-  at.V = std::min(static_cast<int>(v), std::max(nc - 2, 0));
-  at.FV = nc > 1 ? static_cast<float>(v - at.V) : 0.0f;
-  const long long strideU = nb > 1 ? 4 * s.Stride[s.B] : 0;
-  const long long strideV = nc > 1 ? 4 * s.Stride[s.C] : 0;
-  const long long bufferU = nb > 1 ? 3 : 0;
-  const long long bufferV = nc > 1 ? 3LL * nb : 0;
-  const float* previousSlice = s.Grid.Properties.data() + 4 * (k - s.Sign) * s.Stride[s.Axis];
-  const float* currentSlice = s.Grid.Properties.data() + 4 * k * s.Stride[s.Axis];
-  const float halfStep = 0.5f * static_cast<float>(sweep.Step);
+  if (rowInside)
+  {
+    at.V = std::min(static_cast<int>(v), std::max(nc - 2, 0));
+    at.FV = nc > 1 ? static_cast<float>(v - at.V) : 0.0f;
+  }
+  double p[3];
+  p[s.Axis] = s.Origin[s.Axis] + k * s.Spacing[s.Axis];
+  p[s.C] = s.Origin[s.C] + ic * s.Spacing[s.C];
   for (int ib = 0; ib < nb; ++ib)
   {
     const double u = ib - sweep.OffsetU;
     float* o = out + 3 * ib;
-    if (u < 0.0 || u > nb - 1)
+    p[s.B] = s.Origin[s.B] + ib * s.Spacing[s.B];
+    if (!rowInside || u < 0.0 || u > nb - 1)
     {
-      o[0] = o[1] = o[2] = 1.0f;
+      EnteredThroughSide(s, p, source.Travel, sweep.Step, o);
       continue;
     }
     at.U = std::min(static_cast<int>(u), std::max(nb - 2, 0));
     at.FU = nb > 1 ? static_cast<float>(u - at.U) : 0.0f;
-    float incoming[3], previous[4];
-    Bilinear<3>(readBuffer, bufferU, bufferV, at, incoming);
-    Bilinear<4>(previousSlice, strideU, strideV, at, previous);
-    const float* current = currentSlice + 4 * (ib * s.Stride[s.B] + ic * s.Stride[s.C]);
-    const float alpha = 1.0f - std::exp(-halfStep * (previous[0] + current[0]));
-    for (int ch = 0; ch < 3; ++ch)
-    {
-      o[ch] = incoming[ch] * (1.0f - alpha * 0.5f * (previous[1 + ch] + current[1 + ch]));
-    }
+    MonotoneBicubic(readBuffer, nb, nc, at, o);
+    SegmentTransmittance(s, p, source.Travel, sweep.Step, o);
   }
 }
 
 // One sweep of the tasks (all in the same group) through the grid.
-bool Sweep(const ClassifiedVolume& grid, int group, const std::vector<PropagationTask>& tasks,
-  FixedPointIllumination& illumination, PropagationStatistics& statistics,
-  const std::function<bool(double)>& progress)
+bool Sweep(const ClassifiedVolume& volume, const GridGeometry& g, int group,
+  const std::vector<PropagationTask>& tasks, FixedPointIllumination& illumination,
+  PropagationStatistics& statistics, const std::function<bool(double)>& progress)
 {
-  const auto& g = grid.Geometry;
-  SweepContext s{ grid, group / 2, group % 2 == 0 ? 1 : -1, (group / 2 + 1) % 3,
-    (group / 2 + 2) % 3, { g.Dimensions[0], g.Dimensions[1], g.Dimensions[2] },
+  const auto& sp = volume.Geometry.Spacing;
+  SweepContext s{ VolumeSampler(volume), std::min(sp[0], std::min(sp[1], sp[2])), group / 2,
+    group % 2 == 0 ? 1 : -1, (group / 2 + 1) % 3, (group / 2 + 2) % 3,
+    { g.Dimensions[0], g.Dimensions[1], g.Dimensions[2] },
     { 1, g.Dimensions[0], static_cast<long long>(g.Dimensions[0]) * g.Dimensions[1] },
-    { g.Origin[0], g.Origin[1], g.Origin[2] }, { g.Spacing[0], g.Spacing[1], g.Spacing[2] } };
+    { g.Origin[0], g.Origin[1], g.Origin[2] }, { g.Spacing[0], g.Spacing[1], g.Spacing[2] }, {} };
+  g.GetBounds(s.Bounds);
   const int na = s.N[s.Axis];
   const int nb = s.N[s.B];
   const int nc = s.N[s.C];
@@ -515,59 +639,10 @@ void FixedPointIllumination::ToFloat(float* rgb) const
     });
 }
 
-void ResampleClassification(
-  const ClassifiedVolume& data, const GridGeometry& target, ClassifiedVolume& out)
-{
-  out.Geometry = target;
-  if (target.Dimensions == data.Geometry.Dimensions)
-  {
-    out.Properties = data.Properties;
-    return;
-  }
-  int sub[3];
-  for (int a = 0; a < 3; ++a)
-  {
-    sub[a] =
-      std::max(1, static_cast<int>(std::lround(target.Spacing[a] / data.Geometry.Spacing[a])));
-  }
-  const long long nx = target.Dimensions[0];
-  const long long ny = target.Dimensions[1];
-  out.Properties.assign(4 * static_cast<size_t>(target.NumberOfPoints()), 0.0f);
-  vtkSMPTools::For(0, target.NumberOfPoints(),
-    [&](long long begin, long long end)
-    {
-      for (long long id = begin; id < end; ++id)
-      {
-        double p[3];
-        target.PointPosition(id % nx, (id / nx) % ny, id / (nx * ny), p);
-        double sum[4] = { 0, 0, 0, 0 };
-        for (int k = 0; k < sub[2]; ++k)
-          for (int j = 0; j < sub[1]; ++j)
-            for (int i = 0; i < sub[0]; ++i)
-            {
-              const double q[3] = { p[0] + ((i + 0.5) / sub[0] - 0.5) * target.Spacing[0],
-                p[1] + ((j + 0.5) / sub[1] - 0.5) * target.Spacing[1],
-                p[2] + ((k + 0.5) / sub[2] - 0.5) * target.Spacing[2] };
-              float s[4];
-              data.Sample(q, s);
-              for (int c = 0; c < 4; ++c)
-              {
-                sum[c] += s[c];
-              }
-            }
-        const double n = static_cast<double>(sub[0]) * sub[1] * sub[2];
-        for (int c = 0; c < 4; ++c)
-        {
-          out.Properties[4 * id + c] = static_cast<float>(sum[c] / n);
-        }
-      }
-    });
-}
-
-bool PropagateTasks(const ClassifiedVolume& grid, const std::vector<PropagationTask>& tasks,
-  bool coherent, int maxSweeps, FixedPointIllumination& illumination,
-  std::vector<PropagationTask>& remaining, PropagationStatistics& statistics,
-  const ProgressCallback& progress)
+bool PropagateTasks(const ClassifiedVolume& volume, const GridGeometry& target,
+  const std::vector<PropagationTask>& tasks, bool coherent, int maxSweeps,
+  FixedPointIllumination& illumination, std::vector<PropagationTask>& remaining,
+  PropagationStatistics& statistics, const ProgressCallback& progress)
 {
   remaining.clear();
   // Sweeps in group order, so the two directions of an axis run one after the other.
@@ -608,7 +683,8 @@ bool PropagateTasks(const ClassifiedVolume& grid, const std::vector<PropagationT
       continue;
     }
     auto sweepProgress = [&](double f) { return !progress || progress((i + f) / planned); };
-    if (!Sweep(grid, sweeps[i][0].Group, sweeps[i], illumination, statistics, sweepProgress))
+    if (!Sweep(
+          volume, target, sweeps[i][0].Group, sweeps[i], illumination, statistics, sweepProgress))
     {
       return false;
     }

@@ -5,12 +5,17 @@
  *
  * Light is swept slice by slice along one of six axis directions (a propagation group).
  * Every light of a group travels in the same sweep with its own pair of 2D read/write
- * slice buffers: the light reaching a point is read (bilinearly) from the previous slice
- * at the position offset along the light's direction and attenuated over the segment
- * between, l_out = l_in (1 - a (1 - c)) with the trapezoid optical depth of the segment.
+ * slice buffers: the light reaching a point of the illumination grid is read from the
+ * previous slice at the position offset along the light's direction and attenuated over the
+ * segment between, integrated through the full-resolution classification (midpoint rule,
+ * l_out = l_in prod (1 - a (1 - c))). The read is a bicubic (Catmull-Rom) interpolation
+ * limited to the range of the four surrounding pixels: bilinear reads blur a shadow edge a
+ * little at every slice (the numerical diffusion that dominated the error in material), the
+ * cubic blurs it far less, and the limit keeps it from creating light or negative values.
  * Where that position falls outside the previous slice the light entered the box through a
- * side face and arrives unattenuated. Each point adds weight x sign x light to the
- * illumination volume, so removing a light is propagating its old state with sign -1.
+ * side face; it is attenuated over the part of the segment inside the box. Each point adds
+ * weight x sign x light to the illumination volume, so removing a light is propagating its
+ * old state with sign -1.
  *
  * Group weights (eq. 5a/5b): a light outside the volume travels in the groups of the two
  * axis directions closest to its main direction t (a directional light's direction, the
@@ -88,11 +93,6 @@ public:
   std::vector<std::int64_t> Values;
 };
 
-/// Classification resampled onto the illumination grid: each point averages the data's
-/// optical properties over its cell of the coarser grid (a copy at scale 1).
-VOLILLUMFILTERS_EXPORT void ResampleClassification(
-  const ClassifiedVolume& data, const GridGeometry& target, ClassifiedVolume& out);
-
 struct PropagationStatistics
 {
   int Sweeps = 0;             // sweeps done
@@ -101,15 +101,16 @@ struct PropagationStatistics
 };
 
 /**
- * Propagate the tasks into the illumination. Coherent: all tasks of a group share one
+ * Propagate the tasks into the illumination on the grid `target`, attenuating light through
+ * the full-resolution classification `volume`. Coherent: all tasks of a group share one
  * sweep; otherwise each task has a sweep of its own. Groups along the same axis run
  * consecutively. At most maxSweeps sweeps run (0: no limit); the tasks not done are
  * returned in remaining. Returns false when progress asked to stop (the illumination is
  * then partly updated).
  */
-VOLILLUMFILTERS_EXPORT bool PropagateTasks(const ClassifiedVolume& grid,
-  const std::vector<PropagationTask>& tasks, bool coherent, int maxSweeps,
-  FixedPointIllumination& illumination, std::vector<PropagationTask>& remaining,
+VOLILLUMFILTERS_EXPORT bool PropagateTasks(const ClassifiedVolume& volume,
+  const GridGeometry& target, const std::vector<PropagationTask>& tasks, bool coherent,
+  int maxSweeps, FixedPointIllumination& illumination, std::vector<PropagationTask>& remaining,
   PropagationStatistics& statistics, const ProgressCallback& progress);
 
 }

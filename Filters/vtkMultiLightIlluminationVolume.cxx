@@ -83,23 +83,12 @@ bool vtkMultiLightIlluminationVolume::ComputeIllumination(const volillum::Classi
   this->Valid = false;
   if (!selective)
   {
-    if (target.Dimensions == volume.Geometry.Dimensions)
-    {
-      // The base class keeps the classification until the input changes, which always
-      // brings a full update back here.
-      this->Grid = &volume;
-    }
-    else
-    {
-      volillum::ResampleClassification(volume, target, this->Resampled);
-      this->Grid = &this->Resampled;
-    }
     this->Illumination.Reset(target.NumberOfPoints());
     work = full;
   }
   this->LastStatistics = volillum::PropagationStatistics();
   std::vector<volillum::PropagationTask> remaining;
-  if (!volillum::PropagateTasks(*this->Grid, work, this->CoherentPropagation,
+  if (!volillum::PropagateTasks(volume, target, work, this->CoherentPropagation,
         this->MaximumPassesPerUpdate, this->Illumination, remaining, this->LastStatistics,
         [this](double f) { return this->ReportProgress(f); }))
   {

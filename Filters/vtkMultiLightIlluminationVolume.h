@@ -101,13 +101,10 @@ private:
   bool ChooseSelective(const std::vector<volillum::PropagationTask>& selective,
     const std::vector<volillum::PropagationTask>& full, size_t changed, size_t lights) const;
 
-  // The accumulated illumination, the states it holds (with Pending still to do) and the
-  // classification on the illumination grid (the input's own at scale 1, else Resampled).
+  // The accumulated illumination and the states it holds (with Pending still to do).
   volillum::FixedPointIllumination Illumination;
   volillum::LightChangeTracker Applied;
   std::vector<volillum::PropagationTask> Pending;
-  volillum::ClassifiedVolume Resampled;
-  const volillum::ClassifiedVolume* Grid = nullptr;
   bool Valid = false;
   volillum::PropagationStatistics LastStatistics;
 };
