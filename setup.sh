@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Set-up, build and run VolumetricIllumination on Debian 12.
 #
-#   ./setup.sh demo    install, build, render the demo phantom lit by three coloured lights
+#   ./setup.sh demo    install, build, render the shipped CT head lit by two coloured lights
+#                      beside the same view with local shading only (volillum-demo.png)
 #   ./setup.sh test    install, build, run every test, a benchmark smoke run and the
 #                      sanitizer (ASan + UBSan) build's tests and fuzz corpus
 #   ./setup.sh build   install and build only
@@ -67,7 +68,8 @@ export VTK_SMP_BACKEND_IN_USE=STDThread
 case "${1:-}" in
   demo)
     build
-    xvfb-run -a build/bin/volillum-render --output "$PWD/volillum-demo.png"
+    xvfb-run -a build/bin/volillum-render Data/headsq.vti --config Data/demo.json \
+      --output "$PWD/volillum-demo.png"
     ;;
   test)
     build

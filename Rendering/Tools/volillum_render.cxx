@@ -25,6 +25,8 @@
 #include "vtkDataSetTriangleFilter.h"
 #include "vtkExodusIIReader.h"
 #include "vtkFieldData.h"
+#include "vtkGPUVolumeRayCastMapper.h"
+#include "vtkImageAppend.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkLight.h"
@@ -89,21 +91,30 @@ options:
   --size W H         image size in pixels (default 512 512)
   --help             this text
 
-JSON (every key optional):
+JSON (every key optional; the value shown is the default):
   {"method": "propagation", "resolution_scale": 1, "image_size": [512, 512],
    "output": "volillum.png", "ambient": 0.1, "diffuse": 1.0, "background": [0,0,0],
    "gradient_shading": false, "chromatic_attenuation": false, "filter_width": 3,
+   "side_by_side": false,
    "lights": [{"type": "directional" | "point" | "spot",
-               "position": [x,y,z], "focal_point": [x,y,z], "relative": true,
-               "color": [r,g,b], "intensity": 1, "cone_angle": 30, "exponent": 1,
+               "position": [0.5,0.5,2], "focal_point": [0.5,0.5,0.5], "relative": false,
+               "color": [1,1,1], "intensity": 1, "cone_angle": 30, "exponent": 1,
                "on": true}],
    "transfer_function": {"color": [[s,r,g,b], ...], "opacity": [[s,a], ...],
-                         "unit_distance": 1, "relative": true},
-   "camera": {"azimuth": 30, "elevation": 20, "zoom": 1.0},
-   grids only: "level0_resolution": 128, "absorption": 1, "scattering": [r,g,b]}
-"relative" positions are fractions of the volume's bounding box (0..1 inside, outside
-beyond); relative transfer-function scalars are fractions of the scalar range. Without
-lights, three coloured lights are used (a warm key, a cool fill and a white rim light).
+                         "unit_distance": 2 x smallest spacing, "relative": true},
+   "camera": {"azimuth": 30, "elevation": 20, "roll": 0, "zoom": 1.0},
+   grids only: "level0_resolution": 128, "absorption": 1, "scattering": [0,0,0]}
+A light's "relative" (default false) gives its position and focal point as fractions of
+the volume's bounding box (0..1 inside, outside beyond); a light without a position or
+focal point gets the default above, always relative. A transfer function's "relative"
+(default true) gives its scalars as fractions of the scalar range. Without lights, three
+coloured lights are used (a warm key, a cool fill and a white rim light). Without a
+transfer function (or without its "color" or "opacity" list) the default one starts above
+the background: opacity is 0 up to Otsu's threshold of the scalar histogram (the value
+that best separates air around a scan from the object) and rises above it, colours from
+warm to white. The camera frames the points above that threshold (the object, not the
+empty box around it); "zoom" scales from there. "side_by_side" writes the same view twice
+side by side, lit with local shading only (left) and with the illumination (right).
 )";
 
 struct Options
@@ -661,7 +672,79 @@ std::vector<vtkSmartPointer<vtkLight>> BuildLights(const json& config, const dou
   return out;
 }
 
-void BuildTransferFunctions(const json& config, const double range[2],
+// Otsu's threshold of the scalars (first component, 256 bins over the range, NaN skipped):
+// the value that best separates the two classes of the histogram, for a scan the air
+// around it and the object.
+double OtsuThreshold(vtkDataArray* scalars, const double range[2])
+{
+  constexpr int bins = 256;
+  const double width = range[1] > range[0] ? range[1] - range[0] : 1.0;
+  std::vector<double> histogram(bins, 0.0);
+  const vtkIdType n = scalars->GetNumberOfTuples();
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    const double v = scalars->GetComponent(i, 0);
+    if (std::isfinite(v))
+    {
+      const int b = static_cast<int>((v - range[0]) / width * bins);
+      histogram[std::min(std::max(b, 0), bins - 1)] += 1.0;
+    }
+  }
+  double total = 0.0, weighted = 0.0;
+  for (int b = 0; b < bins; ++b)
+  {
+    total += histogram[b];
+    weighted += b * histogram[b];
+  }
+  double below = 0.0, belowWeighted = 0.0, best = -1.0;
+  int split = 0;
+  for (int b = 0; b < bins - 1; ++b)
+  {
+    below += histogram[b];
+    belowWeighted += b * histogram[b];
+    const double above = total - below;
+    if (below <= 0.0 || above <= 0.0)
+    {
+      continue;
+    }
+    const double meanBelow = belowWeighted / below;
+    const double meanAbove = (weighted - belowWeighted) / above;
+    const double between = below * above * (meanBelow - meanAbove) * (meanBelow - meanAbove);
+    if (between > best)
+    {
+      best = between;
+      split = b;
+    }
+  }
+  return range[0] + (split + 1) * width / bins;
+}
+
+// The default transfer function over [threshold, max]: opacity 0 below the threshold, then
+// a ramp (u is the fraction of the way from the threshold to the maximum); colours from a
+// warm tone to white, so that the lights' colours show on the object.
+void DefaultTransferFunction(double threshold, const double range[2], vtkColorTransferFunction* ctf,
+  vtkPiecewiseFunction* otf, bool color, bool opacity)
+{
+  const double width = range[1] > threshold ? range[1] - threshold : 1.0;
+  auto at = [&](double u) { return threshold + u * width; };
+  if (color)
+  {
+    ctf->AddRGBPoint(range[0], 0.9, 0.6, 0.45);
+    ctf->AddRGBPoint(at(0.0), 0.9, 0.6, 0.45);
+    ctf->AddRGBPoint(at(0.35), 0.95, 0.85, 0.75);
+    ctf->AddRGBPoint(at(1.0), 1.0, 1.0, 1.0);
+  }
+  if (opacity)
+  {
+    otf->AddPoint(range[0], 0.0);
+    otf->AddPoint(at(0.0), 0.0);
+    otf->AddPoint(at(0.1), 0.15);
+    otf->AddPoint(at(0.5), 0.5);
+    otf->AddPoint(at(1.0), 0.8);
+  }
+}
+
+void BuildTransferFunctions(const json& config, const double range[2], double threshold,
   vtkColorTransferFunction* ctf, vtkPiecewiseFunction* otf, double& unitDistance, double minSpacing)
 {
   const json tf =
@@ -673,32 +756,115 @@ void BuildTransferFunctions(const json& config, const double range[2],
   const bool relative = Flag(tf, "relative", true);
   const double width = range[1] > range[0] ? range[1] - range[0] : 1.0;
   auto scalar = [&](double s) { return relative ? range[0] + s * width : s; };
-  const json color = tf.contains("color") ? tf["color"]
-                                          : json::parse("[[0,0,0,0],[0.3,0.8,0.4,0.3],"
-                                                        "[0.6,0.95,0.9,0.75],[1,1,0.95,0.6]]");
-  const json opacity = tf.contains("opacity")
-    ? tf["opacity"]
-    : json::parse("[[0,0],[0.2,0],[0.3,0.01],[0.5,0.02],[0.6,0.06],"
-                  "[0.8,0.08],[0.9,0.6],[1,0.7]]");
-  if (!color.is_array() || !opacity.is_array() || color.empty() || opacity.empty())
+  DefaultTransferFunction(
+    threshold, range, ctf, otf, !tf.contains("color"), !tf.contains("opacity"));
+  if (tf.contains("color"))
   {
-    Fail("the transfer function needs non-empty 'color' and 'opacity' lists");
+    const json& color = tf["color"];
+    if (!color.is_array() || color.empty())
+    {
+      Fail("the transfer function's 'color' must be a non-empty list");
+    }
+    for (const auto& p : color)
+    {
+      const auto v = Numbers(p, 4, "a colour point [s,r,g,b]");
+      ctf->AddRGBPoint(scalar(v[0]), v[1], v[2], v[3]);
+    }
   }
-  for (const auto& p : color)
+  if (tf.contains("opacity"))
   {
-    const auto v = Numbers(p, 4, "a colour point [s,r,g,b]");
-    ctf->AddRGBPoint(scalar(v[0]), v[1], v[2], v[3]);
-  }
-  for (const auto& p : opacity)
-  {
-    const auto v = Numbers(p, 2, "an opacity point [s,a]");
-    otf->AddPoint(scalar(v[0]), v[1]);
+    const json& opacity = tf["opacity"];
+    if (!opacity.is_array() || opacity.empty())
+    {
+      Fail("the transfer function's 'opacity' must be a non-empty list");
+    }
+    for (const auto& p : opacity)
+    {
+      const auto v = Numbers(p, 2, "an opacity point [s,a]");
+      otf->AddPoint(scalar(v[0]), v[1]);
+    }
   }
   unitDistance = Number(tf, "unit_distance", 2.0 * minSpacing);
   if (!(unitDistance > 0.0))
   {
     Fail("'unit_distance' must be positive");
   }
+}
+
+// Bounds of the points whose opacity is above 0 (the data's bounds when there are none).
+void ObjectBounds(vtkDataSet* data, vtkPiecewiseFunction* otf, double bounds[6])
+{
+  data->GetBounds(bounds);
+  vtkDataArray* scalars = data->GetPointData()->GetScalars();
+  double found[6] = { VTK_DOUBLE_MAX, VTK_DOUBLE_MIN, VTK_DOUBLE_MAX, VTK_DOUBLE_MIN,
+    VTK_DOUBLE_MAX, VTK_DOUBLE_MIN };
+  bool any = false;
+  for (vtkIdType i = 0; i < data->GetNumberOfPoints(); ++i)
+  {
+    const double v = scalars->GetComponent(i, 0);
+    if (std::isfinite(v) && otf->GetValue(v) > 0.0)
+    {
+      double p[3];
+      data->GetPoint(i, p);
+      for (int a = 0; a < 3; ++a)
+      {
+        found[2 * a] = std::min(found[2 * a], p[a]);
+        found[2 * a + 1] = std::max(found[2 * a + 1], p[a]);
+      }
+      any = true;
+    }
+  }
+  if (any)
+  {
+    std::copy(found, found + 6, bounds);
+  }
+}
+
+// The frame the render window shows now.
+vtkSmartPointer<vtkImageData> Grab(vtkRenderWindow* window)
+{
+  vtkNew<vtkWindowToImageFilter> grab;
+  grab->SetInput(window);
+  grab->ReadFrontBufferOff();
+  grab->Update();
+  auto frame = vtkSmartPointer<vtkImageData>::New();
+  frame->DeepCopy(grab->GetOutput());
+  return frame;
+}
+
+// The same view with local shading only: VTK's ray caster with gradient shading, lit by the
+// same lights.
+vtkSmartPointer<vtkImageData> RenderLocalShading(const json& config, vtkImageData* image,
+  vtkVolume* volume, vtkRenderer* renderer, vtkRenderWindow* window,
+  const std::vector<vtkSmartPointer<vtkLight>>& lights)
+{
+  vtkNew<vtkGPUVolumeRayCastMapper> mapper;
+  mapper->SetInputData(image);
+  vtkNew<vtkVolumeProperty> property;
+  property->DeepCopy(volume->GetProperty());
+  property->ShadeOn();
+  property->SetAmbient(Number(config, "ambient", 0.1));
+  property->SetDiffuse(Number(config, "diffuse", 1.0));
+  property->SetSpecular(0.0);
+  vtkNew<vtkVolume> local;
+  local->SetMapper(mapper);
+  local->SetProperty(property);
+  renderer->RemoveVolume(volume);
+  renderer->AddVolume(local);
+  renderer->AutomaticLightCreationOff();
+  renderer->RemoveAllLights();
+  for (const auto& l : lights)
+  {
+    vtkNew<vtkLight> copy;
+    copy->DeepCopy(l);
+    copy->SetLightTypeToSceneLight();
+    renderer->AddLight(copy);
+  }
+  window->Render();
+  auto frame = Grab(window);
+  renderer->RemoveVolume(local);
+  renderer->AddVolume(volume);
+  return frame;
 }
 }
 
@@ -854,7 +1020,13 @@ int Run(int argc, char* argv[])
   vtkNew<vtkColorTransferFunction> ctf;
   vtkNew<vtkPiecewiseFunction> otf;
   double unitDistance = 1.0;
-  BuildTransferFunctions(config, range, ctf, otf, unitDistance, minSpacing);
+  BuildTransferFunctions(config, range, OtsuThreshold(data->GetPointData()->GetScalars(), range),
+    ctf, otf, unitDistance, minSpacing);
+  const bool sideBySide = Flag(config, "side_by_side", false);
+  if (sideBySide && !image)
+  {
+    Fail("'side_by_side' is available for volumes (image data), not for grids");
+  }
   const auto lights = BuildLights(config, bounds);
 
   vtkNew<vtkVolumeProperty> property;
@@ -903,7 +1075,10 @@ int Run(int argc, char* argv[])
   renderer->GetActiveCamera()->Azimuth(Number(camera, "azimuth", 30.0));
   renderer->GetActiveCamera()->Elevation(Number(camera, "elevation", 20.0));
   renderer->GetActiveCamera()->OrthogonalizeViewUp();
-  renderer->ResetCamera();
+  renderer->GetActiveCamera()->Roll(Number(camera, "roll", 0.0));
+  double object[6];
+  ObjectBounds(data, otf, object);
+  renderer->ResetCamera(object);
   renderer->GetActiveCamera()->Zoom(Number(camera, "zoom", 1.0));
   renderer->ResetCameraClippingRange();
 
@@ -916,20 +1091,24 @@ int Run(int argc, char* argv[])
   window->Render();
   timer->StopTimer();
   const double firstFrameSeconds = timer->GetElapsedTime();
-  vtkNew<vtkWindowToImageFilter> grab;
-  grab->SetInput(window);
-  grab->ReadFrontBufferOff();
-  grab->Update();
-  vtkNew<vtkImageData> firstFrame;
-  firstFrame->DeepCopy(grab->GetOutput());
+  vtkSmartPointer<vtkImageData> picture = Grab(window);
   timer->StartTimer();
   window->Render();
   timer->StopTimer();
   const double frameSeconds = timer->GetElapsedTime();
+  if (sideBySide)
+  {
+    vtkNew<vtkImageAppend> both;
+    both->SetAppendAxis(0);
+    both->AddInputData(RenderLocalShading(config, image, volume, renderer, window, lights));
+    both->AddInputData(picture);
+    both->Update();
+    picture = both->GetOutput();
+  }
 
   vtkNew<vtkPNGWriter> writer;
   writer->SetFileName(output.c_str());
-  writer->SetInputData(firstFrame);
+  writer->SetInputData(picture);
   writer->Write();
   if (writer->GetErrorCode() != 0)
   {
