@@ -4,6 +4,7 @@
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
 #include "vtkCellData.h"
+#include "vtkCellDataToPointData.h"
 #include "vtkCellTypes.h"
 #include "vtkDataArray.h"
 #include "vtkDataObject.h"
@@ -12,6 +13,7 @@
 #include "vtkFieldData.h"
 #include "vtkInformation.h"
 #include "vtkIntArray.h"
+#include "vtkMatrix3x3.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
@@ -43,36 +45,169 @@ void UseThreadedBackend()
 }
 
 //------------------------------------------------------------------------------
-vtkDataArray* FindPointScalars(vtkAlgorithm* algorithm, vtkDataSet* input, std::string& error)
+namespace
 {
+// Point data from a cell array: each point gets the average of the cells that use it.
+vtkSmartPointer<vtkDataArray> CellToPoint(vtkDataSet* input, vtkDataArray* cells)
+{
+  auto structure = vtk::TakeSmartPointer(input->NewInstance());
+  structure->CopyStructure(input);
+  structure->GetCellData()->AddArray(cells);
+  vtkNew<vtkCellDataToPointData> convert;
+  convert->SetInputData(structure);
+  convert->Update();
+  return convert->GetOutput()->GetPointData()->GetArray(cells->GetName());
+}
+
+// One component of a multi-component array, or its magnitude for component -1.
+vtkSmartPointer<vtkDataArray> SingleComponent(vtkDataArray* array, int component)
+{
+  const vtkIdType n = array->GetNumberOfTuples();
+  const int components = array->GetNumberOfComponents();
+  auto out = vtkSmartPointer<vtkDoubleArray>::New();
+  out->SetName(array->GetName());
+  out->SetNumberOfTuples(n);
+  vtkSMPTools::For(0, n,
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      for (vtkIdType i = begin; i < end; ++i)
+      {
+        double value = 0.0;
+        if (component >= 0)
+        {
+          value = array->GetComponent(i, component);
+        }
+        else
+        {
+          for (int c = 0; c < components; ++c)
+          {
+            const double v = array->GetComponent(i, c);
+            value += v * v;
+          }
+          value = std::sqrt(value);
+        }
+        out->SetValue(i, value);
+      }
+    });
+  return out;
+}
+}
+
+//------------------------------------------------------------------------------
+PointScalars FindPointScalars(
+  vtkAlgorithm* algorithm, vtkDataSet* input, int component, std::string& error)
+{
+  PointScalars found;
   vtkInformation* arrayInfo = algorithm->GetInputArrayInformation(0);
   const char* requested = arrayInfo && arrayInfo->Has(vtkDataObject::FIELD_NAME())
     ? arrayInfo->Get(vtkDataObject::FIELD_NAME())
     : nullptr;
+  vtkAbstractArray* chosen = nullptr;
+  bool onCells = false;
   if (!requested || !*requested)
   {
-    vtkDataArray* active = input->GetPointData()->GetScalars();
-    if (!active)
+    chosen = input->GetPointData()->GetScalars();
+    if (!chosen)
     {
-      error = "The input has no point scalars to illuminate.";
+      chosen = input->GetCellData()->GetScalars();
+      onCells = chosen != nullptr;
     }
-    return active;
+    if (!chosen)
+    {
+      error = "The input has no point or cell scalars to illuminate.";
+      return found;
+    }
   }
-  const std::string name(requested);
-  vtkAbstractArray* named = input->GetPointData()->GetAbstractArray(requested);
-  if (!named)
+  else
   {
-    error = input->GetCellData()->GetAbstractArray(requested)
-      ? "The scalars '" + name + "' are not point data; choose a point array."
-      : "The input has no point array '" + name + "' to illuminate.";
-    return nullptr;
+    chosen = input->GetPointData()->GetAbstractArray(requested);
+    if (!chosen)
+    {
+      chosen = input->GetCellData()->GetAbstractArray(requested);
+      onCells = chosen != nullptr;
+    }
+    if (!chosen)
+    {
+      error =
+        std::string("The input has no point or cell array '") + requested + "' to illuminate.";
+      return found;
+    }
   }
-  vtkDataArray* scalars = vtkDataArray::SafeDownCast(named);
-  if (!scalars)
+  return ToPointScalars(input, chosen, onCells, component, error);
+}
+
+//------------------------------------------------------------------------------
+PointScalars ToPointScalars(
+  vtkDataSet* input, vtkAbstractArray* chosen, bool onCells, int component, std::string& error)
+{
+  PointScalars found;
+  const std::string name = chosen->GetName() ? chosen->GetName() : "";
+  vtkDataArray* source = vtkDataArray::SafeDownCast(chosen);
+  if (!source)
   {
-    error = "The array '" + name + "' is not numeric; choose a numeric point array.";
+    error = "The array '" + name + "' is not numeric; choose a numeric array.";
+    return found;
   }
-  return scalars;
+  const int components = source->GetNumberOfComponents();
+  if (components > 1 && (component < -1 || component >= components))
+  {
+    std::ostringstream message;
+    message << "The scalars '" << name << "' have " << components
+            << " components; ScalarComponent must be -1 (magnitude) or 0 to " << components - 1
+            << "; it is " << component << ".";
+    error = message.str();
+    return found;
+  }
+  if (onCells && source->GetNumberOfTuples() != input->GetNumberOfCells())
+  {
+    std::ostringstream message;
+    message << "The cell scalars '" << name << "' have " << source->GetNumberOfTuples()
+            << " values for " << input->GetNumberOfCells()
+            << " cells; the dataset is inconsistent.";
+    error = message.str();
+    return found;
+  }
+  found.Array = source;
+  found.Time = source->GetMTime();
+  if (components > 1)
+  {
+    found.Array = SingleComponent(found.Array, component);
+  }
+  if (onCells)
+  {
+    found.Array = CellToPoint(input, found.Array);
+    found.Time = std::max(found.Time, input->GetMTime());
+  }
+  return found;
+}
+
+//------------------------------------------------------------------------------
+std::vector<LightState> InImageFrame(
+  const std::vector<LightState>& lights, vtkMatrix3x3* direction, const double origin[3])
+{
+  if (!direction || direction->IsIdentity())
+  {
+    return lights;
+  }
+  vtkNew<vtkMatrix3x3> inverse;
+  vtkMatrix3x3::Invert(direction, inverse);
+  std::vector<LightState> local = lights;
+  const auto toLocal = [&](std::array<double, 3>& p)
+  {
+    const double d[3] = { p[0] - origin[0], p[1] - origin[1], p[2] - origin[2] };
+    double r[3];
+    inverse->MultiplyPoint(d, r);
+    for (int a = 0; a < 3; ++a)
+    {
+      p[a] = origin[a] + r[a];
+    }
+  };
+  for (auto& light : local)
+  {
+    toLocal(light.Position);
+    toLocal(light.FocalPoint);
+  }
+  return local;
 }
 
 //------------------------------------------------------------------------------
@@ -164,19 +299,23 @@ std::string CheckPointIds(vtkUnstructuredGrid* grid)
 }
 
 //------------------------------------------------------------------------------
-vtkDataArray* CheckScalarsAndLights(
-  vtkAlgorithm* algorithm, vtkDataSet* input, const LightList& lights, std::string& error)
+PointScalars CheckScalarsAndLights(vtkAlgorithm* algorithm, vtkDataSet* input, int component,
+  const LightList& lights, std::string& error)
 {
-  vtkDataArray* scalars = FindPointScalars(algorithm, input, error);
-  if (scalars)
+  PointScalars scalars = FindPointScalars(algorithm, input, component, error);
+  if (scalars.Array)
   {
-    error = CheckPoints(input, scalars);
+    error = CheckPoints(input, scalars.Array);
   }
-  if (scalars && error.empty())
+  if (scalars.Array && error.empty())
   {
     error = lights.Validate();
   }
-  return error.empty() ? scalars : nullptr;
+  if (!error.empty())
+  {
+    scalars.Array = nullptr;
+  }
+  return scalars;
 }
 
 //------------------------------------------------------------------------------

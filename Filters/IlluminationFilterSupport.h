@@ -9,13 +9,17 @@
 
 #include "IlluminationLights.h"
 #include "VolIllumFiltersModule.h"
+#include "vtkDataArray.h"
+#include "vtkSmartPointer.h"
 
 #include <string>
+#include <vector>
 
+class vtkAbstractArray;
 class vtkAlgorithm;
-class vtkDataArray;
 class vtkDataSet;
 class vtkFieldData;
+class vtkMatrix3x3;
 class vtkUnstructuredGrid;
 
 namespace volillum
@@ -25,13 +29,36 @@ namespace volillum
 /// with VTK_SMP_BACKEND_IN_USE, switch to STDThread so the filters use every core.
 VOLILLUMFILTERS_EXPORT void UseThreadedBackend();
 
+/// The scalars a filter lights: one value per point.
+struct PointScalars
+{
+  vtkSmartPointer<vtkDataArray> Array; // the chosen point array, or one derived from it
+  vtkMTimeType Time = 0;               // changes when the array it comes from changes
+};
+
 /**
- * The point array the algorithm's input array 0 names (SetInputArrayToProcess); the active point
- * scalars when no array was chosen (ParaView leaves the name empty before the input first updated).
- * Returns nullptr with the reason in error when there are none usable.
+ * The array the algorithm's input array 0 names (SetInputArrayToProcess), or the active
+ * scalars when no array was chosen (ParaView leaves the name empty before the input first
+ * updated); point data first, then cell data. Cell data become point data, each point the
+ * average of the cells that use it (vtkCellDataToPointData). An array of several components
+ * becomes one: the component `component` (0-based), or the magnitude for -1. Returns no
+ * Array, with the reason in error, when there is none usable.
  */
-VOLILLUMFILTERS_EXPORT vtkDataArray* FindPointScalars(
-  vtkAlgorithm* algorithm, vtkDataSet* input, std::string& error);
+VOLILLUMFILTERS_EXPORT PointScalars FindPointScalars(
+  vtkAlgorithm* algorithm, vtkDataSet* input, int component, std::string& error);
+
+/// The conversions of FindPointScalars for an array already chosen (a cell array when
+/// onCells).
+VOLILLUMFILTERS_EXPORT PointScalars ToPointScalars(
+  vtkDataSet* input, vtkAbstractArray* chosen, bool onCells, int component, std::string& error);
+
+/**
+ * The lights in the frame of an image's axes, where the filters work: positions and focal
+ * points p become origin + D^-1 (p - origin) for the image's direction matrix D (the
+ * lights unchanged when D is the identity or null).
+ */
+VOLILLUMFILTERS_EXPORT std::vector<LightState> InImageFrame(
+  const std::vector<LightState>& lights, vtkMatrix3x3* direction, const double origin[3]);
 
 /// Largest coordinate magnitude of an input's bounds the filters accept (beyond it, lengths
 /// and their squares would overflow).
@@ -58,10 +85,10 @@ VOLILLUMFILTERS_EXPORT std::string CheckPointIds(vtkUnstructuredGrid* grid);
 /// otherwise what is wrong.
 VOLILLUMFILTERS_EXPORT std::string CheckPoints(vtkDataSet* input, vtkDataArray* scalars);
 
-/// FindPointScalars, CheckPoints, then the lights' own check (LightList::Validate): nullptr
+/// FindPointScalars, CheckPoints, then the lights' own check (LightList::Validate): no Array
 /// with the reason in error when any fails.
-VOLILLUMFILTERS_EXPORT vtkDataArray* CheckScalarsAndLights(
-  vtkAlgorithm* algorithm, vtkDataSet* input, const LightList& lights, std::string& error);
+VOLILLUMFILTERS_EXPORT PointScalars CheckScalarsAndLights(vtkAlgorithm* algorithm,
+  vtkDataSet* input, int component, const LightList& lights, std::string& error);
 
 /// What one update did, reported in the output's field data.
 struct UpdateReport

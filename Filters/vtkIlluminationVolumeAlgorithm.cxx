@@ -12,6 +12,7 @@
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
 #include "vtkLight.h"
+#include "vtkMatrix3x3.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
 #include "vtkSMPTools.h"
@@ -27,8 +28,8 @@ volillumLightingImplementationMacro(vtkIlluminationVolumeAlgorithm);
 //------------------------------------------------------------------------------
 bool vtkIlluminationVolumeAlgorithm::ClassificationKey::operator==(const ClassificationKey& o) const
 {
-  return this->Scalars == o.Scalars && this->Color == o.Color && this->Opacity == o.Opacity &&
-    this->Scale == o.Scale && this->UnitDistance == o.UnitDistance &&
+  return this->Scalars == o.Scalars && this->Component == o.Component && this->Color == o.Color &&
+    this->Opacity == o.Opacity && this->Scale == o.Scale && this->UnitDistance == o.UnitDistance &&
     this->Chromatic == o.Chromatic;
 }
 
@@ -192,7 +193,9 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
     return 1;
   }
   std::string error;
-  vtkDataArray* scalars = volillum::CheckScalarsAndLights(this, input, this->Lights, error);
+  const volillum::PointScalars found =
+    volillum::CheckScalarsAndLights(this, input, this->ScalarComponent, this->Lights, error);
+  vtkDataArray* scalars = found.Array;
   if (!scalars)
   {
     vtkErrorMacro(<< error);
@@ -200,11 +203,13 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
   }
   double bounds[6];
   data.GetBounds(bounds);
-  const std::vector<volillum::LightState> lights =
-    volillum::ForBounds(this->GetLightStates(), bounds);
+  vtkMatrix3x3* direction = input->GetDirectionMatrix();
+  const std::vector<volillum::LightState> lights = volillum::ForBounds(
+    volillum::InImageFrame(this->GetLightStates(), direction, input->GetOrigin()), bounds);
 
   ClassificationKey key;
-  key.Scalars = scalars->GetMTime();
+  key.Scalars = found.Time;
+  key.Component = this->ScalarComponent;
   key.Color = this->ColorTransferFunction ? this->ColorTransferFunction->GetMTime() : 0;
   key.Opacity = this->OpacityFunction ? this->OpacityFunction->GetMTime() : 0;
   key.Scale = this->ResolutionScale;
@@ -255,6 +260,7 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
   output->SetDimensions(target.Dimensions.data());
   output->SetOrigin(target.Origin.data());
   output->SetSpacing(target.Spacing.data());
+  output->SetDirectionMatrix(direction);
   output->GetPointData()->SetScalars(illumination);
   this->AddOutputArrays(output->GetPointData());
 
@@ -271,6 +277,7 @@ void vtkIlluminationVolumeAlgorithm::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Lights: " << this->Lights.Size() << "\n";
+  os << indent << "ScalarComponent: " << this->ScalarComponent << "\n";
   os << indent << "ResolutionScale: " << this->ResolutionScale << "\n";
   os << indent << "ScalarOpacityUnitDistance: " << this->ScalarOpacityUnitDistance << "\n";
   os << indent << "ChromaticAttenuation: " << this->ChromaticAttenuation << "\n";

@@ -2,12 +2,16 @@
  * @class vtkIlluminationVolumeAlgorithm
  * @brief Common base of the filters that compute an illumination volume for vtkImageData.
  *
- * Input: a 3D vtkImageData with a point scalar array (chosen with SetInputArrayToProcess;
- * the active scalars by default). Output: a vtkImageData covering the input's bounds at
- * ResolutionScale (1, 0.5 or 0.25 per axis) with the point array "Illumination"
- * (3-component float, linear HDR: an unoccluded white light of intensity 1 gives (1,1,1)),
- * and the field arrays UpdateMode (0 full, 1 selective), PropagationPasses (passes or sweeps
- * the last update did), PendingPasses (passes left for a later update) and UpdateSeconds
+ * Input: a 3D vtkImageData with a scalar array (chosen with SetInputArrayToProcess; the
+ * active point scalars, else the active cell scalars, by default). Cell data are lit as
+ * point data, each point the average of the cells around it (vtkCellDataToPointData); an
+ * array of several components is lit by its magnitude or one component (ScalarComponent).
+ * An image with a direction matrix is lit in its own frame: the lights are taken into the
+ * frame of its axes, and the output has the input's direction matrix. Output: a vtkImageData
+ * covering the input's bounds at ResolutionScale (1, 0.5 or 0.25 per axis) with the point array
+ * "Illumination" (3-component float, linear HDR: an unoccluded white light of intensity 1 gives
+ * (1,1,1)), and the field arrays UpdateMode (0 full, 1 selective), PropagationPasses (passes or
+ * sweeps the last update did), PendingPasses (passes left for a later update) and UpdateSeconds
  * (its wall time). An aborted update leaves the previous output in place.
  *
  * Lights are vtkLight objects (see IlluminationLights.h for how they are read). The same
@@ -75,6 +79,15 @@ public:
   int GetNumberOfLightParameters() const;
   void SetLightParameter(int index, double value);
   double GetLightParameter(int index) const;
+  ///@}
+
+  ///@{
+  /**
+   * Which component of a multi-component scalar array is lit: -1 (default) its magnitude,
+   * 0 .. components - 1 that component. Ignored for one-component scalars.
+   */
+  vtkSetClampMacro(ScalarComponent, int, -1, VTK_INT_MAX);
+  vtkGetMacro(ScalarComponent, int);
   ///@}
 
   ///@{
@@ -155,6 +168,7 @@ protected:
   bool ReportProgress(double fraction);
 
   volillum::LightList Lights;
+  int ScalarComponent = -1;
   double ResolutionScale = 1.0;
   vtkColorTransferFunction* ColorTransferFunction = nullptr;
   vtkPiecewiseFunction* OpacityFunction = nullptr;
@@ -173,6 +187,7 @@ private:
   struct ClassificationKey
   {
     vtkMTimeType Scalars = 0;
+    int Component = -1;
     vtkMTimeType Color = 0;
     vtkMTimeType Opacity = 0;
     double Scale = 0.0;

@@ -247,7 +247,9 @@ int vtkUnstructuredGridIllumination::RequestData(
     return 1;
   }
   std::string error;
-  vtkDataArray* scalars = volillum::CheckScalarsAndLights(this, input, this->Lights, error);
+  const volillum::PointScalars found =
+    volillum::CheckScalarsAndLights(this, input, this->ScalarComponent, this->Lights, error);
+  vtkDataArray* scalars = found.Array;
   if (!scalars)
   {
     vtkErrorMacro(<< error);
@@ -279,7 +281,7 @@ int vtkUnstructuredGridIllumination::RequestData(
   this->UpdateProgress(0.1);
 
   const std::vector<double> solutionKey = { static_cast<double>(this->MeshKey),
-    static_cast<double>(scalars->GetMTime()),
+    static_cast<double>(found.Time), static_cast<double>(this->ScalarComponent),
     static_cast<double>(this->ColorTransferFunction ? this->ColorTransferFunction->GetMTime() : 0),
     static_cast<double>(this->OpacityFunction ? this->OpacityFunction->GetMTime() : 0),
     this->ScalarOpacityUnitDistance, this->ChromaticAttenuation ? 1.0 : 0.0, this->Absorption,
@@ -417,6 +419,7 @@ void vtkUnstructuredGridIllumination::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Lights: " << this->Lights.Size() << "\n";
   os << indent << "Level0Resolution: " << this->Level0Resolution[0] << " "
      << this->Level0Resolution[1] << " " << this->Level0Resolution[2] << "\n";
+  os << indent << "ScalarComponent: " << this->ScalarComponent << "\n";
   os << indent << "Absorption: " << this->Absorption << "\n";
   os << indent << "Level1Iterations: " << this->Level1Iterations << "\n";
   os << indent << "ScatteringStrength: " << this->ScatteringStrength[0] << " "

@@ -3,15 +3,17 @@
  * @brief Illumination of an unstructured grid by many coloured lights with a two-level
  * light solver (Shih, Zhang and Ma).
  *
- * Input: a vtkUnstructuredGrid with a point scalar array (SetInputArrayToProcess; the
- * active scalars by default). Cells other than tetrahedra (hexahedra, wedges, pyramids,
- * voxels) are split into tetrahedra with vtkDataSetTriangleFilter; 2D cells are ignored;
- * tetrahedra of (near) zero volume are left out of the light walk and inverted ones are
- * reoriented. Output: the input with the point array "Illumination" (3-component float,
- * the units of the image filters: an unoccluded white light of intensity 1 gives (1,1,1)),
- * optionally "LitColors" (see SetLitColors), and the field arrays UpdateMode (0 full, 1 selective),
- * PropagationPasses (lights propagated), PendingPasses (0), UpdateSeconds, Level0Seconds,
- * Level1Seconds and ScatteringSeconds.
+ * Input: a vtkUnstructuredGrid with a scalar array (SetInputArrayToProcess; the active
+ * point scalars, else the active cell scalars, by default). Cell data are lit as point data,
+ * each point the average of the cells around it (vtkCellDataToPointData); an array of
+ * several components is lit by its magnitude or one component (ScalarComponent). Cells other than
+ * tetrahedra (hexahedra, wedges, pyramids, voxels) are split into tetrahedra with
+ * vtkDataSetTriangleFilter; 2D cells are ignored; tetrahedra of (near) zero volume are left out of
+ * the light walk and inverted ones are reoriented. Output: the input with the point array
+ * "Illumination" (3-component float, the units of the image filters: an unoccluded white light of
+ * intensity 1 gives (1,1,1)), optionally "LitColors" (see SetLitColors), and the field arrays
+ * UpdateMode (0 full, 1 selective), PropagationPasses (lights propagated), PendingPasses (0),
+ * UpdateSeconds, Level0Seconds, Level1Seconds and ScatteringSeconds.
  *
  * Per light: level 0 resamples the classified extinction onto a Level0Resolution grid
  * over the mesh bounds (blank points transparent) and solves light transport there by
@@ -83,6 +85,12 @@ public:
    */
   void SetColorTransferFunction(vtkColorTransferFunction* ctf);
   vtkGetObjectMacro(ColorTransferFunction, vtkColorTransferFunction);
+  /**
+   * Which component of a multi-component scalar array is lit: -1 (default) its magnitude,
+   * 0 .. components - 1 that component. Ignored for one-component scalars.
+   */
+  vtkSetClampMacro(ScalarComponent, int, -1, VTK_INT_MAX);
+  vtkGetMacro(ScalarComponent, int);
   void SetOpacityFunction(vtkPiecewiseFunction* otf);
   vtkGetObjectMacro(OpacityFunction, vtkPiecewiseFunction);
   vtkSetMacro(ScalarOpacityUnitDistance, double);
@@ -180,6 +188,7 @@ private:
   double Absorption = 1.0;
   int Level1Iterations = -1;
   double ScatteringStrength[3] = { 0.0, 0.0, 0.0 };
+  int ScalarComponent = -1;
   int ScatteringIterations = 10;
   bool LitColors = true;
 

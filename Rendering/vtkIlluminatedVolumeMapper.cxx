@@ -3,6 +3,7 @@
 #include "vtkDataArray.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
+#include "vtkMatrix3x3.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkOpenGLShaderProperty.h"
@@ -37,9 +38,9 @@ const char* const JitteredTerminateInit =
   "//VTK::Terminate::Init";
 const char* const SamplerIntDeclaration = "uniform int volillum_illumination;";
 const char* const SamplerDeclaration = "uniform sampler3D volillum_illumination;";
-const char* const UniformNames[] = { "volillum_illumination", "volillum_illuminationScale",
-  "volillum_illuminationShift", "volillum_ambient", "volillum_diffuse", "volillum_gradientShading",
-  "volillum_phong" };
+const char* const UniformNames[] = { "volillum_illumination", "volillum_toIlluminationX",
+  "volillum_toIlluminationY", "volillum_toIlluminationZ", "volillum_ambient", "volillum_diffuse",
+  "volillum_gradientShading", "volillum_phong" };
 
 vtkDataArray* IlluminationArray(vtkImageData* image)
 {
@@ -162,20 +163,29 @@ void vtkIlluminatedVolumeMapper::SetShadingUniforms(vtkOpenGLShaderProperty* pro
   this->IlluminationData->GetOrigin(origin);
   this->IlluminationData->GetSpacing(spacing);
   const int* extent = this->IlluminationData->GetExtent();
-  // Texture coordinate of a dataset position p: point index (p - o) / s, texel centre at
-  // (index + 0.5) / n.
-  float scale[3], shift[3];
+  // Texture coordinate of a dataset position p: in the frame of the image's axes
+  // q = origin + D^-1 (p - origin) (D its direction matrix), point index (q - o) / s with
+  // o the first point, texel centre at (index + 0.5) / n. One affine transform.
+  vtkNew<vtkMatrix3x3> inverse;
+  vtkMatrix3x3::Invert(this->IlluminationData->GetDirectionMatrix(), inverse);
+  float rows[3][4];
   for (int a = 0; a < 3; ++a)
   {
-    const double o = origin[a] + extent[2 * a] * spacing[a];
+    const double first = origin[a] + extent[2 * a] * spacing[a];
     const double s = 1.0 / (spacing[a] * dims[a]);
-    scale[a] = static_cast<float>(s);
-    shift[a] = static_cast<float>(-o * s + 0.5 / dims[a]);
+    double shift = (origin[a] - first) * s + 0.5 / dims[a];
+    for (int b = 0; b < 3; ++b)
+    {
+      rows[a][b] = static_cast<float>(s * inverse->GetElement(a, b));
+      shift -= s * inverse->GetElement(a, b) * origin[b];
+    }
+    rows[a][3] = static_cast<float>(shift);
   }
   vtkUniforms* u = property->GetFragmentCustomUniforms();
   u->SetUniformi("volillum_illumination", this->IlluminationTexture->GetTextureUnit());
-  u->SetUniform3f("volillum_illuminationScale", scale);
-  u->SetUniform3f("volillum_illuminationShift", shift);
+  u->SetUniform4f("volillum_toIlluminationX", rows[0]);
+  u->SetUniform4f("volillum_toIlluminationY", rows[1]);
+  u->SetUniform4f("volillum_toIlluminationZ", rows[2]);
   u->SetUniformf("volillum_ambient", static_cast<float>(this->Ambient));
   u->SetUniformf("volillum_diffuse", static_cast<float>(this->Diffuse));
   u->SetUniformi("volillum_gradientShading", this->GradientShading ? 1 : 0);

@@ -13,8 +13,9 @@ vec3 volillumDatasetPosition(vec3 texPos)
 // resolution, trilinear).
 vec3 volillumIllumination(vec3 texPos)
 {
-  vec3 tc = volillumDatasetPosition(texPos) * volillum_illuminationScale +
-    volillum_illuminationShift;
+  vec4 p = vec4(volillumDatasetPosition(texPos), 1.0);
+  vec3 tc =
+    vec3(dot(volillum_toIlluminationX, p), dot(volillum_toIlluminationY, p), dot(volillum_toIlluminationZ, p));
   return texture3D(volillum_illumination, tc).rgb;
 }
 

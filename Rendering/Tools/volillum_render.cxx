@@ -15,6 +15,7 @@
 
 #include "vtkAppendFilter.h"
 #include "vtkCamera.h"
+#include "vtkCellData.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkCommand.h"
 #include "vtkCompositeDataIterator.h"
@@ -95,7 +96,7 @@ JSON (every key optional; the value shown is the default):
   {"method": "propagation", "resolution_scale": 1, "image_size": [512, 512],
    "output": "volillum.png", "ambient": 0.1, "diffuse": 1.0, "background": [0,0,0],
    "gradient_shading": false, "chromatic_attenuation": false, "filter_width": 3,
-   "side_by_side": false,
+   "side_by_side": false, "component": -1,
    "lights": [{"type": "directional" | "point" | "spot",
                "position": [0.5,0.5,2], "focal_point": [0.5,0.5,0.5], "relative": false,
                "color": [1,1,1], "intensity": 1, "cone_angle": 30, "exponent": 1,
@@ -108,7 +109,10 @@ A light's "relative" (default false) gives its position and focal point as fract
 the volume's bounding box (0..1 inside, outside beyond); a light without a position or
 focal point gets the default above, always relative. A transfer function's "relative"
 (default true) gives its scalars as fractions of the scalar range. Without lights, three
-coloured lights are used (a warm key, a cool fill and a white rim light). Without a
+coloured lights are used (a warm key, a cool fill and a white rim light). Scalars are the
+active point scalars or the first point array, else the cell scalars or the first cell
+array (cell data are lit as point data, each point the mean of its cells); an array of
+several components is lit by its magnitude ("component": -1) or the component given. Without a
 transfer function (or without its "color" or "opacity" list) the default one starts above
 the background: opacity is 0 up to Otsu's threshold of the scalar histogram (the value
 that best separates air around a scan from the object) and rises above it, colours from
@@ -404,6 +408,8 @@ void CheckImageHeader(vtkAlgorithm* reader, const std::string& path)
 
 // Reads the volume or unstructured grid (or generates the phantom); fails with one line on
 // any problem.
+double Number(const json& object, const char* key, double fallback);
+
 vtkSmartPointer<vtkDataSet> LoadData(const Options& o)
 {
   vtkSmartPointer<vtkAlgorithm> reader;
@@ -495,24 +501,55 @@ vtkSmartPointer<vtkDataSet> LoadData(const Options& o)
   {
     Fail((o.Input.empty() ? o.Phantom : o.Input) + " is empty");
   }
-  if (!image->GetPointData()->GetScalars())
+  // The active scalars, else the first numeric array, as ParaView would offer them: point
+  // data first, then cell data (lit as point data, each point the mean of its cells).
+  const auto firstNumeric = [](vtkDataSetAttributes* attributes) -> vtkDataArray*
   {
-    // Take the first numeric single-component point array, as ParaView would offer it.
-    for (int i = 0; i < image->GetPointData()->GetNumberOfArrays(); ++i)
+    if (attributes->GetScalars())
     {
-      vtkDataArray* a = image->GetPointData()->GetArray(i);
-      if (a && a->GetNumberOfComponents() == 1)
+      return attributes->GetScalars();
+    }
+    for (int i = 0; i < attributes->GetNumberOfArrays(); ++i)
+    {
+      if (attributes->GetArray(i))
       {
-        image->GetPointData()->SetActiveScalars(a->GetName());
-        break;
+        return attributes->GetArray(i);
       }
     }
+    return nullptr;
+  };
+  vtkDataArray* chosen = firstNumeric(image->GetPointData());
+  const bool onCells = !chosen;
+  chosen = chosen ? chosen : firstNumeric(image->GetCellData());
+  if (!chosen)
+  {
+    Fail((o.Input.empty() ? o.Phantom : o.Input) + " has no point or cell scalars to render");
   }
-  vtkDataArray* scalars = image->GetPointData()->GetScalars();
+  const int components = chosen->GetNumberOfComponents();
+  const int component = static_cast<int>(Number(o.Config, "component", -1));
+  std::string unusable;
+  vtkSmartPointer<vtkDataArray> scalars =
+    volillum::ToPointScalars(image, chosen, onCells, component, unusable).Array;
   if (!scalars)
   {
-    Fail((o.Input.empty() ? o.Phantom : o.Input) + " has no point scalars to render");
+    Fail(o.Input + ": " + unusable);
   }
+  const std::string name = chosen->GetName() && *chosen->GetName() ? chosen->GetName() : "scalars";
+  if (onCells)
+  {
+    std::cout << "scalars '" << name
+              << "' are cell data: lit as point data, each point the mean of its cells\n";
+  }
+  if (components > 1)
+  {
+    std::cout << "scalars '" << name << "' have " << components << " components: lit by "
+              << (component < 0 ? std::string("their magnitude")
+                                : "component " + std::to_string(component))
+              << "\n";
+  }
+  scalars->SetName(name.c_str());
+  image->GetPointData()->AddArray(scalars);
+  image->GetPointData()->SetActiveScalars(name.c_str());
   // Inconsistent datasets are refused before any filter or mapper reads them.
   std::string inconsistency = volillum::CheckPoints(image, scalars);
   if (auto grid = vtkUnstructuredGrid::SafeDownCast(image))
@@ -542,11 +579,6 @@ vtkSmartPointer<vtkDataSet> LoadData(const Options& o)
             << vtkIlluminatedVolumeMapper::MaximumCoordinate
             << " this tool renders; rescale its spacing or origin";
     Fail(message.str());
-  }
-  if (scalars->GetNumberOfComponents() != 1)
-  {
-    Fail("the scalars of " + o.Input + " have " + std::to_string(scalars->GetNumberOfComponents()) +
-      " components; one is needed");
   }
   return image;
 }
