@@ -124,8 +124,10 @@ void CartesianSAT::Build(
   std::array<int, 3> n;
   for (int a = 0; a < 3; ++a)
   {
-    n[a] = std::max(1, static_cast<int>(std::ceil((hi[a] - lo[a]) / cellSize - 1e-9)));
-    // Centre the cells on the rotated bounding box.
+    // One cell more than the box holds, centred on it: in a frame of the data's axes the
+    // cell centres are the data points (every one, or every second or fourth), so a hard
+    // shadow (a box one cell wide) at a point reads exactly the column through it.
+    n[a] = 1 + std::max(0, static_cast<int>(std::ceil((hi[a] - lo[a]) / cellSize - 1e-9)));
     this->Origin[a] = 0.5 * (lo[a] + hi[a]) - 0.5 * n[a] * cellSize;
   }
   this->Table.Allocate(n, channels);

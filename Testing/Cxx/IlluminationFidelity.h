@@ -252,22 +252,18 @@ inline double RelativeRms(
   return norm > 0.0 ? std::sqrt(error / norm) : 0.0;
 }
 
-/**
- * Compare the output of an updated illumination filter with the reference at up to
- * `samples` material points and as many points drawn from the whole volume. The filter's
- * classification and lights (as it applies them) are those of the reference.
- */
-inline Fidelity Measure(vtkIlluminationVolumeAlgorithm* filter, size_t samples = 20000)
+/// The classification of an updated filter's input (as the filter classifies it) and the
+/// geometry of its output; false when either is missing.
+inline bool ClassifiedInput(vtkIlluminationVolumeAlgorithm* filter,
+  volillum::ClassifiedVolume& classified, volillum::GridGeometry& target)
 {
-  Fidelity f;
   vtkImageData* input = vtkImageData::SafeDownCast(filter->GetInputDataObject(0, 0));
   vtkImageData* output = filter->GetOutput();
-  auto* result = vtkFloatArray::SafeDownCast(output->GetPointData()->GetArray("Illumination"));
-  if (!input || !result)
+  if (!input || !input->GetPointData()->GetScalars() || output->GetNumberOfPoints() == 0)
   {
-    return f;
+    return false;
   }
-  volillum::GridGeometry data, target;
+  volillum::GridGeometry data;
   int dims[3];
   input->GetDimensions(dims);
   output->GetDimensions(target.Dimensions.data());
@@ -284,14 +280,56 @@ inline Fidelity Measure(vtkIlluminationVolumeAlgorithm* filter, size_t samples =
   settings.Opacity = filter->GetOpacityFunction();
   settings.UnitDistance = filter->GetScalarOpacityUnitDistance();
   settings.Chromatic = filter->GetChromaticAttenuation();
-  volillum::ClassifiedVolume classified;
   std::string error;
-  if (!volillum::Classify(input->GetPointData()->GetScalars(), data, settings, classified, error))
+  return volillum::Classify(input->GetPointData()->GetScalars(), data, settings, classified, error);
+}
+
+/**
+ * Relative RMS of an updated filter's illumination against a reference volume computed at
+ * the same points, over the material points only (MaterialMask); -1 without material.
+ */
+inline double MaterialRms(
+  vtkIlluminationVolumeAlgorithm* filter, vtkFloatArray* got, vtkFloatArray* reference)
+{
+  volillum::ClassifiedVolume classified;
+  volillum::GridGeometry target;
+  if (!ClassifiedInput(filter, classified, target))
+  {
+    return -1.0;
+  }
+  const auto mask = MaterialMask(classified, target);
+  double error = 0.0, norm = 0.0;
+  for (size_t id = 0; id < mask.size(); ++id)
+  {
+    for (int c = 0; mask[id] && c < 3; ++c)
+    {
+      const double r = reference->GetValue(3 * id + c);
+      const double d = got->GetValue(3 * id + c) - r;
+      error += d * d;
+      norm += r * r;
+    }
+  }
+  return norm > 0.0 ? std::sqrt(error / norm) : -1.0;
+}
+
+/**
+ * Compare the output of an updated illumination filter with the reference at up to
+ * `samples` material points and as many points drawn from the whole volume. The filter's
+ * classification and lights (as it applies them) are those of the reference.
+ */
+inline Fidelity Measure(vtkIlluminationVolumeAlgorithm* filter, size_t samples = 20000)
+{
+  Fidelity f;
+  volillum::ClassifiedVolume classified;
+  volillum::GridGeometry target;
+  auto* result =
+    vtkFloatArray::SafeDownCast(filter->GetOutput()->GetPointData()->GetArray("Illumination"));
+  if (!result || !ClassifiedInput(filter, classified, target))
   {
     return f;
   }
   double bounds[6];
-  data.GetBounds(bounds);
+  classified.Geometry.GetBounds(bounds);
   const auto lights = volillum::ForBounds(filter->GetLightStates(), bounds);
   const auto mask = MaterialMask(classified, target);
   std::vector<long long> material, all;
@@ -312,7 +350,6 @@ inline Fidelity Measure(vtkIlluminationVolumeAlgorithm* filter, size_t samples =
   f.WholeRms = RelativeRms(got, ReferenceAt(classified, lights, target, all), all);
   return f;
 }
-
 }
 
 #endif
