@@ -356,8 +356,8 @@ TEST(MultiLightIlluminationVolume, LightInsideTheVolumeAndSpotLights)
     const double material =
       volillumfidelity::MaterialRms(propagated, Result(propagated), Result(reference));
     std::cout << (light == inside ? "point light inside" : "spot light")
-              << ": RMS relative difference over material " << material << " (whole volume "
-              << rms << "), passes " << Field(propagated, "PropagationPasses") << std::endl;
+              << ": RMS relative difference over material " << material << " (whole volume " << rms
+              << "), passes " << Field(propagated, "PropagationPasses") << std::endl;
     EXPECT_LE(material, 0.045);
     EXPECT_LE(rms, 0.15);
   }
