@@ -62,6 +62,16 @@ public:
   bool Armed = false;
 };
 
+/// A copy of the point array "Illumination" of an updated filter's output.
+inline vtkSmartPointer<vtkFloatArray> Result(vtkAlgorithm* filter)
+{
+  auto copy = vtkSmartPointer<vtkFloatArray>::New();
+  copy->DeepCopy(vtkDataSet::SafeDownCast(filter->GetOutputDataObject(0))
+                   ->GetPointData()
+                   ->GetArray("Illumination"));
+  return copy;
+}
+
 /// Root-mean-square difference relative to the root-mean-square of the reference.
 inline double RmsRelative(vtkFloatArray* got, vtkFloatArray* reference)
 {

@@ -20,6 +20,7 @@
 using volillumtest::DirectionalLight;
 using volillumtest::ErrorCounter;
 using volillumtest::PointLight;
+using volillumtest::Result;
 using volillumtest::RmsRelative;
 
 namespace
@@ -38,13 +39,6 @@ vtkSmartPointer<vtkPiecewiseFunction> Opacity()
   otf->AddPoint(0.0, 0.0);
   otf->AddPoint(200.0, 0.3);
   return otf;
-}
-
-vtkSmartPointer<vtkFloatArray> Result(vtkImageAlgorithm* filter)
-{
-  auto copy = vtkSmartPointer<vtkFloatArray>::New();
-  copy->DeepCopy(filter->GetOutput()->GetPointData()->GetArray("Illumination"));
-  return copy;
 }
 
 // RMS relative difference between hard filtered shadows (FilterWidth 0, tables at full

@@ -27,17 +27,11 @@ using volillumtest::ImageFilter;
 using volillumtest::PhantomScene;
 using volillumtest::PointLight;
 using volillumtest::RampOpacity;
+using volillumtest::Result;
 using volillumtest::RmsRelative;
 
 namespace
 {
-vtkSmartPointer<vtkFloatArray> Result(vtkImageAlgorithm* filter)
-{
-  auto copy = vtkSmartPointer<vtkFloatArray>::New();
-  copy->DeepCopy(filter->GetOutput()->GetPointData()->GetArray("Illumination"));
-  return copy;
-}
-
 // Largest difference relative to the largest reference value.
 double MaxRelative(vtkFloatArray* got, vtkFloatArray* reference)
 {

@@ -26,17 +26,11 @@
 using volillumtest::DirectionalLight;
 using volillumtest::ErrorCounter;
 using volillumtest::PhantomScene;
+using volillumtest::Result;
 using volillumtest::RmsRelative;
 
 namespace
 {
-vtkSmartPointer<vtkFloatArray> Illumination(vtkDataSet* output)
-{
-  auto copy = vtkSmartPointer<vtkFloatArray>::New();
-  copy->DeepCopy(output->GetPointData()->GetArray("Illumination"));
-  return copy;
-}
-
 // The largest absolute difference of two arrays of the same length.
 double MaxDifference(vtkFloatArray* a, vtkFloatArray* b)
 {
@@ -69,7 +63,7 @@ vtkSmartPointer<vtkFloatArray> LightImage(vtkImageData* image, double rangeMax,
   {
     *errorCount = errors->Count;
   }
-  return filter->GetOutput()->GetNumberOfPoints() > 0 ? Illumination(filter->GetOutput()) : nullptr;
+  return filter->GetOutput()->GetNumberOfPoints() > 0 ? Result(filter) : nullptr;
 }
 
 // The scalars of the three-spheres phantom (n points per axis) as a double array.
@@ -87,6 +81,18 @@ vtkSmartPointer<vtkImageData> Image(int n)
   auto image = vtkSmartPointer<vtkImageData>::New();
   image->SetDimensions(n, n, n);
   return image;
+}
+
+// An n^3-point image with the given spacing split into linear tetrahedra.
+vtkSmartPointer<vtkUnstructuredGrid> TetrahedralBox(int n, double spacing)
+{
+  auto image = Image(n);
+  image->SetSpacing(spacing, spacing, spacing);
+  vtkNew<vtkDataSetTriangleFilter> split;
+  split->SetInputData(image);
+  split->TetrahedraOnlyOn();
+  split->Update();
+  return split->GetOutput();
 }
 }
 
@@ -162,13 +168,7 @@ TEST(RealWorldInputs, CellDataTetrahedraAreLitAsTheAverageOfTheCellsAroundEachPo
   // A 9^3 image split into tetrahedra; cell scalars from the phantom at each cell's first
   // point, point scalars the mean over the tetrahedra that use the point.
   const int n = 9;
-  auto image = Image(n);
-  image->SetSpacing(8.0, 8.0, 8.0);
-  vtkNew<vtkDataSetTriangleFilter> split;
-  split->SetInputData(image);
-  split->TetrahedraOnlyOn();
-  split->Update();
-  vtkUnstructuredGrid* tets = split->GetOutput();
+  auto tets = TetrahedralBox(n, 8.0);
   auto phantom = SphereValues(n);
   vtkNew<vtkDoubleArray> cellValues;
   cellValues->SetName("density");
@@ -216,7 +216,7 @@ TEST(RealWorldInputs, CellDataTetrahedraAreLitAsTheAverageOfTheCellsAroundEachPo
     filter->Update();
     EXPECT_EQ(errors->Count, 0);
     ASSERT_GT(filter->GetOutput()->GetNumberOfPoints(), 0);
-    results.push_back(Illumination(filter->GetOutput()));
+    results.push_back(Result(filter));
   }
   const double difference = MaxDifference(results[0], results[1]);
   std::cout << "cell-data tetrahedra vs hand-averaged point data: largest difference " << difference
@@ -286,14 +286,7 @@ TEST(RealWorldInputs, QuadraticTetrahedraAreSplitAndLit)
 {
   // Quadratic tetrahedra (mid-edge nodes) of a box with a linear density; the illumination
   // at the corner nodes must agree with the same box meshed by linear tetrahedra.
-  const int n = 7;
-  auto image = Image(n);
-  image->SetSpacing(10.0, 10.0, 10.0);
-  vtkNew<vtkDataSetTriangleFilter> split;
-  split->SetInputData(image);
-  split->TetrahedraOnlyOn();
-  split->Update();
-  vtkUnstructuredGrid* linear = split->GetOutput();
+  auto linear = TetrahedralBox(7, 10.0);
   const auto density = [](const double* x) { return 2.0 * x[0] + x[1] + 0.5 * x[2]; };
 
   vtkNew<vtkUnstructuredGrid> quadratic;
@@ -331,7 +324,7 @@ TEST(RealWorldInputs, QuadraticTetrahedraAreSplitAndLit)
     quadratic->InsertNextCell(VTK_QUADRATIC_TETRA, 10, q);
   }
   quadratic->SetPoints(points);
-  for (vtkUnstructuredGrid* grid : { linear, quadratic.Get() })
+  for (vtkUnstructuredGrid* grid : { linear.Get(), quadratic.Get() })
   {
     vtkNew<vtkDoubleArray> values;
     values->SetName("density");
@@ -347,7 +340,7 @@ TEST(RealWorldInputs, QuadraticTetrahedraAreSplitAndLit)
   otf->AddPoint(0.0, 0.0);
   otf->AddPoint(210.0, 0.3);
   std::vector<vtkSmartPointer<vtkFloatArray>> results;
-  for (vtkUnstructuredGrid* grid : { linear, quadratic.Get() })
+  for (vtkUnstructuredGrid* grid : { linear.Get(), quadratic.Get() })
   {
     vtkNew<vtkUnstructuredGridIllumination> filter;
     vtkNew<ErrorCounter> errors;
@@ -359,7 +352,7 @@ TEST(RealWorldInputs, QuadraticTetrahedraAreSplitAndLit)
     filter->Update();
     EXPECT_EQ(errors->Count, 0);
     ASSERT_EQ(filter->GetOutput()->GetNumberOfPoints(), grid->GetNumberOfPoints());
-    results.push_back(Illumination(filter->GetOutput()));
+    results.push_back(Result(filter));
   }
   // The corner nodes are the linear mesh's points, in the same order.
   vtkNew<vtkFloatArray> corners;
