@@ -53,11 +53,18 @@ inline std::int64_t RoundToFixed(double x)
 }
 
 // One task as the sweep deposits it.
+// Smallest progress along the sweep axis per unit of path a ray must make for a group to
+// carry it.
+constexpr double MinimumAlong = 1e-6;
+
 struct Deposit
 {
   size_t Source;
   bool Spot;
-  double Axis[3]; // spot cone axis
+  int Axis0 = 0, Sign0 = 1;  // this task's group
+  int Axis1 = -1, Sign1 = 1; // the other group of a two-group point or spot light, or -1
+  double Whole = 1.0;        // (weight + other weight) / weight
+  double Axis[3];            // spot cone axis
   double CosCone;
   double Exponent;
   double Scaled[3]; // radiance x weight x sign x fixed-point scale
@@ -243,7 +250,7 @@ struct SweepSource
       return;
     }
     const double along = s.Sign * source.Travel[s.Axis];
-    this->Enters = along <= 1e-6;
+    this->Enters = along <= MinimumAlong;
     if (!this->Enters)
     {
       this->Step = s.Spacing[s.Axis] / along;
@@ -351,7 +358,7 @@ void TransmittanceAtPoint(const SweepContext& s, const SweepSource& sweep, const
       }
     }
     const double along = s.Sign * d[a];
-    if (t == 0 || along <= 1e-6)
+    if (t == 0 || along <= MinimumAlong)
     {
       // Light enters the box at the first slice, or makes no progress along the axis.
       return;
@@ -468,6 +475,14 @@ bool Sweep(const ClassifiedVolume& volume, const GridGeometry& g, int group,
     }
     const LightState& l = task.Light;
     deposit.Spot = l.Kind == LightKind::Spot;
+    deposit.Axis0 = task.Group / 2;
+    deposit.Sign0 = task.Group % 2 == 0 ? 1 : -1;
+    if (task.OtherGroup >= 0 && task.Weight > 0.0)
+    {
+      deposit.Axis1 = task.OtherGroup / 2;
+      deposit.Sign1 = task.OtherGroup % 2 == 0 ? 1 : -1;
+      deposit.Whole = (task.Weight + task.OtherWeight) / task.Weight;
+    }
     const auto axis = l.Direction();
     std::copy(axis.begin(), axis.end(), deposit.Axis);
     deposit.CosCone = std::cos(vtkMath::RadiansFromDegrees(l.ConeAngle));
@@ -512,6 +527,20 @@ bool Sweep(const ClassifiedVolume& volume, const GridGeometry& g, int group,
             {
               const size_t j = deposit.Source;
               double factor = groupFactor[nb * j + ib];
+              if (deposit.Axis1 >= 0)
+              {
+                // Two groups: where the other cannot carry the ray, this one takes it all;
+                // where this one cannot, the other does.
+                const double* d = direction.data() + 3 * (nb * j + ib);
+                if (deposit.Sign0 * d[deposit.Axis0] <= MinimumAlong)
+                {
+                  continue;
+                }
+                if (deposit.Sign1 * d[deposit.Axis1] <= MinimumAlong)
+                {
+                  factor *= deposit.Whole;
+                }
+              }
               if (deposit.Spot && factor != 0.0)
               {
                 const double* d = direction.data() + 3 * (nb * j + ib);
@@ -599,14 +628,21 @@ std::vector<PropagationTask> TasksForLight(
     return tasks;
   }
   const bool inside = IsLightInside(light, bounds);
-  for (const auto& gw : AssignPropagationGroups(light, bounds))
+  const auto groups = AssignPropagationGroups(light, bounds);
+  const bool pair = !inside && light.Kind != LightKind::Directional && groups.size() == 2;
+  for (size_t g = 0; g < groups.size(); ++g)
   {
     PropagationTask task;
     task.Light = light;
-    task.Group = gw.Group;
-    task.Weight = gw.Weight;
+    task.Group = groups[g].Group;
+    task.Weight = groups[g].Weight;
     task.Sign = sign;
     task.Inside = inside;
+    if (pair)
+    {
+      task.OtherGroup = groups[1 - g].Group;
+      task.OtherWeight = groups[1 - g].Weight;
+    }
     tasks.push_back(task);
   }
   return tasks;

@@ -70,6 +70,12 @@ struct PropagationTask
   double Weight = 1.0;
   int Sign = 1;
   bool Inside = false;
+  /// A point or spot light outside the volume travels in two groups. Its rays diverge, so
+  /// some points may lie where the light runs against one group's direction (that group
+  /// cannot carry it there): at those points the other group carries the light's whole
+  /// weight. OtherGroup is -1 when the light has one group or is directional.
+  int OtherGroup = -1;
+  double OtherWeight = 0.0;
 };
 
 /// The tasks that add (sign +1) or remove (sign -1) a light state; none when it is off.

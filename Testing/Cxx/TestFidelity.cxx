@@ -86,7 +86,7 @@ void CheckScene(const Scene& scene, double propagation1, double propagation05, d
 TEST(Fidelity, Slab)
 {
   CheckScene(volillumfidelity::PhantomScene("slab", vtkIlluminationPhantomSource::Slab, 64, 0.05),
-    6, 6, 4, 2);
+    2, 3.5, 4, 2);
 }
 
 TEST(Fidelity, ThreeSpheres)
