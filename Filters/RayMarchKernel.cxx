@@ -8,8 +8,60 @@
 namespace volillum
 {
 
+EmptyBlocks::EmptyBlocks(const ClassifiedVolume& volume)
+{
+  const auto& g = volume.Geometry;
+  for (int a = 0; a < 3; ++a)
+  {
+    this->Last[a] = g.Dimensions[a] - 1;
+    this->Blocks[a] = std::max(1, (this->Last[a] + Cells - 1) / Cells);
+    this->Origin[a] = g.Origin[a];
+    this->Inverse[a] = 1.0 / g.Spacing[a];
+  }
+  const long long bx = this->Blocks[0], by = this->Blocks[1], bz = this->Blocks[2];
+  this->Empty.assign(static_cast<size_t>(bx * by * bz), 1);
+  const long long nx = g.Dimensions[0], ny = g.Dimensions[1];
+  // A block's points run from Cells x b to Cells x (b + 1), the next block's first ones
+  // included: a sample in any of its cells reads only those.
+  vtkSMPTools::For(0, bz,
+    [&](long long k0, long long k1)
+    {
+      for (long long kb = k0; kb < k1; ++kb)
+        for (long long jb = 0; jb < by; ++jb)
+          for (long long ib = 0; ib < bx; ++ib)
+          {
+            bool empty = true;
+            for (long long k = kb * Cells;
+                 empty && k <= std::min<long long>((kb + 1) * Cells, this->Last[2]); ++k)
+              for (long long j = jb * Cells;
+                   empty && j <= std::min<long long>((jb + 1) * Cells, this->Last[1]); ++j)
+                for (long long i = ib * Cells;
+                     empty && i <= std::min<long long>((ib + 1) * Cells, this->Last[0]); ++i)
+                {
+                  empty = volume.Properties[4 * (i + nx * (j + ny * k))] <= 0.0f;
+                }
+            this->Empty[static_cast<size_t>(ib + bx * (jb + by * kb))] = empty ? 1 : 0;
+          }
+    });
+}
+
+bool EmptyBlocks::Contains(const double q[3]) const
+{
+  long long block[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    // The cell TrilinearSample reads (clamped onto the grid), then its block.
+    const double u =
+      std::min(std::max((q[a] - this->Origin[a]) * this->Inverse[a], 0.0), double(this->Last[a]));
+    const int cell = std::min(static_cast<int>(u), std::max(this->Last[a] - 1, 0));
+    block[a] = std::min(cell / Cells, this->Blocks[a] - 1);
+  }
+  return this->Empty[static_cast<size_t>(
+           block[0] + this->Blocks[0] * (block[1] + this->Blocks[1] * block[2]))] != 0;
+}
+
 std::array<double, 3> RayMarchTransmittance(const ClassifiedVolume& volume, const LightState& light,
-  const double p[3], const RayMarchSettings& settings)
+  const double p[3], const RayMarchSettings& settings, const EmptyBlocks* empty)
 {
   const Incidence inc = ComputeIncidence(light, p);
   std::array<double, 3> t{ { inc.ConeFactor, inc.ConeFactor, inc.ConeFactor } };
@@ -31,6 +83,10 @@ std::array<double, 3> RayMarchTransmittance(const ClassifiedVolume& volume, cons
     const double d = (i + 0.5) * h;
     const double q[3] = { p[0] + d * inc.ToLight[0], p[1] + d * inc.ToLight[1],
       p[2] + d * inc.ToLight[2] };
+    if (empty && empty->Contains(q))
+    {
+      continue;
+    }
     volume.Sample(q, s);
     const double a = StepOpacity(s[0], h);
     t[0] *= 1.0 - a * s[1];
@@ -64,6 +120,7 @@ bool RayMarchIllumination(const ClassifiedVolume& volume, const std::vector<Ligh
   {
     return true;
   }
+  const EmptyBlocks empty(volume);
   // Slices are done in chunks so that progress is reported from this thread.
   const long long chunk = std::max(1LL, nz / 20);
   for (long long k0 = 0; k0 < nz; k0 += chunk)
@@ -83,7 +140,7 @@ bool RayMarchIllumination(const ClassifiedVolume& volume, const std::vector<Ligh
             double sum[3] = { 0.0, 0.0, 0.0 };
             for (const auto& light : active)
             {
-              const auto t = RayMarchTransmittance(volume, light, p, settings);
+              const auto t = RayMarchTransmittance(volume, light, p, settings, &empty);
               const auto r = light.Radiance();
               for (int c = 0; c < 3; ++c)
               {

@@ -1,6 +1,7 @@
 // Tests of the reference filter vtkRayMarchedIllumination against analytic transmittance,
 // linearity in the lights, spot-cone geometry, resolution scales and bad input.
 #include "IlluminationTestUtilities.h"
+#include "RayMarchKernel.h"
 #include "vtkIlluminationPhantomSource.h"
 #include "vtkRayMarchedIllumination.h"
 
@@ -444,6 +445,56 @@ TEST(RayMarchedIllumination, NaNScalarsAreEmptySpace)
     ASSERT_TRUE(std::isfinite(a->GetValue(t)));
     ASSERT_NEAR(a->GetValue(t), b->GetValue(t), 1e-6);
   }
+}
+
+TEST(RayMarchedIllumination, SkippingEmptyBlocksChangesNothing)
+{
+  // The filter skips samples in empty blocks; marching every sample must give the same.
+  auto spheres = MakeScene(vtkIlluminationPhantomSource::ThreeSpheres);
+  auto otf = vtkSmartPointer<vtkPiecewiseFunction>::New();
+  otf->AddPoint(0, 0);
+  otf->AddPoint(200, 0.3);
+  vtkNew<vtkRayMarchedIllumination> filter;
+  filter->SetOpacityFunction(otf);
+  filter->AddLight(PointLight(-20, 40, 50));
+  filter->AddLight(DirectionalLight(0.3, -0.5, -1));
+  EXPECT_EQ(RunAndCountErrors(filter, spheres), 0);
+  vtkFloatArray* skipped = Illumination(filter);
+
+  volillum::ClassificationSettings settings;
+  settings.Opacity = otf;
+  settings.Chromatic = filter->GetChromaticAttenuation();
+  volillum::GridGeometry geometry;
+  spheres->GetDimensions(geometry.Dimensions.data());
+  volillum::ClassifiedVolume classified;
+  std::string error;
+  ASSERT_TRUE(volillum::Classify(
+    spheres->GetPointData()->GetScalars(), geometry, settings, classified, error));
+  double bounds[6];
+  geometry.GetBounds(bounds);
+  const auto lights = volillum::ForBounds(filter->GetLightStates(), bounds);
+  double worst = 0.0;
+  for (vtkIdType id = 0; id < spheres->GetNumberOfPoints(); id += 7)
+  {
+    double p[3];
+    spheres->GetPoint(id, p);
+    double sum[3] = { 0, 0, 0 };
+    for (const auto& light : lights)
+    {
+      const auto t = volillum::RayMarchTransmittance(classified, light, p, {});
+      const auto r = light.Radiance();
+      for (int c = 0; c < 3; ++c)
+      {
+        sum[c] += r[c] * t[c];
+      }
+    }
+    for (int c = 0; c < 3; ++c)
+    {
+      worst = std::max(worst, std::abs(sum[c] - skipped->GetValue(3 * id + c)));
+    }
+  }
+  std::cout << "largest difference, empty blocks skipped vs every sample: " << worst << std::endl;
+  EXPECT_LE(worst, 1e-6);
 }
 
 TEST(RayMarchedIllumination, PointLightInsideTheVolume)
