@@ -746,7 +746,8 @@ def build(corpus):
     grid_case("inverted_tets", tets_pts, [(t, [ids[1], ids[0], ids[2], ids[3]]) for t, ids in tets],
               expect_cli=None, note="every tetrahedron inverted (must be reoriented)")
     grid_case("no_scalars", tets_pts, tets, [], note="no point arrays")
-    grid_case("rgb_scalars", tets_pts, tets, [("color", 3, s * 3)], note="3-component point scalars")
+    grid_case("rgb_scalars", tets_pts, tets, [("color", 3, s * 3)], expect_cli=None,
+              note="3-component point scalars (lit by their magnitude)")
     grid_case("nan_scalars", tets_pts, tets, [("density", 1, [NAN if i % 3 else v for i, v in enumerate(s)])],
               expect_cli=None, note="two thirds of the scalars NaN")
     grid_case("cell_type_99", tets_pts, [(99, ids) for _, ids in tets], note="unknown cell type 99")
