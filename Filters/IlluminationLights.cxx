@@ -176,19 +176,19 @@ std::vector<LightState> ForBounds(const std::vector<LightState>& lights, const d
   }
   diagonal = diagonal > 0.0 ? std::sqrt(diagonal) : 1.0;
   const double farthest = FarLightDistance * diagonal;
+  // A directional light shining along travel, positioned one unit from the centre.
+  const auto makeDirectional = [&centre](LightState& l, const std::array<double, 3>& travel)
+  {
+    l.Kind = LightKind::Directional;
+    for (int a = 0; a < 3; ++a)
+    {
+      l.FocalPoint[a] = centre[a];
+      l.Position[a] = centre[a] - travel[a];
+    }
+  };
   std::vector<LightState> tamed = lights;
   for (LightState& light : tamed)
   {
-    // A directional light shining along travel, positioned one unit from the centre.
-    const auto makeDirectional = [&centre](LightState& l, const std::array<double, 3>& travel)
-    {
-      l.Kind = LightKind::Directional;
-      for (int a = 0; a < 3; ++a)
-      {
-        l.FocalPoint[a] = centre[a];
-        l.Position[a] = centre[a] - travel[a];
-      }
-    };
     const auto direction = light.Direction();
     if (light.Kind == LightKind::Directional)
     {

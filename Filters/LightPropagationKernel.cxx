@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdlib>
 #include <set>
 
 namespace volillum
@@ -52,19 +51,18 @@ inline std::int64_t RoundToFixed(double x)
   return static_cast<std::int64_t>(x >= 0.0 ? x + 0.5 : x - 0.5);
 }
 
-// One task as the sweep deposits it.
 // Smallest progress along the sweep axis per unit of path a ray must make for a group to
 // carry it.
 constexpr double MinimumAlong = 1e-6;
 
+// One task as the sweep deposits it.
 struct Deposit
 {
   size_t Source;
   bool Spot;
-  int Axis0 = 0, Sign0 = 1;  // this task's group
-  int Axis1 = -1, Sign1 = 1; // the other group of a two-group point or spot light, or -1
-  double Whole = 1.0;        // (weight + other weight) / weight
-  double Axis[3];            // spot cone axis
+  int OtherAxis = -1, OtherSign = 1; // the other group of a two-group point or spot light
+  double Whole = 1.0;                // (weight + other weight) / weight
+  double Axis[3];                    // spot cone axis
   double CosCone;
   double Exponent;
   double Scaled[3]; // radiance x weight x sign x fixed-point scale
@@ -475,12 +473,10 @@ bool Sweep(const ClassifiedVolume& volume, const GridGeometry& g, int group,
     }
     const LightState& l = task.Light;
     deposit.Spot = l.Kind == LightKind::Spot;
-    deposit.Axis0 = task.Group / 2;
-    deposit.Sign0 = task.Group % 2 == 0 ? 1 : -1;
     if (task.OtherGroup >= 0 && task.Weight > 0.0)
     {
-      deposit.Axis1 = task.OtherGroup / 2;
-      deposit.Sign1 = task.OtherGroup % 2 == 0 ? 1 : -1;
+      deposit.OtherAxis = task.OtherGroup / 2;
+      deposit.OtherSign = task.OtherGroup % 2 == 0 ? 1 : -1;
       deposit.Whole = (task.Weight + task.OtherWeight) / task.Weight;
     }
     const auto axis = l.Direction();
@@ -526,24 +522,23 @@ bool Sweep(const ClassifiedVolume& volume, const GridGeometry& g, int group,
             for (const Deposit& deposit : deposits)
             {
               const size_t j = deposit.Source;
+              const double* d = direction.data() + 3 * (nb * j + ib);
               double factor = groupFactor[nb * j + ib];
-              if (deposit.Axis1 >= 0)
+              if (deposit.OtherAxis >= 0)
               {
-                // Two groups: where the other cannot carry the ray, this one takes it all;
-                // where this one cannot, the other does.
-                const double* d = direction.data() + 3 * (nb * j + ib);
-                if (deposit.Sign0 * d[deposit.Axis0] <= MinimumAlong)
+                // Two groups: where the other cannot carry the ray, this one (the sweep's)
+                // takes it all; where this one cannot, the other does.
+                if (s.Sign * d[s.Axis] <= MinimumAlong)
                 {
                   continue;
                 }
-                if (deposit.Sign1 * d[deposit.Axis1] <= MinimumAlong)
+                if (deposit.OtherSign * d[deposit.OtherAxis] <= MinimumAlong)
                 {
                   factor *= deposit.Whole;
                 }
               }
               if (deposit.Spot && factor != 0.0)
               {
-                const double* d = direction.data() + 3 * (nb * j + ib);
                 const double cosine =
                   d[0] * deposit.Axis[0] + d[1] * deposit.Axis[1] + d[2] * deposit.Axis[2];
                 factor *= cosine < deposit.CosCone
