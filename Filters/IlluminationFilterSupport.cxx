@@ -94,8 +94,8 @@ vtkSmartPointer<vtkDataArray> SingleComponent(vtkDataArray* array, int component
 }
 
 //------------------------------------------------------------------------------
-PointScalars FindPointScalars(
-  vtkAlgorithm* algorithm, vtkDataSet* input, int component, std::string& error)
+PointScalars FindPointScalars(vtkAlgorithm* algorithm, vtkDataSet* input, int component,
+  const PointScalars& previous, std::string& error)
 {
   PointScalars found;
   vtkInformation* arrayInfo = algorithm->GetInputArrayInformation(0);
@@ -133,12 +133,12 @@ PointScalars FindPointScalars(
       return found;
     }
   }
-  return ToPointScalars(input, chosen, onCells, component, error);
+  return ToPointScalars(input, chosen, onCells, component, previous, error);
 }
 
 //------------------------------------------------------------------------------
-PointScalars ToPointScalars(
-  vtkDataSet* input, vtkAbstractArray* chosen, bool onCells, int component, std::string& error)
+PointScalars ToPointScalars(vtkDataSet* input, vtkAbstractArray* chosen, bool onCells,
+  int component, const PointScalars& previous, std::string& error)
 {
   PointScalars found;
   const std::string name = chosen->GetName() ? chosen->GetName() : "";
@@ -168,7 +168,19 @@ PointScalars ToPointScalars(
     return found;
   }
   found.Array = source;
-  found.Time = source->GetMTime();
+  found.Time = onCells ? std::max(source->GetMTime(), input->GetMTime()) : source->GetMTime();
+  if (components == 1 && !onCells)
+  {
+    return found;
+  }
+  found.Source = source;
+  found.OnCells = onCells;
+  found.Component = components > 1 ? component : -1;
+  if (previous.Array && previous.Source == found.Source && previous.OnCells == onCells &&
+    previous.Component == found.Component && previous.Time == found.Time)
+  {
+    return previous;
+  }
   if (components > 1)
   {
     found.Array = SingleComponent(found.Array, component);
@@ -176,7 +188,6 @@ PointScalars ToPointScalars(
   if (onCells)
   {
     found.Array = CellToPoint(input, found.Array);
-    found.Time = std::max(found.Time, input->GetMTime());
   }
   return found;
 }
@@ -300,9 +311,9 @@ std::string CheckPointIds(vtkUnstructuredGrid* grid)
 
 //------------------------------------------------------------------------------
 PointScalars CheckScalarsAndLights(vtkAlgorithm* algorithm, vtkDataSet* input, int component,
-  const LightList& lights, std::string& error)
+  const PointScalars& previous, const LightList& lights, std::string& error)
 {
-  PointScalars scalars = FindPointScalars(algorithm, input, component, error);
+  PointScalars scalars = FindPointScalars(algorithm, input, component, previous, error);
   if (scalars.Array)
   {
     error = CheckPoints(input, scalars.Array);

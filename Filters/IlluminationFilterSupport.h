@@ -11,6 +11,7 @@
 #include "VolIllumFiltersModule.h"
 #include "vtkDataArray.h"
 #include "vtkSmartPointer.h"
+#include "vtkWeakPointer.h"
 
 #include <string>
 #include <vector>
@@ -34,6 +35,11 @@ struct PointScalars
 {
   vtkSmartPointer<vtkDataArray> Array; // the chosen point array, or one derived from it
   vtkMTimeType Time = 0;               // changes when the array it comes from changes
+  // What a derived Array was made from, so that the next update reuses it while that has
+  // not changed (a light edit must not convert the scalars again).
+  vtkWeakPointer<vtkDataArray> Source;
+  bool OnCells = false;
+  int Component = -1;
 };
 
 /**
@@ -41,16 +47,17 @@ struct PointScalars
  * scalars when no array was chosen (ParaView leaves the name empty before the input first
  * updated); point data first, then cell data. Cell data become point data, each point the
  * average of the cells that use it (vtkCellDataToPointData). An array of several components
- * becomes one: the component `component` (0-based), or the magnitude for -1. Returns no
- * Array, with the reason in error, when there is none usable.
+ * becomes one: the component `component` (0-based), or the magnitude for -1. A derived
+ * array of `previous` made from the same, unchanged source is reused. Returns no Array,
+ * with the reason in error, when there is none usable.
  */
-VOLILLUMFILTERS_EXPORT PointScalars FindPointScalars(
-  vtkAlgorithm* algorithm, vtkDataSet* input, int component, std::string& error);
+VOLILLUMFILTERS_EXPORT PointScalars FindPointScalars(vtkAlgorithm* algorithm, vtkDataSet* input,
+  int component, const PointScalars& previous, std::string& error);
 
 /// The conversions of FindPointScalars for an array already chosen (a cell array when
 /// onCells).
-VOLILLUMFILTERS_EXPORT PointScalars ToPointScalars(
-  vtkDataSet* input, vtkAbstractArray* chosen, bool onCells, int component, std::string& error);
+VOLILLUMFILTERS_EXPORT PointScalars ToPointScalars(vtkDataSet* input, vtkAbstractArray* chosen,
+  bool onCells, int component, const PointScalars& previous, std::string& error);
 
 /**
  * The lights in the frame of an image's axes, where the filters work: positions and focal
@@ -88,7 +95,8 @@ VOLILLUMFILTERS_EXPORT std::string CheckPoints(vtkDataSet* input, vtkDataArray* 
 /// FindPointScalars, CheckPoints, then the lights' own check (LightList::Validate): no Array
 /// with the reason in error when any fails.
 VOLILLUMFILTERS_EXPORT PointScalars CheckScalarsAndLights(vtkAlgorithm* algorithm,
-  vtkDataSet* input, int component, const LightList& lights, std::string& error);
+  vtkDataSet* input, int component, const PointScalars& previous, const LightList& lights,
+  std::string& error);
 
 /// What one update did, reported in the output's field data.
 struct UpdateReport

@@ -193,9 +193,9 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
     return 1;
   }
   std::string error;
-  const volillum::PointScalars found =
-    volillum::CheckScalarsAndLights(this, input, this->ScalarComponent, this->Lights, error);
-  vtkDataArray* scalars = found.Array;
+  this->Scalars = volillum::CheckScalarsAndLights(
+    this, input, this->ScalarComponent, this->Scalars, this->Lights, error);
+  vtkDataArray* scalars = this->Scalars.Array;
   if (!scalars)
   {
     vtkErrorMacro(<< error);
@@ -208,7 +208,7 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
     volillum::InImageFrame(this->GetLightStates(), direction, input->GetOrigin()), bounds);
 
   ClassificationKey key;
-  key.Scalars = found.Time;
+  key.Scalars = this->Scalars.Time;
   key.Component = this->ScalarComponent;
   key.Color = this->ColorTransferFunction ? this->ColorTransferFunction->GetMTime() : 0;
   key.Opacity = this->OpacityFunction ? this->OpacityFunction->GetMTime() : 0;

@@ -196,6 +196,7 @@ private:
     bool operator==(const ClassificationKey& o) const;
   };
   ClassificationKey ClassifiedKey;
+  volillum::PointScalars Scalars; // the last update's, reused while their source is unchanged
   bool HasClassification = false;
   volillum::ClassifiedVolume Classified;
   vtkSmartPointer<vtkImageData> LastOutput;

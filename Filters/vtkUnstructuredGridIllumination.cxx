@@ -247,9 +247,9 @@ int vtkUnstructuredGridIllumination::RequestData(
     return 1;
   }
   std::string error;
-  const volillum::PointScalars found =
-    volillum::CheckScalarsAndLights(this, input, this->ScalarComponent, this->Lights, error);
-  vtkDataArray* scalars = found.Array;
+  this->Scalars = volillum::CheckScalarsAndLights(
+    this, input, this->ScalarComponent, this->Scalars, this->Lights, error);
+  vtkDataArray* scalars = this->Scalars.Array;
   if (!scalars)
   {
     vtkErrorMacro(<< error);
@@ -281,7 +281,7 @@ int vtkUnstructuredGridIllumination::RequestData(
   this->UpdateProgress(0.1);
 
   const std::vector<double> solutionKey = { static_cast<double>(this->MeshKey),
-    static_cast<double>(found.Time), static_cast<double>(this->ScalarComponent),
+    static_cast<double>(this->Scalars.Time), static_cast<double>(this->ScalarComponent),
     static_cast<double>(this->ColorTransferFunction ? this->ColorTransferFunction->GetMTime() : 0),
     static_cast<double>(this->OpacityFunction ? this->OpacityFunction->GetMTime() : 0),
     this->ScalarOpacityUnitDistance, this->ChromaticAttenuation ? 1.0 : 0.0, this->Absorption,

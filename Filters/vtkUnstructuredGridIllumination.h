@@ -36,6 +36,7 @@
 #ifndef vtkUnstructuredGridIllumination_h
 #define vtkUnstructuredGridIllumination_h
 
+#include "IlluminationFilterSupport.h" // for volillum::PointScalars
 #include "IlluminationLights.h"
 #include "TetrahedralLightKernel.h"
 #include "VolIllumFiltersModule.h"
@@ -192,10 +193,12 @@ private:
   int ScatteringIterations = 10;
   bool LitColors = true;
 
-  // Caches: the mesh (keyed by the input geometry), the per-vertex extinction and level-0
+  // Caches: the mesh (keyed by the input geometry), the scalars lit (derived from cell data
+  // or several components), the per-vertex extinction and level-0
   // grid (keyed by everything a transmittance depends on but the light), and each light's
   // transmittance with the light geometry it was computed for.
   vtkMTimeType MeshKey = 0;
+  volillum::PointScalars Scalars; // the last update's, reused while their source is unchanged
   volillum::TetrahedralMesh Mesh;
   volillum::VertexColoring Coloring;
   std::vector<double> SolutionKey;

@@ -529,7 +529,7 @@ vtkSmartPointer<vtkDataSet> LoadData(const Options& o)
   const int component = static_cast<int>(Number(o.Config, "component", -1));
   std::string unusable;
   vtkSmartPointer<vtkDataArray> scalars =
-    volillum::ToPointScalars(image, chosen, onCells, component, unusable).Array;
+    volillum::ToPointScalars(image, chosen, onCells, component, {}, unusable).Array;
   if (!scalars)
   {
     Fail(o.Input + ": " + unusable);

@@ -2,6 +2,7 @@
 // arrays, quadratic cells and images with a direction matrix, each checked against the same
 // scene given the plain way (point scalars computed here by hand, one-component arrays,
 // linear cells, an axis-aligned image).
+#include "IlluminationFilterSupport.h"
 #include "IlluminationTestUtilities.h"
 #include "vtkFilteredVolumetricShadows.h"
 #include "vtkMultiLightIlluminationVolume.h"
@@ -161,6 +162,50 @@ TEST(RealWorldInputs, CellDataImageIsLitAsTheAverageOfTheCellsAroundEachPoint)
               << difference << std::endl;
     EXPECT_LE(difference, 1e-6) << f.first;
   }
+}
+
+TEST(RealWorldInputs, DerivedScalarsAreReusedUntilTheirSourceChanges)
+{
+  // Point data derived from cell data are made once per change of the cell array: a light
+  // edit reuses them; changed cell values give new ones, and the filter lights those.
+  const int n = 12;
+  auto cells = Image(n);
+  cells->GetCellData()->SetScalars(SphereValues(n - 1));
+  vtkDataArray* source = cells->GetCellData()->GetScalars();
+  std::string error;
+  const volillum::PointScalars first =
+    volillum::ToPointScalars(cells, source, true, -1, volillum::PointScalars(), error);
+  ASSERT_TRUE(first.Array) << error;
+  const volillum::PointScalars again =
+    volillum::ToPointScalars(cells, source, true, -1, first, error);
+  EXPECT_EQ(again.Array.Get(), first.Array.Get());
+  for (vtkIdType i = 0; i < source->GetNumberOfTuples(); ++i)
+  {
+    source->SetTuple1(i, 200.0 - source->GetTuple1(i));
+  }
+  source->Modified();
+  const volillum::PointScalars changed =
+    volillum::ToPointScalars(cells, source, true, -1, again, error);
+  EXPECT_NE(changed.Array.Get(), first.Array.Get());
+  EXPECT_NE(changed.Array->GetTuple1(0), first.Array->GetTuple1(0));
+
+  // Through the filter: light, change the cells, light again; a fresh filter agrees.
+  const std::array<double, 3> travel{ { -0.3, -0.5, -1.0 } };
+  vtkNew<vtkPiecewiseFunction> otf;
+  otf->AddPoint(0.0, 0.0);
+  otf->AddPoint(200.0, 0.4);
+  vtkNew<vtkMultiLightIlluminationVolume> filter;
+  filter->SetInputData(cells);
+  filter->SetOpacityFunction(otf);
+  filter->AddLight(DirectionalLight(travel[0], travel[1], travel[2]));
+  filter->Update();
+  for (vtkIdType i = 0; i < source->GetNumberOfTuples(); ++i)
+  {
+    source->SetTuple1(i, 200.0 - source->GetTuple1(i));
+  }
+  source->Modified();
+  filter->Update();
+  EXPECT_LE(MaxDifference(Result(filter), LightImage(cells, 200.0, travel)), 1e-6);
 }
 
 TEST(RealWorldInputs, CellDataTetrahedraAreLitAsTheAverageOfTheCellsAroundEachPoint)
