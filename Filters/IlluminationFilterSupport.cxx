@@ -253,23 +253,21 @@ std::string CheckPoints(vtkDataSet* input, vtkDataArray* scalars)
 }
 
 //------------------------------------------------------------------------------
-bool SetFiniteClamped(
-  double& setting, double value, double lo, double hi, const char* name, std::string& error)
+void SetFiniteClamped(
+  vtkObject* object, double& setting, double value, double lo, double hi, const char* name)
 {
   if (!std::isfinite(value))
   {
-    std::ostringstream message;
-    message << name << " must be a finite number; it stays " << setting << ".";
-    error = message.str();
-    return false;
+    vtkErrorWithObjectMacro(
+      object, << name << " must be a finite number; it stays " << setting << ".");
+    return;
   }
   const double clamped = std::min(std::max(value, lo), hi);
-  if (setting == clamped)
+  if (setting != clamped)
   {
-    return false;
+    setting = clamped;
+    object->Modified();
   }
-  setting = clamped;
-  return true;
 }
 
 //------------------------------------------------------------------------------

@@ -21,6 +21,7 @@ class vtkAlgorithm;
 class vtkDataSet;
 class vtkFieldData;
 class vtkMatrix3x3;
+class vtkObject;
 class vtkUnstructuredGrid;
 
 namespace volillum
@@ -75,12 +76,12 @@ constexpr double MaximumCoordinate = 1e100;
 constexpr double MaximumTetrahedra = 2e7;
 
 /**
- * Setter body for a finite, clamped double setting: stores value clamped to [lo, hi] in
- * setting and returns whether it changed. A value that is not a finite number leaves the
- * setting unchanged and returns false with a message in error.
+ * Setter body for a finite, clamped double setting of object: stores value clamped to
+ * [lo, hi] in setting and calls Modified when that changes it. A value that is not a
+ * finite number leaves the setting unchanged and raises an error naming the setting.
  */
-VOLILLUMFILTERS_EXPORT bool SetFiniteClamped(
-  double& setting, double value, double lo, double hi, const char* name, std::string& error);
+VOLILLUMFILTERS_EXPORT void SetFiniteClamped(
+  vtkObject* object, double& setting, double value, double lo, double hi, const char* name);
 
 /// Whether the grid has a 3D cell (something to light).
 VOLILLUMFILTERS_EXPORT bool HasSolidCells(vtkUnstructuredGrid* grid);

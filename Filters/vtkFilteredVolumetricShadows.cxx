@@ -250,15 +250,7 @@ void vtkFilteredVolumetricShadows::AddOutputArrays(vtkPointData* pointData)
 //------------------------------------------------------------------------------
 void vtkFilteredVolumetricShadows::SetFilterWidth(double value)
 {
-  std::string error;
-  if (volillum::SetFiniteClamped(this->FilterWidth, value, 0.0, 1000.0, "FilterWidth", error))
-  {
-    this->Modified();
-  }
-  else if (!error.empty())
-  {
-    vtkErrorMacro(<< error);
-  }
+  volillum::SetFiniteClamped(this, this->FilterWidth, value, 0.0, 1000.0, "FilterWidth");
 }
 
 //------------------------------------------------------------------------------

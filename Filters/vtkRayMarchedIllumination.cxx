@@ -26,15 +26,7 @@ bool vtkRayMarchedIllumination::ComputeIllumination(const volillum::ClassifiedVo
 //------------------------------------------------------------------------------
 void vtkRayMarchedIllumination::SetStepFraction(double value)
 {
-  std::string error;
-  if (volillum::SetFiniteClamped(this->StepFraction, value, 0.01, 4.0, "StepFraction", error))
-  {
-    this->Modified();
-  }
-  else if (!error.empty())
-  {
-    vtkErrorMacro(<< error);
-  }
+  volillum::SetFiniteClamped(this, this->StepFraction, value, 0.01, 4.0, "StepFraction");
 }
 
 //------------------------------------------------------------------------------
