@@ -62,6 +62,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <new>
 #include <sstream>
@@ -112,12 +113,12 @@ focal point gets the default above, always relative. A transfer function's "rela
 coloured lights are used (a warm key, a cool fill and a white rim light). Scalars are the
 active point scalars or the first point array, else the cell scalars or the first cell
 array (cell data are lit as point data, each point the mean of its cells); an array of
-several components is lit by its magnitude ("component": -1) or the component given. Without a
-transfer function (or without its "color" or "opacity" list) the default one starts above
-the background: opacity is 0 up to Otsu's threshold of the scalar histogram (the value
+several components is lit by its magnitude ("component": -1) or the component given.
+Without a transfer function (or without its "color" or "opacity" list) the default one
+starts above the background: opacity is 0 up to Otsu's threshold of the scalar histogram (the value
 that best separates air around a scan from the object) and rises above it, colours from
-warm to white. The camera frames the points above that threshold (the object, not the
-empty box around it); "zoom" scales from there. "side_by_side" writes the same view twice
+warm to white. The camera frames the points whose opacity is above 0 (the object, not
+the empty box around it); "zoom" scales from there. "side_by_side" writes the same view twice
 side by side, lit with local shading only (left) and with the illumination (right).
 )";
 
@@ -406,10 +407,10 @@ void CheckImageHeader(vtkAlgorithm* reader, const std::string& path)
   }
 }
 
-// Reads the volume or unstructured grid (or generates the phantom); fails with one line on
-// any problem.
 double Number(const json& object, const char* key, double fallback);
 
+// Reads the volume or unstructured grid (or generates the phantom); fails with one line on
+// any problem.
 vtkSmartPointer<vtkDataSet> LoadData(const Options& o)
 {
   vtkSmartPointer<vtkAlgorithm> reader;
@@ -776,7 +777,7 @@ void DefaultTransferFunction(double threshold, const double range[2], vtkColorTr
   }
 }
 
-void BuildTransferFunctions(const json& config, const double range[2], double threshold,
+void BuildTransferFunctions(const json& config, vtkDataArray* scalars, const double range[2],
   vtkColorTransferFunction* ctf, vtkPiecewiseFunction* otf, double& unitDistance, double minSpacing)
 {
   const json tf =
@@ -788,34 +789,35 @@ void BuildTransferFunctions(const json& config, const double range[2], double th
   const bool relative = Flag(tf, "relative", true);
   const double width = range[1] > range[0] ? range[1] - range[0] : 1.0;
   auto scalar = [&](double s) { return relative ? range[0] + s * width : s; };
-  DefaultTransferFunction(
-    threshold, range, ctf, otf, !tf.contains("color"), !tf.contains("opacity"));
-  if (tf.contains("color"))
+  if (!tf.contains("color") || !tf.contains("opacity"))
   {
-    const json& color = tf["color"];
-    if (!color.is_array() || color.empty())
-    {
-      Fail("the transfer function's 'color' must be a non-empty list");
-    }
-    for (const auto& p : color)
-    {
-      const auto v = Numbers(p, 4, "a colour point [s,r,g,b]");
-      ctf->AddRGBPoint(scalar(v[0]), v[1], v[2], v[3]);
-    }
+    DefaultTransferFunction(OtsuThreshold(scalars, range), range, ctf, otf, !tf.contains("color"),
+      !tf.contains("opacity"));
   }
-  if (tf.contains("opacity"))
+  // The lists given: points of `count` numbers, the first a scalar.
+  const auto readPoints = [&](const char* key, size_t count, const char* what,
+                            const std::function<void(const std::vector<double>&)>& add)
   {
-    const json& opacity = tf["opacity"];
-    if (!opacity.is_array() || opacity.empty())
+    if (!tf.contains(key))
     {
-      Fail("the transfer function's 'opacity' must be a non-empty list");
+      return;
     }
-    for (const auto& p : opacity)
+    const json& points = tf[key];
+    if (!points.is_array() || points.empty())
     {
-      const auto v = Numbers(p, 2, "an opacity point [s,a]");
-      otf->AddPoint(scalar(v[0]), v[1]);
+      Fail(std::string("the transfer function's '") + key + "' must be a non-empty list");
     }
-  }
+    for (const auto& p : points)
+    {
+      auto v = Numbers(p, count, what);
+      v[0] = scalar(v[0]);
+      add(v);
+    }
+  };
+  readPoints("color", 4, "a colour point [s,r,g,b]",
+    [&](const std::vector<double>& v) { ctf->AddRGBPoint(v[0], v[1], v[2], v[3]); });
+  readPoints("opacity", 2, "an opacity point [s,a]",
+    [&](const std::vector<double>& v) { otf->AddPoint(v[0], v[1]); });
   unitDistance = Number(tf, "unit_distance", 2.0 * minSpacing);
   if (!(unitDistance > 0.0))
   {
@@ -1052,8 +1054,8 @@ int Run(int argc, char* argv[])
   vtkNew<vtkColorTransferFunction> ctf;
   vtkNew<vtkPiecewiseFunction> otf;
   double unitDistance = 1.0;
-  BuildTransferFunctions(config, range, OtsuThreshold(data->GetPointData()->GetScalars(), range),
-    ctf, otf, unitDistance, minSpacing);
+  BuildTransferFunctions(
+    config, data->GetPointData()->GetScalars(), range, ctf, otf, unitDistance, minSpacing);
   const bool sideBySide = Flag(config, "side_by_side", false);
   if (sideBySide && !image)
   {
