@@ -95,6 +95,28 @@ vtkSmartPointer<vtkUnstructuredGrid> TetrahedralBox(int n, double spacing)
   split->Update();
   return split->GetOutput();
 }
+
+// Illumination of a grid by the two-level solver with a ramp opacity up to (rangeMax,
+// maximum), a level-0 grid of `resolution` points per axis and one directional light; null
+// when the filter refused the grid (any error fails the test).
+vtkSmartPointer<vtkFloatArray> LightGrid(vtkUnstructuredGrid* grid, double rangeMax, double maximum,
+  int resolution, const std::array<double, 3>& travel)
+{
+  vtkNew<vtkPiecewiseFunction> otf;
+  otf->AddPoint(0.0, 0.0);
+  otf->AddPoint(rangeMax, maximum);
+  vtkNew<vtkUnstructuredGridIllumination> filter;
+  vtkNew<ErrorCounter> errors;
+  filter->AddObserver(vtkCommand::ErrorEvent, errors);
+  filter->SetInputData(grid);
+  filter->SetOpacityFunction(otf);
+  filter->SetLevel0Resolution(resolution, resolution, resolution);
+  filter->AddLight(DirectionalLight(travel[0], travel[1], travel[2]));
+  filter->Update();
+  EXPECT_EQ(errors->Count, 0);
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), grid->GetNumberOfPoints());
+  return filter->GetOutput()->GetNumberOfPoints() > 0 ? Result(filter) : nullptr;
+}
 }
 
 TEST(RealWorldInputs, CellDataImageIsLitAsTheAverageOfTheCellsAroundEachPoint)
@@ -245,23 +267,12 @@ TEST(RealWorldInputs, CellDataTetrahedraAreLitAsTheAverageOfTheCellsAroundEachPo
     pointValues->SetValue(p, sum[p] / count[p]);
   }
   pointGrid->GetPointData()->SetScalars(pointValues);
-  vtkNew<vtkPiecewiseFunction> otf;
-  otf->AddPoint(0.0, 0.0);
-  otf->AddPoint(200.0, 0.4);
+  const std::array<double, 3> travel{ { -0.3, -0.5, -1.0 } };
   std::vector<vtkSmartPointer<vtkFloatArray>> results;
   for (vtkUnstructuredGrid* grid : { cellGrid.Get(), pointGrid.Get() })
   {
-    vtkNew<vtkUnstructuredGridIllumination> filter;
-    vtkNew<ErrorCounter> errors;
-    filter->AddObserver(vtkCommand::ErrorEvent, errors);
-    filter->SetInputData(grid);
-    filter->SetOpacityFunction(otf);
-    filter->SetLevel0Resolution(32, 32, 32);
-    filter->AddLight(DirectionalLight(-0.3, -0.5, -1.0));
-    filter->Update();
-    EXPECT_EQ(errors->Count, 0);
-    ASSERT_GT(filter->GetOutput()->GetNumberOfPoints(), 0);
-    results.push_back(Result(filter));
+    results.push_back(LightGrid(grid, 200.0, 0.4, 32, travel));
+    ASSERT_TRUE(results.back());
   }
   const double difference = MaxDifference(results[0], results[1]);
   std::cout << "cell-data tetrahedra vs hand-averaged point data: largest difference " << difference
@@ -381,23 +392,12 @@ TEST(RealWorldInputs, QuadraticTetrahedraAreSplitAndLit)
     }
     grid->GetPointData()->SetScalars(values);
   }
-  vtkNew<vtkPiecewiseFunction> otf;
-  otf->AddPoint(0.0, 0.0);
-  otf->AddPoint(210.0, 0.3);
+  const std::array<double, 3> travel{ { -0.2, -0.4, -1.0 } };
   std::vector<vtkSmartPointer<vtkFloatArray>> results;
   for (vtkUnstructuredGrid* grid : { linear.Get(), quadratic.Get() })
   {
-    vtkNew<vtkUnstructuredGridIllumination> filter;
-    vtkNew<ErrorCounter> errors;
-    filter->AddObserver(vtkCommand::ErrorEvent, errors);
-    filter->SetInputData(grid);
-    filter->SetOpacityFunction(otf);
-    filter->SetLevel0Resolution(48, 48, 48);
-    filter->AddLight(DirectionalLight(-0.2, -0.4, -1.0));
-    filter->Update();
-    EXPECT_EQ(errors->Count, 0);
-    ASSERT_EQ(filter->GetOutput()->GetNumberOfPoints(), grid->GetNumberOfPoints());
-    results.push_back(Result(filter));
+    results.push_back(LightGrid(grid, 210.0, 0.3, 48, travel));
+    ASSERT_TRUE(results.back());
   }
   // The corner nodes are the linear mesh's points, in the same order.
   vtkNew<vtkFloatArray> corners;
