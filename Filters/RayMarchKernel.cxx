@@ -100,23 +100,36 @@ std::array<double, 3> RayMarchTransmittance(const ClassifiedVolume& volume, cons
   return t;
 }
 
+std::array<double, 3> RayMarchIlluminationAt(const ClassifiedVolume& volume,
+  const std::vector<LightState>& lights, const double p[3], const RayMarchSettings& settings,
+  const EmptyBlocks* empty)
+{
+  std::array<double, 3> sum{ { 0.0, 0.0, 0.0 } };
+  for (const auto& light : lights)
+  {
+    if (!light.On)
+    {
+      continue;
+    }
+    const auto t = RayMarchTransmittance(volume, light, p, settings, empty);
+    const auto r = light.Radiance();
+    for (int c = 0; c < 3; ++c)
+    {
+      sum[c] += r[c] * t[c];
+    }
+  }
+  return sum;
+}
+
 bool RayMarchIllumination(const ClassifiedVolume& volume, const std::vector<LightState>& lights,
   const GridGeometry& target, const RayMarchSettings& settings, float* rgb,
   const ProgressCallback& progress)
 {
-  std::vector<LightState> active;
-  for (const auto& l : lights)
-  {
-    if (l.On)
-    {
-      active.push_back(l);
-    }
-  }
   const long long nx = target.Dimensions[0];
   const long long ny = target.Dimensions[1];
   const long long nz = target.Dimensions[2];
   std::fill(rgb, rgb + 3 * nx * ny * nz, 0.0f);
-  if (active.empty())
+  if (std::none_of(lights.begin(), lights.end(), [](const LightState& l) { return l.On; }))
   {
     return true;
   }
@@ -137,16 +150,7 @@ bool RayMarchIllumination(const ClassifiedVolume& volume, const std::vector<Ligh
           {
             double p[3];
             target.PointPosition(i, j, k, p);
-            double sum[3] = { 0.0, 0.0, 0.0 };
-            for (const auto& light : active)
-            {
-              const auto t = RayMarchTransmittance(volume, light, p, settings, &empty);
-              const auto r = light.Radiance();
-              for (int c = 0; c < 3; ++c)
-              {
-                sum[c] += r[c] * t[c];
-              }
-            }
+            const auto sum = RayMarchIlluminationAt(volume, lights, p, settings, &empty);
             float* o = rgb + 3 * (i + nx * row);
             o[0] = static_cast<float>(sum[0]);
             o[1] = static_cast<float>(sum[1]);

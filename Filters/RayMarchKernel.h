@@ -65,6 +65,11 @@ VOLILLUMFILTERS_EXPORT std::array<double, 3> RayMarchTransmittance(const Classif
   const LightState& light, const double p[3], const RayMarchSettings& settings,
   const EmptyBlocks* empty = nullptr);
 
+/// Summed illumination of the lights that are on at point p: radiance x transmittance.
+VOLILLUMFILTERS_EXPORT std::array<double, 3> RayMarchIlluminationAt(const ClassifiedVolume& volume,
+  const std::vector<LightState>& lights, const double p[3], const RayMarchSettings& settings,
+  const EmptyBlocks* empty = nullptr);
+
 /// Fill rgb (3 floats per target point, x fastest) with the summed illumination of all
 /// lights. Returns false when progress asked to stop (rgb is then incomplete).
 VOLILLUMFILTERS_EXPORT bool RayMarchIllumination(const ClassifiedVolume& volume,

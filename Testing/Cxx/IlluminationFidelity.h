@@ -218,19 +218,8 @@ inline std::vector<double> ReferenceAt(const volillum::ClassifiedVolume& data,
         const long long id = ids[n];
         double p[3];
         target.PointPosition(id % nx, (id / nx) % ny, id / (nx * ny), p);
-        for (const auto& light : lights)
-        {
-          if (!light.On)
-          {
-            continue;
-          }
-          const auto t = volillum::RayMarchTransmittance(data, light, p, settings);
-          const auto r = light.Radiance();
-          for (int c = 0; c < 3; ++c)
-          {
-            rgb[3 * n + c] += r[c] * t[c];
-          }
-        }
+        const auto sum = volillum::RayMarchIlluminationAt(data, lights, p, settings);
+        std::copy(sum.begin(), sum.end(), rgb.begin() + 3 * n);
       }
     });
   return rgb;

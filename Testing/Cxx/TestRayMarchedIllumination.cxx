@@ -478,16 +478,7 @@ TEST(RayMarchedIllumination, SkippingEmptyBlocksChangesNothing)
   {
     double p[3];
     spheres->GetPoint(id, p);
-    double sum[3] = { 0, 0, 0 };
-    for (const auto& light : lights)
-    {
-      const auto t = volillum::RayMarchTransmittance(classified, light, p, {});
-      const auto r = light.Radiance();
-      for (int c = 0; c < 3; ++c)
-      {
-        sum[c] += r[c] * t[c];
-      }
-    }
+    const auto sum = volillum::RayMarchIlluminationAt(classified, lights, p, {});
     for (int c = 0; c < 3; ++c)
     {
       worst = std::max(worst, std::abs(sum[c] - skipped->GetValue(3 * id + c)));
