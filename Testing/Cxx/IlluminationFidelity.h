@@ -6,6 +6,7 @@
 
 #include "IlluminationClassification.h"
 #include "IlluminationLights.h"
+#include "IlluminationTestUtilities.h"
 #include "RayMarchKernel.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkFloatArray.h"
@@ -59,13 +60,7 @@ inline void ThresholdRamp(Scene& scene, double threshold, double maximum)
 /// The slab or three-spheres phantom, n points per axis.
 inline Scene PhantomScene(const std::string& name, int kind, int n, double opacity)
 {
-  vtkNew<vtkIlluminationPhantomSource> source;
-  source->SetScene(kind);
-  source->SetDimensions(n, n, n);
-  source->SetSlabBegin(n / 4);
-  source->SetSlabEnd(3 * n / 4 - 1);
-  source->Update();
-  Scene scene{ name, source->GetOutput(), nullptr, nullptr };
+  Scene scene{ name, volillumtest::PhantomScene(kind, n), nullptr, nullptr };
   ThresholdRamp(scene, 0.0, opacity);
   return scene;
 }
