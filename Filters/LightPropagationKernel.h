@@ -4,18 +4,21 @@
  * (sections 4-5 of the selective-light-updates paper).
  *
  * Light is swept slice by slice along one of six axis directions (a propagation group).
- * Every light of a group travels in the same sweep with its own pair of 2D read/write
- * slice buffers: the light reaching a point of the illumination grid is read from the
- * previous slice at the position offset along the light's direction and attenuated over the
- * segment between, integrated through the full-resolution classification (midpoint rule,
- * l_out = l_in prod (1 - a (1 - c))). The read is a bicubic (Catmull-Rom) interpolation
- * limited to the range of the four surrounding pixels: bilinear reads blur a shadow edge a
- * little at every slice (the numerical diffusion that dominated the error in material), the
- * cubic blurs it far less, and the limit keeps it from creating light or negative values.
- * Where that position falls outside the previous slice the light entered the box through a
- * side face; it is attenuated over the part of the segment inside the box. Each point adds
- * weight x sign x light to the illumination volume, so removing a light is propagating its
- * old state with sign -1.
+ * Every light of a group travels in the same sweep with its own pair of 2D slice buffers.
+ * The light reaching a point of the illumination grid is read where the point's ray to the
+ * light crosses the previous slice and attenuated over the segment between, integrated
+ * through the full-resolution classification (midpoint rule, l_out = l_in prod
+ * (1 - a (1 - c))). The buffers hold the light along rays followed exactly, not at the grid
+ * points: reading grid values by interpolation at every slice would blur a shadow edge a
+ * little at every slice (the numerical diffusion that dominated the error in material). A
+ * directional light's parallel rays form a lattice that moves a whole number of cells
+ * between slices, so it is never resampled; a point or spot light's diverging rays are
+ * followed from an anchor slice and resampled onto the grid only when they have spread by
+ * a tenth. The read is a bicubic (Catmull-Rom) interpolation limited to the range of the
+ * four surrounding rays, so it creates neither light nor negative values. Light is
+ * attenuated inside the box only, so light entering through a side face is attenuated
+ * from where it entered. Each point adds weight x sign x light to the illumination volume,
+ * so removing a light is propagating its old state with sign -1.
  *
  * Group weights (eq. 5a/5b): a light outside the volume travels in the groups of the two
  * axis directions closest to its main direction t (a directional light's direction, the

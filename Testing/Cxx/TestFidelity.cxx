@@ -86,30 +86,30 @@ void CheckScene(const Scene& scene, double propagation1, double propagation05, d
 TEST(Fidelity, Slab)
 {
   CheckScene(volillumfidelity::PhantomScene("slab", vtkIlluminationPhantomSource::Slab, 64, 0.05),
-    2, 3.5, 4, 2);
+    1, 3, 4, 2);
 }
 
 TEST(Fidelity, ThreeSpheres)
 {
   CheckScene(
     volillumfidelity::PhantomScene("spheres", vtkIlluminationPhantomSource::ThreeSpheres, 64, 0.3),
-    6.5, 9.5, 13, 5);
+    3.5, 7, 13, 5);
 }
 
 TEST(Fidelity, Engine)
 {
-  CheckScene(
-    volillumfidelity::FileScene("engine", Data + "/volumes/engine.vti", 0.3, 0.8), 5, 15, 18.5, 10);
+  CheckScene(volillumfidelity::FileScene("engine", Data + "/volumes/engine.vti", 0.3, 0.8), 5, 8.5,
+    18.5, 10);
 }
 
 TEST(Fidelity, Aneurism)
 {
-  CheckScene(volillumfidelity::FileScene("aneurism", Data + "/volumes/aneurism.vti", 0.3, 0.8), 13,
-    17, 27, 24.5);
+  CheckScene(volillumfidelity::FileScene("aneurism", Data + "/volumes/aneurism.vti", 0.3, 0.8), 7.5,
+    13, 27, 24.5);
 }
 
 TEST(Fidelity, ChestCT)
 {
   CheckScene(
-    volillumfidelity::FileScene("lidc2", Data + "/volumes/LIDC2.mha", 0.3, 0.8), 15, 22, 21, 17);
+    volillumfidelity::FileScene("lidc2", Data + "/volumes/LIDC2.mha", 0.3, 0.8), 7.5, 15.5, 21, 17);
 }
