@@ -120,11 +120,18 @@ PointScalars FindPointScalars(vtkAlgorithm* algorithm, vtkDataSet* input, int co
   }
   else
   {
-    chosen = input->GetPointData()->GetAbstractArray(requested);
+    // The association asked for first (points unless cells are named), then the other.
+    onCells = arrayInfo->Has(vtkDataObject::FIELD_ASSOCIATION()) &&
+      arrayInfo->Get(vtkDataObject::FIELD_ASSOCIATION()) == vtkDataObject::FIELD_ASSOCIATION_CELLS;
+    vtkFieldData* first = onCells ? static_cast<vtkFieldData*>(input->GetCellData())
+                                  : static_cast<vtkFieldData*>(input->GetPointData());
+    vtkFieldData* second = onCells ? static_cast<vtkFieldData*>(input->GetPointData())
+                                   : static_cast<vtkFieldData*>(input->GetCellData());
+    chosen = first->GetAbstractArray(requested);
     if (!chosen)
     {
-      chosen = input->GetCellData()->GetAbstractArray(requested);
-      onCells = chosen != nullptr;
+      chosen = second->GetAbstractArray(requested);
+      onCells = !onCells;
     }
     if (!chosen)
     {

@@ -46,7 +46,8 @@ struct PointScalars
 /**
  * The array the algorithm's input array 0 names (SetInputArrayToProcess), or the active
  * scalars when no array was chosen (ParaView leaves the name empty before the input first
- * updated); point data first, then cell data. Cell data become point data, each point the
+ * updated); looked up first in the association the input array information names (points
+ * when it names none), then in the other. Cell data become point data, each point the
  * average of the cells that use it (vtkCellDataToPointData). An array of several components
  * becomes one: the component `component` (0-based), or the magnitude for -1. A derived
  * array of `previous` made from the same, unchanged source is reused. Returns no Array,

@@ -3,6 +3,7 @@
 #include "vtkAlgorithm.h"
 #include "vtkCallbackCommand.h"
 #include "vtkCamera.h"
+#include "vtkCellData.h"
 #include "vtkDataArray.h"
 #include "vtkDataObject.h"
 #include "vtkDataSet.h"
@@ -110,15 +111,23 @@ bool IsInteractiveRender(vtkPVRenderView* view)
 }
 
 //------------------------------------------------------------------------------
-vtkDataArray* ColouredPointScalars(
-  vtkAlgorithm* representation, vtkDataSet* data, const char*& name)
+vtkDataArray* ColouredScalars(vtkAlgorithm* representation, vtkDataSet* data, ColouredArray& array)
 {
   vtkInformation* info = representation->GetInputArrayInformation(0);
-  name = info->Has(vtkDataObject::FIELD_NAME()) ? info->Get(vtkDataObject::FIELD_NAME()) : nullptr;
-  const bool pointArray = info->Has(vtkDataObject::FIELD_ASSOCIATION()) &&
-    info->Get(vtkDataObject::FIELD_ASSOCIATION()) == vtkDataObject::FIELD_ASSOCIATION_POINTS;
-  vtkDataArray* scalars =
-    data && name && pointArray ? data->GetPointData()->GetArray(name) : nullptr;
+  array.Name =
+    info->Has(vtkDataObject::FIELD_NAME()) ? info->Get(vtkDataObject::FIELD_NAME()) : nullptr;
+  array.Association = info->Has(vtkDataObject::FIELD_ASSOCIATION())
+    ? info->Get(vtkDataObject::FIELD_ASSOCIATION())
+    : vtkDataObject::FIELD_ASSOCIATION_POINTS;
+  vtkDataArray* scalars = nullptr;
+  if (data && array.Name && array.Association == vtkDataObject::FIELD_ASSOCIATION_POINTS)
+  {
+    scalars = data->GetPointData()->GetArray(array.Name);
+  }
+  else if (data && array.Name && array.Association == vtkDataObject::FIELD_ASSOCIATION_CELLS)
+  {
+    scalars = data->GetCellData()->GetArray(array.Name);
+  }
   return scalars && scalars->GetNumberOfComponents() == 1 ? scalars : nullptr;
 }
 

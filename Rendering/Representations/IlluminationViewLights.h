@@ -75,17 +75,26 @@ private:
  */
 bool IsInteractiveRender(vtkPVRenderView* view);
 
+/// The array a representation colours by (its input array 0), as the illumination
+/// filters are told to read it.
+struct ColouredArray
+{
+  const char* Name = nullptr;
+  int Association = vtkDataObject::FIELD_ASSOCIATION_POINTS;
+};
+
 /**
  * Hand an illumination filter what a representation shares with ParaView's Volume
- * representation: the piece to light, its coloured point array, and the volume property's
- * transfer functions and scalar opacity unit distance.
+ * representation: the piece to light, its coloured array (point or cell data; the filters
+ * light cell data through point values averaged from the cells around each point), and
+ * the volume property's transfer functions and scalar opacity unit distance.
  */
 template <class Filter>
-void SetVolumeInput(
-  Filter* filter, vtkAlgorithmOutput* piece, const char* array, vtkVolumeProperty* property)
+void SetVolumeInput(Filter* filter, vtkAlgorithmOutput* piece, const ColouredArray& array,
+  vtkVolumeProperty* property)
 {
   filter->SetInputConnection(piece);
-  filter->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, array);
+  filter->SetInputArrayToProcess(0, 0, 0, array.Association, array.Name);
   filter->SetColorTransferFunction(property->GetRGBTransferFunction(0));
   filter->SetOpacityFunction(property->GetScalarOpacity(0));
   filter->SetScalarOpacityUnitDistance(property->GetScalarOpacityUnitDistance(0));
@@ -93,11 +102,10 @@ void SetVolumeInput(
 
 /**
  * The array a representation colours by (its input array 0) in the data it renders, when
- * it is a one-component point array that the illumination filters can classify; nullptr
- * otherwise. name receives the array's name.
+ * it is a one-component point or cell array that the illumination filters can classify;
+ * nullptr otherwise (nothing is lit then). array receives its name and association.
  */
-vtkDataArray* ColouredPointScalars(
-  vtkAlgorithm* representation, vtkDataSet* data, const char*& name);
+vtkDataArray* ColouredScalars(vtkAlgorithm* representation, vtkDataSet* data, ColouredArray& array);
 
 /// Report the progress of an illumination filter as progress of a representation, so
 /// that ParaView's progress bar moves during long updates.

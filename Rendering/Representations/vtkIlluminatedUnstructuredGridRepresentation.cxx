@@ -120,8 +120,8 @@ bool vtkIlluminatedUnstructuredGridRepresentation::UpdateIllumination(vtkInforma
   vtkAlgorithmOutput* port = vtkPVRenderView::GetPieceProducer(inInfo, this);
   auto* grid =
     port ? vtkUnstructuredGrid::SafeDownCast(port->GetProducer()->GetOutputDataObject(0)) : nullptr;
-  const char* name = nullptr;
-  if (!volillum::ColouredPointScalars(this, grid, name) || grid->GetNumberOfCells() == 0)
+  volillum::ColouredArray coloured;
+  if (!volillum::ColouredScalars(this, grid, coloured) || grid->GetNumberOfCells() == 0)
   {
     return false;
   }
@@ -132,7 +132,7 @@ bool vtkIlluminatedUnstructuredGridRepresentation::UpdateIllumination(vtkInforma
   }
   this->Internals->Lights.Update(view, this->UseLightKit);
   this->Internals->Lights.ApplyTo(this->Illumination.Get());
-  volillum::SetVolumeInput(this->Illumination.Get(), port, name, this->Property);
+  volillum::SetVolumeInput(this->Illumination.Get(), port, coloured, this->Property);
   this->Illumination->Update();
   vtkUnstructuredGrid* lit = this->Illumination->GetOutput();
   if (!lit || !lit->GetPointData()->GetArray("LitColors"))

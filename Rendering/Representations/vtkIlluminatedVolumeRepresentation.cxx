@@ -164,8 +164,8 @@ void vtkIlluminatedVolumeRepresentation::UpdateIllumination(vtkInformation* inIn
   vtkAlgorithmOutput* port = vtkPVRenderView::GetPieceProducer(inInfo, this, 0);
   auto* image =
     port ? vtkImageData::SafeDownCast(port->GetProducer()->GetOutputDataObject(0)) : nullptr;
-  const char* name = nullptr;
-  if (!volillum::ColouredPointScalars(this, image, name))
+  volillum::ColouredArray coloured;
+  if (!volillum::ColouredScalars(this, image, coloured))
   {
     // Nothing this representation can light: draw as the Volume representation does.
     mapper->SetIlluminationData(nullptr);
@@ -183,7 +183,7 @@ void vtkIlluminatedVolumeRepresentation::UpdateIllumination(vtkInformation* inIn
 
   this->Internals->Lights.Update(view, this->UseLightKit);
   this->Internals->Lights.ApplyTo(filter);
-  volillum::SetVolumeInput(filter, port, name, this->Property);
+  volillum::SetVolumeInput(filter, port, coloured, this->Property);
   filter->SetResolutionScale(this->ResolutionScale);
   filter->SetChromaticAttenuation(this->ChromaticAttenuation);
   if (propagation)

@@ -5,7 +5,8 @@ by two Light Inspector lights. The representation's mean illumination must equal
 Unstructured Grid Illumination run separately on the same grid with the same lights,
 transfer functions, unit distance and level-0 resolution (1e-5 relative); moving one light
 must recompute only that light (UpdateMode 1, one light propagated) and still agree; and
-the picture must take the key light's colour (orange vs blue key).
+the picture must take the key light's colour (orange vs blue key); a grid coloured by a
+cell array is lit like the filter lights that array.
 Usage: pvpython TestIlluminatedUnstructuredGridRepresentation.py PLUGIN OUTPUT_DIR
 """
 import os
@@ -74,5 +75,24 @@ r_o, _, b_o = mean_colours(orange)
 r_b, _, b_b = mean_colours(blue)
 check((r_o - b_o) - (r_b - b_b) > 10, "image colours follow the lights (red - blue: %.1f vs %.1f)" %
       (r_o - b_o, r_b - b_b))
+
+# A grid coloured by a cell array is lit like the filter lights that array.
+cells = PointDatatoCellData(Input=mesh)
+Hide(mesh, view)
+cell_rep = Show(cells, view)
+cell_rep.SetRepresentationType("Illuminated Volume")
+ColorBy(cell_rep, ("CELLS", "Density"))
+cell_rep.Level0Resolution = [32, 32, 32]
+Render(view)
+on_cells = UnstructuredGridIllumination(
+    Input=cells, Scalars=["CELLS", "Density"], Lights=parameters(), ColorTransferFunction=lut,
+    OpacityFunction=pwf, ScalarOpacityUnitDistance=cell_rep.ScalarOpacityUnitDistance,
+    Level0Resolution=[32, 32, 32])
+got = info(cell_rep, "IlluminationMean")
+want = mean_illumination(on_cells)
+check(max(got) > 0 and relative_difference(got, want) < 1e-5,
+      "cell data: mean illumination %s vs filter on the cell array %s" %
+      (["%.5f" % v for v in got], ["%.5f" % v for v in want]))
+SaveScreenshot(os.path.join(out, "IlluminatedGridCellData.png"), view)
 
 finish(check.failures)

@@ -9,7 +9,7 @@ agree to 1e-5 (relative). Also: a Light Inspector edit with four lights is a sel
 update (one light re-propagated, same result as a full recompute); a colour map change
 forces a full update; interactive renders keep the lighting and the next still render
 updates it; the light kit counts only with Use Light Kit on; the rendered image takes
-the lights' colours.
+the lights' colours; a cell array is lit like the filter lights it.
 Usage: pvpython TestIlluminatedVolumeRepresentation.py PLUGIN OUTPUT_DIR
 """
 import os
@@ -163,5 +163,26 @@ for method, label in ((1, "Filtered Shadows"), (2, "Ray-Marched Reference")):
     Render(view)
     m = info(rep, "IlluminationMean")
     check(m[2] > 0, "%s renders with illumination (mean %s)" % (label, ["%.4f" % v for v in m]))
+
+# An array on the cells (ParaView colours the volume by it as such) is lit too: through
+# point values averaged from the cells, as the filter does when given the same array.
+rep.IlluminationMethod = "Multi-Light Propagation"
+cells = PointDatatoCellData(Input=phantom)
+Hide(phantom, view)
+cell_rep = Show(cells, view)
+cell_rep.SetRepresentationType("Illuminated Volume")
+ColorBy(cell_rep, ("CELLS", "Density"))
+Render(view)
+got = info(cell_rep, "IlluminationMean")
+on_cells = MultiLightIlluminationVolume(Input=cells, Scalars=["CELLS", "Density"],
+                                        ColorTransferFunction=lut, OpacityFunction=pwf,
+                                        ResolutionScale=0.5,
+                                        ScalarOpacityUnitDistance=cell_rep.ScalarOpacityUnitDistance,
+                                        Lights=scene_parameters(key))
+want = mean_illumination(on_cells)
+check(max(got) > 0 and relative_difference(got, want) < 1e-5,
+      "cell data: mean illumination %s vs filter on the cell array %s" %
+      (["%.5f" % v for v in got], ["%.5f" % v for v in want]))
+SaveScreenshot(os.path.join(out, "IlluminatedVolumeCellData.png"), view)
 
 finish(check.failures)
