@@ -12,10 +12,11 @@
  * points: reading grid values by interpolation at every slice would blur a shadow edge a
  * little at every slice (the numerical diffusion that dominated the error in material). A
  * directional light's parallel rays form a lattice that moves a whole number of cells
- * between slices, so it is never resampled; a point or spot light's diverging rays are
- * followed from an anchor slice and resampled onto the grid only when they have spread by
- * a tenth. The read is a bicubic (Catmull-Rom) interpolation limited to the range of the
- * four surrounding rays, so it creates neither light nor negative values. Light is
+ * between slices, so it is never resampled; a point or spot light's diverging rays leave
+ * an anchor slice 1.5 times denser than its points and are resampled onto a new anchor
+ * when they have spread to a cell apart. The read is a bicubic (Catmull-Rom)
+ * interpolation limited to the range of the four surrounding rays, so it creates neither
+ * light nor negative values. Light is
  * attenuated inside the box only, so light entering through a side face is attenuated
  * from where it entered. Each point adds weight x sign x light to the illumination volume,
  * so removing a light is propagating its old state with sign -1.

@@ -409,7 +409,7 @@ TEST(MultiLightIlluminationVolume, ResolutionScalesFollowTheReference)
       volillumfidelity::MaterialRms(propagated, Result(propagated), Result(reference));
     std::cout << "scale " << scale << ": RMS relative difference to the reference over material "
               << material << " (whole volume " << rms << ")" << std::endl;
-    EXPECT_LE(material, scale == 0.5 ? 0.07 : 0.095);
+    EXPECT_LE(material, scale == 0.5 ? 0.05 : 0.07);
     EXPECT_LE(rms, scale == 0.5 ? 0.1 : 0.15);
   }
 }
