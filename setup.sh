@@ -74,8 +74,9 @@ case "${1:-}" in
   test)
     build
     # One X server for the tests and the benchmark smoke runs (each xvfb-run start is a
-    # chance for a display race).
-    xvfb-run -a bash -c 'set -e
+    # chance for a display race); -noreset keeps it from resetting whenever its last
+    # client leaves, which a program connecting at that moment sees as a bad connection.
+    xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" bash -c 'set -e
       (cd build && ctest --output-on-failure)
       build/bin/volillum-benchmark --smoke --json build/benchmark-smoke.json
       build/bin/volillum-unstructured-benchmark --smoke
