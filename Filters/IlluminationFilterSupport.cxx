@@ -9,6 +9,7 @@
 #include "vtkDataArray.h"
 #include "vtkDataObject.h"
 #include "vtkDataSet.h"
+#include "vtkDataSetAttributes.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkInformation.h"
@@ -123,15 +124,13 @@ PointScalars FindPointScalars(vtkAlgorithm* algorithm, vtkDataSet* input, int co
     // The association asked for first (points unless cells are named), then the other.
     onCells = arrayInfo->Has(vtkDataObject::FIELD_ASSOCIATION()) &&
       arrayInfo->Get(vtkDataObject::FIELD_ASSOCIATION()) == vtkDataObject::FIELD_ASSOCIATION_CELLS;
-    vtkFieldData* first = onCells ? static_cast<vtkFieldData*>(input->GetCellData())
-                                  : static_cast<vtkFieldData*>(input->GetPointData());
-    vtkFieldData* second = onCells ? static_cast<vtkFieldData*>(input->GetPointData())
-                                   : static_cast<vtkFieldData*>(input->GetCellData());
-    chosen = first->GetAbstractArray(requested);
+    chosen = input->GetAttributes(onCells ? vtkDataObject::CELL : vtkDataObject::POINT)
+               ->GetAbstractArray(requested);
     if (!chosen)
     {
-      chosen = second->GetAbstractArray(requested);
       onCells = !onCells;
+      chosen = input->GetAttributes(onCells ? vtkDataObject::CELL : vtkDataObject::POINT)
+                 ->GetAbstractArray(requested);
     }
     if (!chosen)
     {

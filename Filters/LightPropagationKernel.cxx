@@ -237,9 +237,10 @@ struct SweepContext
 // one cell apart crosses every slice, and a ray moves from one slice to the next by the
 // same offset as every other. The lattice is the grid shifted by the fraction of the
 // accumulated offset, so a ray's predecessor is a whole number of cells away and is read
-// without interpolation; light reaching the grid's points is interpolated from the lattice
-// of their own slice once. Reading the previous slice by interpolation instead would blur
-// a shadow edge a little at every slice.
+// without interpolation. A grid point interpolates the previous slice's lattice once, where
+// its own ray crosses it, and integrates its last step itself (RowFromLattice). Reading the
+// previous slice's grid values by interpolation instead would blur a shadow edge a little
+// at every slice.
 struct SweepSource
 {
   RaySource Source;
@@ -453,10 +454,10 @@ void TransmittanceAtPoint(const SweepContext& s, const SweepSource& sweep, const
   SegmentTransmittance(s, p, d, s.Spacing[a] / along, out);
 }
 
-// Position of ray (i, j) of a point or spot source at its anchor slice.
-inline void AnchorPoint(const SweepContext& s, const SweepSource& sweep, int i, int j, double p[3])
+// Position of ray (i, j) of a point or spot source where it leaves anchor slice k.
+inline void AnchorPoint(const SweepContext& s, int k, int i, int j, double p[3])
 {
-  p[s.Axis] = SliceCoordinate(s, sweep.Anchor);
+  p[s.Axis] = SliceCoordinate(s, k);
   p[s.B] = s.Origin[s.B] + i * s.Spacing[s.B] / AnchorSpread;
   p[s.C] = s.Origin[s.C] + j * s.Spacing[s.C] / AnchorSpread;
 }
@@ -479,8 +480,6 @@ bool AdvanceAnchoredRays(const SweepContext& s, SweepSource& sweep, int k, float
   const double scale = anchor
     ? 1.0
     : (SliceCoordinate(s, k) - light[a]) / (SliceCoordinate(s, sweep.Anchor) - light[a]);
-  SweepSource moved = sweep;
-  moved.Anchor = k;
   vtkSMPTools::For(0, sweep.RaysC,
     [&](int begin, int end)
     {
@@ -493,13 +492,13 @@ bool AdvanceAnchoredRays(const SweepContext& s, SweepSource& sweep, int k, float
           if (anchor)
           {
             // The ray leaves slice k: its light is read from the rays at slice k - 1.
-            AnchorPoint(s, moved, i, j, p);
+            AnchorPoint(s, k, i, j, p);
             TransmittanceAtPoint(s, sweep, rays, p, o, d, factor);
             continue;
           }
           // The ray through anchor point (i, j), at slice k.
           double offset[3];
-          AnchorPoint(s, sweep, i, j, offset);
+          AnchorPoint(s, sweep.Anchor, i, j, offset);
           for (int c = 0; c < 3; ++c)
           {
             offset[c] -= light[c];
@@ -562,7 +561,7 @@ void LatticeRow(const SweepContext& s, const SweepSource& sweep, const LatticePh
   }
   const double* d = sweep.Source.Travel;
   double p[3];
-  p[s.Axis] = s.Origin[s.Axis] + k * s.Spacing[s.Axis];
+  p[s.Axis] = SliceCoordinate(s, k);
   p[s.C] = s.Origin[s.C] + (j - 1 + phase.FractionV) * s.Spacing[s.C];
   const int from = j - phase.ShiftV;
   for (int i = 0; i < width; ++i)
@@ -593,7 +592,7 @@ void RowFromLattice(const SweepContext& s, const SweepSource& sweep, const Latti
   const int nc = s.N[s.C];
   const double* d = sweep.Source.Travel;
   double p[3];
-  p[s.Axis] = s.Origin[s.Axis] + k * s.Spacing[s.Axis];
+  p[s.Axis] = SliceCoordinate(s, k);
   p[s.C] = s.Origin[s.C] + ic * s.Spacing[s.C];
   const double v = ic - sweep.OffsetV;
   SlicePoint at;
@@ -681,11 +680,14 @@ bool Sweep(const ClassifiedVolume& volume, const GridGeometry& g, int group,
   size_t bufferBytes = 0;
   for (SweepSource& sweep : prepared)
   {
-    // Point and spot sources: the rays leaving an anchor, AnchorSpread times denser.
-    sweep.RaysB = static_cast<int>(std::ceil((nb - 1) * AnchorSpread)) + 1;
-    sweep.RaysC = static_cast<int>(std::ceil((nc - 1) * AnchorSpread)) + 1;
-    const size_t rays = 3 * static_cast<size_t>(sweep.RaysB) * sweep.RaysC;
-    const size_t size = sweep.FollowsRays() ? latticeValues : (sweep.Source.Directional ? 0 : rays);
+    size_t size = sweep.FollowsRays() ? latticeValues : 0;
+    if (!sweep.Source.Directional)
+    {
+      // The rays leaving an anchor, AnchorSpread times denser than its points.
+      sweep.RaysB = static_cast<int>(std::ceil((nb - 1) * AnchorSpread)) + 1;
+      sweep.RaysC = static_cast<int>(std::ceil((nc - 1) * AnchorSpread)) + 1;
+      size = 3 * static_cast<size_t>(sweep.RaysB) * sweep.RaysC;
+    }
     read.emplace_back(size, 1.0f);
     write.emplace_back(size, 1.0f);
     bufferBytes += 2 * size * sizeof(float);

@@ -16,10 +16,10 @@
  * an anchor slice 1.5 times denser than its points and are resampled onto a new anchor
  * when they have spread to a cell apart. The read is a bicubic (Catmull-Rom)
  * interpolation limited to the range of the four surrounding rays, so it creates neither
- * light nor negative values. Light is
- * attenuated inside the box only, so light entering through a side face is attenuated
- * from where it entered. Each point adds weight x sign x light to the illumination volume,
- * so removing a light is propagating its old state with sign -1.
+ * light nor negative values. Light is attenuated inside the box only, so light entering
+ * through a side face is attenuated from where it entered. Each point adds weight x sign x
+ * light to the illumination volume, so removing a light is propagating its old state with
+ * sign -1.
  *
  * Group weights (eq. 5a/5b): a light outside the volume travels in the groups of the two
  * axis directions closest to its main direction t (a directional light's direction, the
