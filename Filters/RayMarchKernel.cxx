@@ -100,6 +100,35 @@ std::array<double, 3> RayMarchTransmittance(const ClassifiedVolume& volume, cons
   return t;
 }
 
+void SegmentOpticalDepth(const ClassifiedVolume& volume, const double p[3], const double d[3],
+  double length, int channels, double depth[3], const EmptyBlocks* empty)
+{
+  depth[0] = depth[1] = depth[2] = 0.0;
+  if (length <= 0.0)
+  {
+    return;
+  }
+  const auto& sp = volume.Geometry.Spacing;
+  const double spacing = std::min(std::abs(sp[0]), std::min(std::abs(sp[1]), std::abs(sp[2])));
+  const int n = std::max(1, static_cast<int>(std::ceil(length / spacing - 1e-9)));
+  const double h = length / n;
+  float s[4];
+  for (int m = 0; m < n; ++m)
+  {
+    const double t = (m + 0.5) * h;
+    const double q[3] = { p[0] + t * d[0], p[1] + t * d[1], p[2] + t * d[2] };
+    if (empty && empty->Contains(q))
+    {
+      continue;
+    }
+    volume.Sample(q, s);
+    for (int c = 0; c < channels; ++c)
+    {
+      depth[c] += s[0] * (channels == 3 ? s[1 + c] : 1.0f) * h;
+    }
+  }
+}
+
 std::array<double, 3> RayMarchIlluminationAt(const ClassifiedVolume& volume,
   const std::vector<LightState>& lights, const double p[3], const RayMarchSettings& settings,
   const EmptyBlocks* empty)

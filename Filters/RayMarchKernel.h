@@ -65,6 +65,16 @@ VOLILLUMFILTERS_EXPORT std::array<double, 3> RayMarchTransmittance(const Classif
   const LightState& light, const double p[3], const RayMarchSettings& settings,
   const EmptyBlocks* empty = nullptr);
 
+/**
+ * Optical depth per channel (extinction x k_c with three channels, extinction alone with
+ * one) of the segment from p along the unit direction d over `length`, through the
+ * classified data at full resolution: midpoint rule with steps of at most its smallest
+ * spacing; with `empty`, samples in empty blocks are skipped.
+ */
+VOLILLUMFILTERS_EXPORT void SegmentOpticalDepth(const ClassifiedVolume& volume, const double p[3],
+  const double d[3], double length, int channels, double depth[3],
+  const EmptyBlocks* empty = nullptr);
+
 /// Summed illumination of the lights that are on at point p: radiance x transmittance.
 VOLILLUMFILTERS_EXPORT std::array<double, 3> RayMarchIlluminationAt(const ClassifiedVolume& volume,
   const std::vector<LightState>& lights, const double p[3], const RayMarchSettings& settings,

@@ -25,6 +25,12 @@ bool SampleInside(
   data.Sample(p, s);
   return true;
 }
+
+double MinimumSpacing(const ClassifiedVolume& data)
+{
+  const auto& sp = data.Geometry.Spacing;
+  return std::min(std::abs(sp[0]), std::min(std::abs(sp[1]), std::abs(sp[2])));
+}
 }
 
 SatFrame FrameForDirection(const double direction[3])
@@ -352,30 +358,31 @@ void SphericalSAT::Build(const ClassifiedVolume& data, const double light[3], do
   vtkMath::Normalize(toCentre);
   this->Frame = FrameForDirection(toCentre);
 
-  // Radius and opening angle that hold the whole box (with a margin: the widest angle of a
-  // box need not be at a corner).
+  // Radii and opening angle that hold the whole box. Outside the box, the cone about the
+  // axis that holds its eight corners holds all of it (a cone narrower than a half-space is
+  // convex); from inside, every direction is needed.
   bool inside = true;
+  double nearest[3];
   for (int a = 0; a < 3; ++a)
   {
     inside = inside && light[a] >= bounds[2 * a] && light[a] <= bounds[2 * a + 1];
+    nearest[a] = std::min(std::max(light[a], bounds[2 * a]), bounds[2 * a + 1]);
   }
   double rMax = 0.0, thetaMax = 0.0;
-  for (int corner = 0; corner < 27; ++corner)
+  for (int corner = 0; corner < 8; ++corner)
   {
-    const int c[3] = { corner % 3, (corner / 3) % 3, corner / 9 };
-    double p[3], s[3];
-    for (int a = 0; a < 3; ++a)
-    {
-      p[a] = bounds[2 * a] + 0.5 * c[a] * (bounds[2 * a + 1] - bounds[2 * a]);
-    }
+    const double p[3] = { bounds[corner & 1], bounds[2 + ((corner >> 1) & 1)],
+      bounds[4 + ((corner >> 2) & 1)] };
+    double s[3];
     this->ToSpherical(p, s);
     rMax = std::max(rMax, s[2]);
     thetaMax = std::max(thetaMax, s[1]);
   }
-  this->ThetaMax = inside ? vtkMath::Pi() : std::min(vtkMath::Pi(), 1.1 * thetaMax + 0.05);
+  this->ThetaMax = inside || thetaMax >= 0.5 * vtkMath::Pi() ? vtkMath::Pi() : thetaMax;
+  this->RMin = inside ? 0.0 : std::sqrt(vtkMath::Distance2BetweenPoints(light, nearest));
   const double spread = this->ThetaMax >= 0.5 * vtkMath::Pi() ? 1.0 : std::sin(this->ThetaMax);
   double counts[3] = { 2.0 * vtkMath::Pi() * rMax * spread / cellSize,
-    this->ThetaMax * rMax / cellSize, rMax / cellSize };
+    this->ThetaMax * rMax / cellSize, (rMax - this->RMin) / cellSize };
   const double total =
     std::max(counts[0], 1.0) * std::max(counts[1], 1.0) * std::max(counts[2], 1.0);
   const double shrink = total > maxCells ? std::cbrt(maxCells / total) : 1.0;
@@ -387,16 +394,19 @@ void SphericalSAT::Build(const ClassifiedVolume& data, const double light[3], do
   this->H = cellSize / shrink;
   this->DPhi = 2.0 * vtkMath::Pi() / n[0];
   this->DTheta = this->ThetaMax / n[1];
-  this->DR = rMax / n[2];
+  this->DR = (rMax - this->RMin) / n[2];
   this->Table.Allocate(n, channels);
 
+  // Cell integrals along r with the midpoint rule at most one data spacing apart (cells grow
+  // coarser than the data when the table is capped: a thin layer still casts its shadow).
+  const int samples =
+    std::max(1, static_cast<int>(std::ceil(this->DR / MinimumSpacing(data) - 1e-9)));
   const double eps = 1e-9 * std::max(bounds[1] - bounds[0], 1.0);
   vtkSMPTools::For(0, static_cast<long long>(n[2]),
     [&](long long k0, long long k1)
     {
       for (long long k = k0; k < k1; ++k)
       {
-        const double r = (k + 0.5) * this->DR;
         for (long long j = 0; j < n[1]; ++j)
         {
           const double theta0 = j * this->DTheta;
@@ -408,23 +418,32 @@ void SphericalSAT::Build(const ClassifiedVolume& data, const double light[3], do
             const double phi = -vtkMath::Pi() + (i + 0.5) * this->DPhi;
             const double local[3] = { std::sin(theta) * std::cos(phi),
               std::sin(theta) * std::sin(phi), std::cos(theta) };
-            double p[3];
+            double direction[3];
             for (int a = 0; a < 3; ++a)
             {
-              p[a] = light[a] +
-                r *
-                  (local[0] * this->Frame.Axes[0][a] + local[1] * this->Frame.Axes[1][a] +
-                    local[2] * this->Frame.Axes[2][a]);
+              direction[a] = local[0] * this->Frame.Axes[0][a] + local[1] * this->Frame.Axes[1][a] +
+                local[2] * this->Frame.Axes[2][a];
             }
-            float s[4];
-            if (!SampleInside(data, bounds, eps, p, s))
+            double cell[3] = { 0.0, 0.0, 0.0 };
+            for (int m = 0; m < samples; ++m)
             {
-              continue;
+              const double r = this->RMin + (k + (m + 0.5) / samples) * this->DR;
+              const double p[3] = { light[0] + r * direction[0], light[1] + r * direction[1],
+                light[2] + r * direction[2] };
+              float s[4];
+              if (!SampleInside(data, bounds, eps, p, s))
+              {
+                continue;
+              }
+              for (int c = 0; c < channels; ++c)
+              {
+                const double absorb = channels == 3 ? s[1 + c] : 1.0;
+                cell[c] += s[0] * absorb * this->DR * solidAngle / samples;
+              }
             }
             for (int c = 0; c < channels; ++c)
             {
-              const double absorb = channels == 3 ? s[1 + c] : 1.0;
-              this->Table.SetCell(c, i, j, k, s[0] * absorb * this->DR * solidAngle);
+              this->Table.SetCell(c, i, j, k, cell[c]);
             }
           }
         }
@@ -447,7 +466,8 @@ double SphericalSAT::Integral(
     return j + (c0 - std::cos(theta)) / (c0 - c1);
   };
   const double lo[3] = { (phi0 + vtkMath::Pi()) / this->DPhi, thetaIndex(theta0), 0.0 };
-  const double hi[3] = { (phi1 + vtkMath::Pi()) / this->DPhi, thetaIndex(theta1), r / this->DR };
+  const double hi[3] = { (phi1 + vtkMath::Pi()) / this->DPhi, thetaIndex(theta1),
+    (r - this->RMin) / this->DR };
   return this->Table.Box(channel, lo, hi);
 }
 
@@ -457,11 +477,14 @@ double SphericalSAT::FilteredOpticalDepth(int channel, const double p[3], double
   this->ToSpherical(p, s);
   const double r = std::max(s[2], 1e-12);
   const double pi = vtkMath::Pi();
-  const double dTheta = std::min(halfWidth / r, pi);
+  // The patch spans at least one cell each way: a hard shadow reads the table at its own
+  // angular resolution wherever the sample is.
+  const double dTheta = std::max(std::min(halfWidth / r, pi), 0.5 * this->DTheta);
   const double theta0 = std::max(0.0, s[1] - dTheta);
   const double theta1 = std::min(pi, s[1] + dTheta);
   const double sine = std::sin(s[1]);
-  const double dPhi = sine * r > halfWidth / pi ? std::min(halfWidth / (r * sine), pi) : pi;
+  const double dPhi = std::max(
+    sine * r > halfWidth / pi ? std::min(halfWidth / (r * sine), pi) : pi, 0.5 * this->DPhi);
   const double phi0 = s[0] - dPhi;
   const double phi1 = s[0] + dPhi;
   const double thetaTop = std::min(theta1, this->ThetaMax);

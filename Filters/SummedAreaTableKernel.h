@@ -150,7 +150,7 @@ public:
     long long maxCells = 1LL << 25);
 
   /// Filtered optical depth from the light to p over a square patch of half-width
-  /// halfWidth at p's distance.
+  /// halfWidth at p's distance, widened to one table cell where it is narrower.
   double FilteredOpticalDepth(int channel, const double p[3], double halfWidth) const;
 
   /// (phi, theta, r) of a world point.
@@ -168,6 +168,7 @@ private:
   SatFrame Frame; // third axis: from the light toward the volume's centre
   double H = 1.0;
   double ThetaMax = 0.0;
+  double RMin = 0.0; // cells start where the box begins
   double DPhi = 1.0, DTheta = 1.0, DR = 1.0;
   RunningIntegralTable Table;
 };

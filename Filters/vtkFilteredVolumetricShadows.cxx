@@ -1,6 +1,7 @@
 #include "vtkFilteredVolumetricShadows.h"
 
 #include "IlluminationFilterSupport.h"
+#include "RayMarchKernel.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkSMPTools.h"
@@ -21,6 +22,7 @@ struct ShadowLookup
   int Axis;
   int Sign;
   std::array<double, 3> Radiance;
+  std::array<double, 3> Toward; // unit direction toward the light
 };
 
 // A point or spot light and its spherical table.
@@ -40,6 +42,29 @@ void Record(float* out, long long id, const double* transmittance, int channels)
     {
       out[channels * id + c] = static_cast<float>(transmittance[c]);
     }
+  }
+}
+
+// Shadow rays are integrated through the full-resolution data over their first
+// NearSegmentCells table cells toward the light and read from the table beyond: the optical
+// depth next to a sample changes fastest across rays (a sample inside a thin structure or at
+// its edge), and a table cell is one to four data cells wide. Measured (material RMS at
+// FilterWidth 0, engine, directional light, default tables): 16.6 % without, 9.9 % with 1
+// cell, 7.6 % with 2, 5.9 % with 4, 4.9 % with 8; the cost grows with the cells.
+constexpr double NearSegmentCells = 4.0;
+
+// The near part of the shadow ray from p toward the light (unit direction toward, clipped
+// to the box and to `reach`): its optical depth per channel, and in far the point where the
+// table takes over.
+void NearSegment(const volillum::ClassifiedVolume& volume, const volillum::EmptyBlocks& empty,
+  const double bounds[6], const double p[3], const double toward[3], double reach, int channels,
+  double depth[3], double far[3])
+{
+  const double length = std::min(reach, volillum::DistanceToBoxExit(p, toward, bounds));
+  volillum::SegmentOpticalDepth(volume, p, toward, length, channels, depth, &empty);
+  for (int a = 0; a < 3; ++a)
+  {
+    far[a] = p[a] + std::max(length, 0.0) * toward[a];
   }
 }
 
@@ -84,7 +109,8 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
     // The table is read toward the light, against the direction light travels.
     const auto travel = light.Direction();
     const double toward[3] = { -travel[0], -travel[1], -travel[2] };
-    ShadowLookup lookup{ index, frames.size(), -1, 0, light.Radiance() };
+    ShadowLookup lookup{ index, frames.size(), -1, 0, light.Radiance(),
+      { toward[0], toward[1], toward[2] } };
     for (size_t f = 0; f < frames.size() && lookup.Axis < 0; ++f)
     {
       lookup.Axis = volillum::AxisOfDirection(frames[f], toward, lookup.Sign);
@@ -145,8 +171,14 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
   this->SphericalTables = std::move(spherical);
   this->TablesScale = scale;
 
-  // Half the patch side, at least half a table cell (hard shadows at the table's resolution).
-  const double halfWidth = std::max(0.5 * this->FilterWidth * minSpacing, 0.5 * cellSize);
+  // Half the patch side; a Cartesian table's patch is at least one cell wide (hard shadows at
+  // the table's resolution), a spherical table widens it to its own cell.
+  const double patch = 0.5 * this->FilterWidth * minSpacing;
+  const double halfWidth = std::max(patch, 0.5 * cellSize);
+  const double nearLength = NearSegmentCells * cellSize;
+  double bounds[6];
+  volume.Geometry.GetBounds(bounds);
+  const volillum::EmptyBlocks empty(volume);
   const std::vector<double> gaussian =
     this->FilterKernel == Gaussian ? volillum::GaussianWeights(5) : std::vector<double>();
   // Optional per-light transmittance arrays, indexed by light.
@@ -185,12 +217,15 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
           for (const auto& l : lookups)
           {
             const auto& table = this->Tables[l.Table];
+            double near[3], far[3];
+            NearSegment(volume, empty, bounds, p, l.Toward.data(), nearLength, channels, near, far);
             double transmittance[3] = { 1.0, 1.0, 1.0 };
             for (int c = 0; c < channels; ++c)
             {
-              const double tau = gaussian.empty()
-                ? table.FilteredOpticalDepth(c, p, l.Axis, l.Sign, halfWidth)
-                : table.KernelFilteredOpticalDepth(c, p, l.Axis, l.Sign, halfWidth, gaussian);
+              const double tau = near[c] +
+                (gaussian.empty() ? table.FilteredOpticalDepth(c, far, l.Axis, l.Sign, halfWidth)
+                                  : table.KernelFilteredOpticalDepth(
+                                      c, far, l.Axis, l.Sign, halfWidth, gaussian));
               transmittance[c] = std::exp(-std::max(tau, 0.0));
             }
             for (int c = 0; c < 3; ++c)
@@ -201,18 +236,22 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
           }
           for (const auto& l : sphericalLookups)
           {
-            const double cone = volillum::ComputeIncidence(l.Light, p).ConeFactor;
+            const auto incidence = volillum::ComputeIncidence(l.Light, p);
+            const double cone = incidence.ConeFactor;
             if (cone == 0.0 && !transmittanceOut[l.Index])
             {
               continue;
             }
             const auto& table = this->SphericalTables[l.Table];
             const auto radiance = l.Light.Radiance();
+            double near[3], far[3];
+            NearSegment(volume, empty, bounds, p, incidence.ToLight.data(),
+              std::min(nearLength, incidence.Distance), channels, near, far);
             double transmittance[3] = { 1.0, 1.0, 1.0 };
             for (int c = 0; c < channels; ++c)
             {
               transmittance[c] =
-                std::exp(-std::max(table.FilteredOpticalDepth(c, p, halfWidth), 0.0));
+                std::exp(-std::max(near[c] + table.FilteredOpticalDepth(c, far, patch), 0.0));
             }
             for (int c = 0; c < 3; ++c)
             {

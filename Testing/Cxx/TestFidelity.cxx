@@ -86,30 +86,30 @@ void CheckScene(const Scene& scene, double propagation1, double propagation05, d
 TEST(Fidelity, Slab)
 {
   CheckScene(volillumfidelity::PhantomScene("slab", vtkIlluminationPhantomSource::Slab, 64, 0.05),
-    0.5, 3.5, 4, 2);
+    0.5, 3.5, 3, 1.5);
 }
 
 TEST(Fidelity, ThreeSpheres)
 {
   CheckScene(
     volillumfidelity::PhantomScene("spheres", vtkIlluminationPhantomSource::ThreeSpheres, 64, 0.3),
-    2, 6, 13, 5);
+    2, 6, 3.5, 2.5);
 }
 
 TEST(Fidelity, Engine)
 {
-  CheckScene(volillumfidelity::FileScene("engine", Data + "/volumes/engine.vti", 0.3, 0.8), 2.5, 5,
-    18.5, 10);
+  CheckScene(
+    volillumfidelity::FileScene("engine", Data + "/volumes/engine.vti", 0.3, 0.8), 2.5, 5, 8, 3.5);
 }
 
 TEST(Fidelity, Aneurism)
 {
   CheckScene(volillumfidelity::FileScene("aneurism", Data + "/volumes/aneurism.vti", 0.3, 0.8), 5.5,
-    9, 27, 24.5);
+    9, 10.5, 7);
 }
 
 TEST(Fidelity, ChestCT)
 {
-  CheckScene(
-    volillumfidelity::FileScene("lidc2", Data + "/volumes/LIDC2.mha", 0.3, 0.8), 5, 10.5, 21, 17);
+  CheckScene(volillumfidelity::FileScene("lidc2", Data + "/volumes/LIDC2.mha", 0.3, 0.8), 5, 10.5,
+    12.5, 7.5);
 }

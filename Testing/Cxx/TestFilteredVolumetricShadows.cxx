@@ -97,7 +97,7 @@ TEST(FilteredVolumetricShadows, HardShadowsAgreeWithTheRayMarchedReference)
     // Hard shadows at the table's resolution: a one-cell box across the light. Along a data
     // axis the table's cells are centred on the data points, so the box reads exactly the
     // column through the point; an oblique table resamples the extinction.
-    EXPECT_LE(rms, d[0] == 0.0 ? 1e-6 : 0.05);
+    EXPECT_LE(rms, d[0] == 0.0 ? 1e-6 : 0.03);
     EXPECT_LE(whole, 0.06);
   }
 }
@@ -199,7 +199,7 @@ TEST(FilteredVolumetricShadows, PointAndSpotLightsAgreeWithTheReference)
               << ": RMS relative difference to the reference over material " << rms
               << " (whole volume " << whole << "), tables built " << tables << std::endl;
     EXPECT_EQ(tables, 1);
-    EXPECT_LE(rms, 0.05) << name;
+    EXPECT_LE(rms, 0.02) << name;
     EXPECT_LE(whole, 0.1) << name;
   }
 }

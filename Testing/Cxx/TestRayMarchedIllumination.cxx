@@ -488,6 +488,49 @@ TEST(RayMarchedIllumination, SkippingEmptyBlocksChangesNothing)
   EXPECT_LE(worst, 1e-6);
 }
 
+TEST(RayMarchedIllumination, SegmentOpticalDepthIntegratesTheSlab)
+{
+  // Extinction sigma inside the slab (z in [SlabBegin, SlabEnd]), 0 outside, ramping
+  // linearly over the cell on either side: a segment from z = 20 down to z = 10 holds sigma
+  // over 4 cells and half of it over the ramp; one inside it sigma x length; one outside 0.
+  auto slab = MakeScene(vtkIlluminationPhantomSource::Slab);
+  auto filter = MakeSlabFilter(slab);
+  volillum::ClassificationSettings settings;
+  settings.Opacity = filter->GetOpacityFunction();
+  settings.Chromatic = false;
+  volillum::GridGeometry geometry;
+  slab->GetDimensions(geometry.Dimensions.data());
+  volillum::ClassifiedVolume classified;
+  std::string error;
+  ASSERT_TRUE(
+    volillum::Classify(slab->GetPointData()->GetScalars(), geometry, settings, classified, error));
+  const volillum::EmptyBlocks empty(classified);
+  const double sigma = -std::log(1.0 - SlabOpacity);
+  const double down[3] = { 0.0, 0.0, -1.0 };
+  const double oblique[3] = { 0.6, 0.0, 0.8 };
+  struct Segment
+  {
+    double P[3];
+    const double* D;
+    double Length;
+    double Expected;
+  };
+  const Segment segments[] = { { { 30.2, 20.7, 20.0 }, down, 10.0, 4.5 * sigma },
+    { { 30.2, 20.7, 30.0 }, oblique, 10.0, 10.0 * sigma },
+    { { 30.2, 20.7, 5.0 }, down, 4.0, 0.0 } };
+  for (const auto& segment : segments)
+  {
+    for (const volillum::EmptyBlocks* skip :
+      { static_cast<const volillum::EmptyBlocks*>(nullptr), &empty })
+    {
+      double depth[3];
+      volillum::SegmentOpticalDepth(
+        classified, segment.P, segment.D, segment.Length, 1, depth, skip);
+      EXPECT_NEAR(depth[0], segment.Expected, 1e-6 * sigma) << "from z " << segment.P[2];
+    }
+  }
+}
+
 TEST(RayMarchedIllumination, PointLightInsideTheVolume)
 {
   auto slab = MakeScene(vtkIlluminationPhantomSource::Slab);

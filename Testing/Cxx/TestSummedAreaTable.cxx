@@ -336,3 +336,49 @@ TEST(SummedAreaTable, KernelsAgreeWhereTheMediumIsLaterallyUniform)
   EXPECT_NEAR(box, gaussian, 1e-9 * box);
   EXPECT_NEAR(box, thin, 1e-9 * box);
 }
+
+TEST(SummedAreaTable, SphericalTablesIntegrateAUniformMediumFromTheLight)
+{
+  // Extinction sigma everywhere in the box [0, 31]^3: the optical depth from a point light
+  // to p is sigma times the length of the ray inside the box, for lights beside a face,
+  // beyond a corner and inside the box, with the table's cells starting where the box
+  // begins and its cone fitted to the corners. Cells that the box's face cuts are sampled
+  // at their centre, so the depth may be off by sigma x half a cell there.
+  ClassifiedVolume v;
+  v.Geometry.Dimensions = { { 32, 32, 32 } };
+  v.Properties.assign(4 * static_cast<size_t>(v.Geometry.NumberOfPoints()), 1.0f);
+  const double sigma = 0.05;
+  for (size_t i = 0; i < v.Properties.size(); i += 4)
+  {
+    v.Properties[i] = static_cast<float>(sigma);
+  }
+  double bounds[6];
+  v.Geometry.GetBounds(bounds);
+  vtkNew<vtkMinimalStandardRandomSequence> random;
+  random->SetSeed(7);
+  for (const auto& light : { std::array<double, 3>{ -20.0, 15.5, 15.5 },
+         std::array<double, 3>{ -10.0, -12.0, 45.0 }, std::array<double, 3>{ 10.0, 20.0, 12.0 } })
+  {
+    SphericalSAT table;
+    table.Build(v, light.data(), 1.0, 1);
+    double worst = 0.0;
+    for (int n = 0; n < 200; ++n)
+    {
+      double p[3], toLight[3];
+      for (int a = 0; a < 3; ++a)
+      {
+        random->Next();
+        p[a] = 2.0 + 27.0 * random->GetValue();
+        toLight[a] = light[a] - p[a];
+      }
+      const double distance = vtkMath::Normalize(toLight);
+      const double inside = std::min(distance, DistanceToBoxExit(p, toLight, bounds));
+      const double got = table.FilteredOpticalDepth(0, p, 0.0);
+      // The error as a length along the ray, in cells.
+      worst = std::max(worst, std::abs(got - sigma * inside) / (sigma * table.GetCellSize()));
+    }
+    std::cout << "light (" << light[0] << "," << light[1] << "," << light[2]
+              << "): largest error of the optical depth " << worst << " sigma x cell" << std::endl;
+    EXPECT_LE(worst, 0.5);
+  }
+}
