@@ -175,7 +175,11 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
   // the table's resolution), a spherical table widens it to its own cell.
   const double patch = 0.5 * this->FilterWidth * minSpacing;
   const double halfWidth = std::max(patch, 0.5 * cellSize);
-  const double nearLength = NearSegmentCells * cellSize;
+  // The near segment stands in for the table where the table's own cell is the filter (hard
+  // shadows); a patch two cells wide or wider is read from the table along the whole ray, so
+  // soft shadows are filtered everywhere (linear in between, so the width changes smoothly).
+  const double hardness = std::min(std::max(2.0 - 2.0 * patch / cellSize, 0.0), 1.0);
+  const double nearLength = NearSegmentCells * cellSize * hardness;
   double bounds[6];
   volume.Geometry.GetBounds(bounds);
   const volillum::EmptyBlocks empty(volume);

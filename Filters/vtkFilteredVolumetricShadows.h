@@ -13,11 +13,13 @@
  * Tables are kept while only the lights' colour, intensity or switch change.
  * PropagationPasses reports the number of tables built by the last update.
  *
- * The first four table cells of every shadow ray, next to the sample, are integrated along
- * the ray through the full-resolution data instead of read from the table: there the
- * optical depth changes fastest from ray to ray (a sample inside a thin structure or at its
- * edge), and an occluder that close casts a narrow penumbra anyway. At FilterWidth 0 this
- * halves the error where there is material (fidelity tests).
+ * For hard shadows (a patch at most one table cell wide) the first four table cells of
+ * every shadow ray, next to the sample, are integrated along the ray through the
+ * full-resolution data instead of read from the table: there the optical depth changes
+ * fastest from ray to ray (a sample inside a thin structure or at its edge). At FilterWidth
+ * 0 this halves the error where there is material (fidelity tests). The segment shortens
+ * linearly to nothing as the patch widens to two cells: soft shadows are filtered along
+ * the whole ray.
  *
  * Point and spot lights, outside or inside the volume, read a spherical summed-area table
  * centred on the light (eq. 16-24): the optical depth is averaged over the shadow rays
