@@ -46,29 +46,11 @@ void UseThreadedBackend()
 }
 
 //------------------------------------------------------------------------------
-namespace
+void FillSingleComponent(vtkDataArray* array, int component, vtkDataArray* out)
 {
-// Point data from a cell array: each point gets the average of the cells that use it.
-vtkSmartPointer<vtkDataArray> CellToPoint(vtkDataSet* input, vtkDataArray* cells)
-{
-  auto structure = vtk::TakeSmartPointer(input->NewInstance());
-  structure->CopyStructure(input);
-  structure->GetCellData()->AddArray(cells);
-  vtkNew<vtkCellDataToPointData> convert;
-  convert->SetInputData(structure);
-  convert->Update();
-  return convert->GetOutput()->GetPointData()->GetArray(cells->GetName());
-}
-
-// One component of a multi-component array, or its magnitude for component -1.
-vtkSmartPointer<vtkDataArray> SingleComponent(vtkDataArray* array, int component)
-{
-  const vtkIdType n = array->GetNumberOfTuples();
   const int components = array->GetNumberOfComponents();
-  auto out = vtkSmartPointer<vtkDoubleArray>::New();
-  out->SetName(array->GetName());
-  out->SetNumberOfTuples(n);
-  vtkSMPTools::For(0, n,
+  component = std::min(component, components - 1);
+  vtkSMPTools::For(0, array->GetNumberOfTuples(),
     [&](vtkIdType begin, vtkIdType end)
     {
       for (vtkIdType i = begin; i < end; ++i)
@@ -87,9 +69,34 @@ vtkSmartPointer<vtkDataArray> SingleComponent(vtkDataArray* array, int component
           }
           value = std::sqrt(value);
         }
-        out->SetValue(i, value);
+        out->SetComponent(i, 0, value);
       }
     });
+  out->Modified();
+}
+
+//------------------------------------------------------------------------------
+namespace
+{
+// Point data from a cell array: each point gets the average of the cells that use it.
+vtkSmartPointer<vtkDataArray> CellToPoint(vtkDataSet* input, vtkDataArray* cells)
+{
+  auto structure = vtk::TakeSmartPointer(input->NewInstance());
+  structure->CopyStructure(input);
+  structure->GetCellData()->AddArray(cells);
+  vtkNew<vtkCellDataToPointData> convert;
+  convert->SetInputData(structure);
+  convert->Update();
+  return convert->GetOutput()->GetPointData()->GetArray(cells->GetName());
+}
+
+// One component of a multi-component array, or its magnitude for component -1.
+vtkSmartPointer<vtkDataArray> SingleComponent(vtkDataArray* array, int component)
+{
+  auto out = vtkSmartPointer<vtkDoubleArray>::New();
+  out->SetName(array->GetName());
+  out->SetNumberOfTuples(array->GetNumberOfTuples());
+  volillum::FillSingleComponent(array, component, out);
   return out;
 }
 }

@@ -53,6 +53,11 @@ struct PointScalars
  * array of `previous` made from the same, unchanged source is reused. Returns no Array,
  * with the reason in error, when there is none usable.
  */
+/// Fill the one-component array out (as many tuples as array) with one component of array,
+/// or with the magnitude of each tuple for component -1.
+VOLILLUMFILTERS_EXPORT void FillSingleComponent(
+  vtkDataArray* array, int component, vtkDataArray* out);
+
 VOLILLUMFILTERS_EXPORT PointScalars FindPointScalars(vtkAlgorithm* algorithm, vtkDataSet* input,
   int component, const PointScalars& previous, std::string& error);
 

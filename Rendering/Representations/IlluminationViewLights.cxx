@@ -111,7 +111,7 @@ bool IsInteractiveRender(vtkPVRenderView* view)
 }
 
 //------------------------------------------------------------------------------
-vtkDataArray* ColouredScalars(vtkAlgorithm* representation, vtkDataSet* data, ColouredArray& array)
+vtkDataArray* ColouredArrayOf(vtkAlgorithm* representation, vtkDataSet* data, ColouredArray& array)
 {
   vtkInformation* info = representation->GetInputArrayInformation(0);
   array.Name =
@@ -119,15 +119,21 @@ vtkDataArray* ColouredScalars(vtkAlgorithm* representation, vtkDataSet* data, Co
   array.Association = info->Has(vtkDataObject::FIELD_ASSOCIATION())
     ? info->Get(vtkDataObject::FIELD_ASSOCIATION())
     : vtkDataObject::FIELD_ASSOCIATION_POINTS;
-  vtkDataArray* scalars = nullptr;
   if (data && array.Name && array.Association == vtkDataObject::FIELD_ASSOCIATION_POINTS)
   {
-    scalars = data->GetPointData()->GetArray(array.Name);
+    return data->GetPointData()->GetArray(array.Name);
   }
-  else if (data && array.Name && array.Association == vtkDataObject::FIELD_ASSOCIATION_CELLS)
+  if (data && array.Name && array.Association == vtkDataObject::FIELD_ASSOCIATION_CELLS)
   {
-    scalars = data->GetCellData()->GetArray(array.Name);
+    return data->GetCellData()->GetArray(array.Name);
   }
+  return nullptr;
+}
+
+//------------------------------------------------------------------------------
+vtkDataArray* ColouredScalars(vtkAlgorithm* representation, vtkDataSet* data, ColouredArray& array)
+{
+  vtkDataArray* scalars = ColouredArrayOf(representation, data, array);
   return scalars && scalars->GetNumberOfComponents() == 1 ? scalars : nullptr;
 }
 

@@ -107,6 +107,10 @@ void SetVolumeInput(Filter* filter, vtkAlgorithmOutput* piece, const ColouredArr
  */
 vtkDataArray* ColouredScalars(vtkAlgorithm* representation, vtkDataSet* data, ColouredArray& array);
 
+/// The array a representation colours by in data, whatever its number of components
+/// (nullptr when data does not hold it); array receives its name and association.
+vtkDataArray* ColouredArrayOf(vtkAlgorithm* representation, vtkDataSet* data, ColouredArray& array);
+
 /// Report the progress of an illumination filter as progress of a representation, so
 /// that ParaView's progress bar moves during long updates.
 void ForwardProgress(vtkAlgorithm* filter, vtkAlgorithm* representation);

@@ -1,8 +1,13 @@
 #include "vtkIlluminatedVolumeRepresentation.h"
 
+#include "IlluminationFilterSupport.h"
 #include "IlluminationViewLights.h"
 #include "vtkAlgorithmOutput.h"
+#include "vtkColorTransferFunction.h"
+#include "vtkDataSetAttributes.h"
+#include "vtkDoubleArray.h"
 #include "vtkFilteredVolumetricShadows.h"
+#include "vtkFloatArray.h"
 #include "vtkIlluminatedVolumeMapper.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
@@ -12,7 +17,9 @@
 #include "vtkPVRenderView.h"
 #include "vtkRayMarchedIllumination.h"
 #include "vtkRenderWindow.h"
+#include "vtkVolumeProperty.h"
 
+#include <algorithm>
 #include <array>
 
 struct vtkIlluminatedVolumeRepresentation::vtkInternals
@@ -20,7 +27,25 @@ struct vtkIlluminatedVolumeRepresentation::vtkInternals
   volillum::ViewLights Lights;
   // One filter per method, created when first used; only the active one is kept.
   std::array<vtkSmartPointer<vtkIlluminationVolumeAlgorithm>, 3> Filters;
+  // A multi-component coloured array, the one-component array that stands for it in the
+  // rendered data, and the component its values were made from (-1: the magnitude).
+  vtkSmartPointer<vtkDataArray> Vectors;
+  vtkSmartPointer<vtkDataArray> Reduced;
+  int Component = -1;
 };
+
+namespace
+{
+// The component the colour map shows, or -1 for the magnitude (also without a colour map).
+int ColouredComponent(vtkVolumeProperty* property)
+{
+  vtkColorTransferFunction* lut = property->GetRGBTransferFunction(0);
+  return lut && lut->GetVectorMode() == vtkScalarsToColors::COMPONENT
+    ? std::max(lut->GetVectorComponent(), 0)
+    : -1;
+}
+
+}
 
 vtkStandardNewMacro(vtkIlluminatedVolumeRepresentation);
 
@@ -129,6 +154,79 @@ double* vtkIlluminatedVolumeRepresentation::GetMeanIllumination()
 }
 
 //------------------------------------------------------------------------------
+int vtkIlluminatedVolumeRepresentation::RequestData(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  this->Internals->Vectors = nullptr;
+  this->Internals->Reduced = nullptr;
+  if (!this->Superclass::RequestData(request, inputVector, outputVector))
+  {
+    return 0;
+  }
+  this->ReduceColouredVectors();
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkIlluminatedVolumeRepresentation::ReduceColouredVectors()
+{
+  auto& internals = *this->Internals;
+  auto* image = vtkImageData::SafeDownCast(this->Cache);
+  volillum::ColouredArray coloured;
+  vtkDataArray* array = volillum::ColouredArrayOf(this, image, coloured);
+  if (!array || array->GetNumberOfComponents() < 2 || !this->MapScalars ||
+    this->MultiComponentsMapping || this->UseSeparateOpacityArray)
+  {
+    return; // one component already, or the components are mapped as they are
+  }
+  vtkDataSetAttributes* attributes = image->GetAttributes(
+    coloured.Association == vtkDataObject::FIELD_ASSOCIATION_CELLS ? vtkDataObject::CELL
+                                                                   : vtkDataObject::POINT);
+  const bool active = attributes->GetScalars() == attributes->GetArray(coloured.Name);
+  // Floating-point values (double for double vectors), under the vectors' name.
+  if (array->GetDataType() == VTK_DOUBLE)
+  {
+    internals.Reduced = vtkSmartPointer<vtkDoubleArray>::New();
+  }
+  else
+  {
+    internals.Reduced = vtkSmartPointer<vtkFloatArray>::New();
+  }
+  internals.Reduced->SetName(array->GetName());
+  internals.Reduced->SetNumberOfTuples(array->GetNumberOfTuples());
+  internals.Component = ColouredComponent(this->Property);
+  volillum::FillSingleComponent(array, internals.Component, internals.Reduced);
+  internals.Vectors = array;
+  attributes->RemoveArray(coloured.Name);
+  if (active)
+  {
+    attributes->SetScalars(internals.Reduced);
+  }
+  else
+  {
+    attributes->AddArray(internals.Reduced);
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkIlluminatedVolumeRepresentation::UpdateVectorMode()
+{
+  // ParaView changes the vector mode on the colour map alone (the data is not updated): the
+  // values are made anew in place, in the array the rendered data shares with the cache.
+  auto& internals = *this->Internals;
+  if (!internals.Reduced)
+  {
+    return;
+  }
+  const int component = ColouredComponent(this->Property);
+  if (component != internals.Component)
+  {
+    internals.Component = component;
+    volillum::FillSingleComponent(internals.Vectors, component, internals.Reduced);
+  }
+}
+
+//------------------------------------------------------------------------------
 int vtkIlluminatedVolumeRepresentation::ProcessViewRequest(
   vtkInformationRequestKey* request, vtkInformation* inInfo, vtkInformation* outInfo)
 {
@@ -138,6 +236,7 @@ int vtkIlluminatedVolumeRepresentation::ProcessViewRequest(
   }
   if (request == vtkPVView::REQUEST_RENDER())
   {
+    this->UpdateVectorMode();
     this->UpdateIllumination(inInfo);
   }
   return 1;

@@ -122,6 +122,20 @@ protected:
   /// still there to release them in.
   bool RemoveFromView(vtkView* view) override;
 
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  /**
+   * ParaView colours a multi-component array through its magnitude or one of its
+   * components (the colour map's vector mode) when components are mapped independently;
+   * the Volume representation's mapper reduces the array itself. The illuminated mapper and
+   * the illumination filters read one component, so in the data this representation
+   * renders the coloured array is replaced, under its own name, by the values ParaView
+   * colours by: on new data (ReduceColouredVectors), and in place when the colour map's
+   * vector mode or component changes (UpdateVectorMode, before each render).
+   */
+  void ReduceColouredVectors();
+  void UpdateVectorMode();
+
   vtkIlluminatedVolumeMapper* GetIlluminatedMapper();
   vtkIlluminationVolumeAlgorithm* GetIlluminationFilter();
   void UpdateIllumination(vtkInformation* inInfo);

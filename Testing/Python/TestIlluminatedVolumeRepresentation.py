@@ -9,7 +9,8 @@ agree to 1e-5 (relative). Also: a Light Inspector edit with four lights is a sel
 update (one light re-propagated, same result as a full recompute); a colour map change
 forces a full update; interactive renders keep the lighting and the next still render
 updates it; the light kit counts only with Use Light Kit on; the rendered image takes
-the lights' colours; a cell array is lit like the filter lights it.
+the lights' colours; a cell array is lit like the filter lights it; a vector array is
+coloured and lit by its magnitude or the colour map's component.
 Usage: pvpython TestIlluminatedVolumeRepresentation.py PLUGIN OUTPUT_DIR
 """
 import os
@@ -184,5 +185,48 @@ check(max(got) > 0 and relative_difference(got, want) < 1e-5,
       "cell data: mean illumination %s vs filter on the cell array %s" %
       (["%.5f" % v for v in got], ["%.5f" % v for v in want]))
 SaveScreenshot(os.path.join(out, "IlluminatedVolumeCellData.png"), view)
+
+# A vector array is coloured (and lit) by its magnitude or by the component the colour map
+# picks, as ParaView's Volume representation shows it: the same illumination and the same
+# image as the one-component array computed by the Calculator, also after switching the
+# component on the colour map alone.
+gradient = Gradient(Input=phantom, ScalarArray=["POINTS", "Density"])
+Hide(cells, view)
+vector_rep = Show(gradient, view)
+vector_rep.SetRepresentationType("Illuminated Volume")
+glut = GetColorTransferFunction("Gradient")
+gpwf = GetOpacityTransferFunction("Gradient")
+glut.AutomaticRescaleRangeMode = "Never"
+single = Calculator(Input=gradient, ResultArrayType="Float")
+for component, function in (("Magnitude", "mag(Gradient)"), ("X", "Gradient_X"),
+                            ("Y", "Gradient_Y")):
+    lo = 0.0 if component == "Magnitude" else -350.0
+    ColorBy(vector_rep, ("POINTS", "Gradient", component))
+    glut.RescaleTransferFunction(lo, 350.0)
+    gpwf.Points = [lo, 0.0, 0.5, 0.0, lo + 0.6 * (350.0 - lo), 0.0, 0.5, 0.0, 350.0, 0.5, 0.5, 0.0]
+    Render(view)
+    got = info(vector_rep, "IlluminationMean")
+    vector_image = os.path.join(out, "IlluminatedVolumeVector%s.png" % component)
+    SaveScreenshot(vector_image, view)
+    single.Function = function
+    single.ResultArrayName = "Gradient_" + component
+    Hide(gradient, view)
+    single_rep = Show(single, view)
+    single_rep.SetRepresentationType("Illuminated Volume")
+    ColorBy(single_rep, ("POINTS", "Gradient_" + component))
+    single_rep.LookupTable = glut
+    single_rep.ScalarOpacityFunction = gpwf
+    Render(view)
+    want = info(single_rep, "IlluminationMean")
+    single_image = os.path.join(out, "IlluminatedVolumeSingle%s.png" % component)
+    SaveScreenshot(single_image, view)
+    Hide(single, view)
+    Show(gradient, view)
+    colours = [mean_colours(vector_image), mean_colours(single_image)]
+    check(max(got) > 0 and relative_difference(got, want) < 1e-5 and
+          max(abs(a - b) for a, b in zip(*colours)) < 0.5,
+          "vector array by %s: mean illumination %s vs the one-component array %s, image "
+          "colours %s vs %s" % (component, ["%.5f" % v for v in got], ["%.5f" % v for v in want],
+                                ["%.1f" % v for v in colours[0]], ["%.1f" % v for v in colours[1]]))
 
 finish(check.failures)
