@@ -15,7 +15,9 @@
 
 #include "VolIllumFiltersModule.h"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -38,6 +40,12 @@ struct VOLILLUMFILTERS_EXPORT GridGeometry
     return static_cast<long long>(this->Dimensions[0]) * this->Dimensions[1] * this->Dimensions[2];
   }
   void GetBounds(double bounds[6]) const;
+  /// The smallest spacing (absolute value) of the three axes.
+  double MinimumSpacing() const
+  {
+    return std::min(
+      std::abs(this->Spacing[0]), std::min(std::abs(this->Spacing[1]), std::abs(this->Spacing[2])));
+  }
   void PointPosition(long long i, long long j, long long k, double p[3]) const
   {
     p[0] = this->Origin[0] + i * this->Spacing[0];

@@ -72,9 +72,7 @@ std::array<double, 3> RayMarchTransmittance(const ClassifiedVolume& volume, cons
   double bounds[6];
   volume.Geometry.GetBounds(bounds);
   const double tMax = std::min(inc.Distance, DistanceToBoxExit(p, inc.ToLight.data(), bounds));
-  const auto& sp = volume.Geometry.Spacing;
-  const double step =
-    settings.StepFraction * std::min(std::abs(sp[0]), std::min(std::abs(sp[1]), std::abs(sp[2])));
+  const double step = settings.StepFraction * volume.Geometry.MinimumSpacing();
   const long long n = std::max(1LL, static_cast<long long>(std::ceil(tMax / step)));
   const double h = tMax / n;
   float s[4];
@@ -108,9 +106,8 @@ void SegmentOpticalDepth(const ClassifiedVolume& volume, const double p[3], cons
   {
     return;
   }
-  const auto& sp = volume.Geometry.Spacing;
-  const double spacing = std::min(std::abs(sp[0]), std::min(std::abs(sp[1]), std::abs(sp[2])));
-  const int n = std::max(1, static_cast<int>(std::ceil(length / spacing - 1e-9)));
+  const int n =
+    std::max(1, static_cast<int>(std::ceil(length / volume.Geometry.MinimumSpacing() - 1e-9)));
   const double h = length / n;
   float s[4];
   for (int m = 0; m < n; ++m)

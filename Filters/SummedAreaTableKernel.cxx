@@ -25,12 +25,6 @@ bool SampleInside(
   data.Sample(p, s);
   return true;
 }
-
-double MinimumSpacing(const ClassifiedVolume& data)
-{
-  const auto& sp = data.Geometry.Spacing;
-  return std::min(std::abs(sp[0]), std::min(std::abs(sp[1]), std::abs(sp[2])));
-}
 }
 
 SatFrame FrameForDirection(const double direction[3])
@@ -400,7 +394,7 @@ void SphericalSAT::Build(const ClassifiedVolume& data, const double light[3], do
   // Cell integrals along r with the midpoint rule at most one data spacing apart (cells grow
   // coarser than the data when the table is capped: a thin layer still casts its shadow).
   const int samples =
-    std::max(1, static_cast<int>(std::ceil(this->DR / MinimumSpacing(data) - 1e-9)));
+    std::max(1, static_cast<int>(std::ceil(this->DR / data.Geometry.MinimumSpacing() - 1e-9)));
   const double eps = 1e-9 * std::max(bounds[1] - bounds[0], 1.0);
   vtkSMPTools::For(0, static_cast<long long>(n[2]),
     [&](long long k0, long long k1)

@@ -85,8 +85,7 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
     vtkErrorMacro("SATResolutionScale must be 1, 0.5 or 0.25; it is " << scale << ".");
     return false;
   }
-  const auto& sp = volume.Geometry.Spacing;
-  const double minSpacing = std::min(sp[0], std::min(sp[1], sp[2]));
+  const double minSpacing = volume.Geometry.MinimumSpacing();
   const double cellSize = minSpacing / scale;
   const int channels = this->ChromaticAttenuation ? 3 : 1;
 
