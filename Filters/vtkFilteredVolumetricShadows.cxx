@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <string>
 
 vtkStandardNewMacro(vtkFilteredVolumetricShadows);
@@ -55,13 +56,19 @@ constexpr double NearSegmentCells = 4.0;
 
 // The near part of the shadow ray from p toward the light (unit direction toward, clipped
 // to the box and to `reach`): its optical depth per channel, and in far the point where the
-// table takes over.
-void NearSegment(const volillum::ClassifiedVolume& volume, const volillum::EmptyBlocks& empty,
+// table takes over. Without empty blocks (no near segment) the table starts at p.
+void NearSegment(const volillum::ClassifiedVolume& volume, const volillum::EmptyBlocks* empty,
   const double bounds[6], const double p[3], const double toward[3], double reach, int channels,
   double depth[3], double far[3])
 {
+  if (!empty)
+  {
+    depth[0] = depth[1] = depth[2] = 0.0; // soft shadows: the table gives the whole ray
+    std::copy(p, p + 3, far);
+    return;
+  }
   const double length = std::min(reach, volillum::DistanceToBoxExit(p, toward, bounds));
-  volillum::SegmentOpticalDepth(volume, p, toward, length, channels, depth, &empty);
+  volillum::SegmentOpticalDepth(volume, p, toward, length, channels, depth, empty);
   for (int a = 0; a < 3; ++a)
   {
     far[a] = p[a] + std::max(length, 0.0) * toward[a];
@@ -181,7 +188,9 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
   const double nearLength = NearSegmentCells * cellSize * hardness;
   double bounds[6];
   volume.Geometry.GetBounds(bounds);
-  const volillum::EmptyBlocks empty(volume);
+  // Empty blocks speed up the near segments; soft shadows have none.
+  const std::unique_ptr<const volillum::EmptyBlocks> empty(
+    nearLength > 0.0 ? new volillum::EmptyBlocks(volume) : nullptr);
   const std::vector<double> gaussian =
     this->FilterKernel == Gaussian ? volillum::GaussianWeights(5) : std::vector<double>();
   // Optional per-light transmittance arrays, indexed by light.
@@ -221,7 +230,8 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
           {
             const auto& table = this->Tables[l.Table];
             double near[3], far[3];
-            NearSegment(volume, empty, bounds, p, l.Toward.data(), nearLength, channels, near, far);
+            NearSegment(
+              volume, empty.get(), bounds, p, l.Toward.data(), nearLength, channels, near, far);
             double transmittance[3] = { 1.0, 1.0, 1.0 };
             for (int c = 0; c < channels; ++c)
             {
@@ -248,7 +258,7 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
             const auto& table = this->SphericalTables[l.Table];
             const auto radiance = l.Light.Radiance();
             double near[3], far[3];
-            NearSegment(volume, empty, bounds, p, incidence.ToLight.data(),
+            NearSegment(volume, empty.get(), bounds, p, incidence.ToLight.data(),
               std::min(nearLength, incidence.Distance), channels, near, far);
             double transmittance[3] = { 1.0, 1.0, 1.0 };
             for (int c = 0; c < channels; ++c)
