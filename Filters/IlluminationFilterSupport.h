@@ -43,6 +43,11 @@ struct PointScalars
   int Component = -1;
 };
 
+/// Fill the one-component array out (as many tuples as array) with one component of array,
+/// or with the magnitude of each tuple for component -1.
+VOLILLUMFILTERS_EXPORT void FillSingleComponent(
+  vtkDataArray* array, int component, vtkDataArray* out);
+
 /**
  * The array the algorithm's input array 0 names (SetInputArrayToProcess), or the active
  * scalars when no array was chosen (ParaView leaves the name empty before the input first
@@ -53,11 +58,6 @@ struct PointScalars
  * array of `previous` made from the same, unchanged source is reused. Returns no Array,
  * with the reason in error, when there is none usable.
  */
-/// Fill the one-component array out (as many tuples as array) with one component of array,
-/// or with the magnitude of each tuple for component -1.
-VOLILLUMFILTERS_EXPORT void FillSingleComponent(
-  vtkDataArray* array, int component, vtkDataArray* out);
-
 VOLILLUMFILTERS_EXPORT PointScalars FindPointScalars(vtkAlgorithm* algorithm, vtkDataSet* input,
   int component, const PointScalars& previous, std::string& error);
 

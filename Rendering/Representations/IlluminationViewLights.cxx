@@ -4,6 +4,7 @@
 #include "vtkCallbackCommand.h"
 #include "vtkCamera.h"
 #include "vtkCellData.h"
+#include "vtkColorTransferFunction.h"
 #include "vtkDataArray.h"
 #include "vtkDataObject.h"
 #include "vtkDataSet.h"
@@ -16,6 +17,8 @@
 #include "vtkPointData.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
+
+#include <algorithm>
 
 namespace
 {
@@ -135,6 +138,15 @@ vtkDataArray* ColouredScalars(vtkAlgorithm* representation, vtkDataSet* data, Co
 {
   vtkDataArray* scalars = ColouredArrayOf(representation, data, array);
   return scalars && scalars->GetNumberOfComponents() == 1 ? scalars : nullptr;
+}
+
+//------------------------------------------------------------------------------
+int ColouredComponent(vtkVolumeProperty* property)
+{
+  vtkColorTransferFunction* lut = property->GetRGBTransferFunction(0);
+  return lut && lut->GetVectorMode() == vtkScalarsToColors::COMPONENT
+    ? std::max(lut->GetVectorComponent(), 0)
+    : -1;
 }
 
 //------------------------------------------------------------------------------

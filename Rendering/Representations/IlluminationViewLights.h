@@ -111,6 +111,10 @@ vtkDataArray* ColouredScalars(vtkAlgorithm* representation, vtkDataSet* data, Co
 /// (nullptr when data does not hold it); array receives its name and association.
 vtkDataArray* ColouredArrayOf(vtkAlgorithm* representation, vtkDataSet* data, ColouredArray& array);
 
+/// The component of a multi-component array a volume property's colour map shows (its
+/// vector mode), or -1 for the magnitude (also without a colour map).
+int ColouredComponent(vtkVolumeProperty* property);
+
 /// Report the progress of an illumination filter as progress of a representation, so
 /// that ParaView's progress bar moves during long updates.
 void ForwardProgress(vtkAlgorithm* filter, vtkAlgorithm* representation);

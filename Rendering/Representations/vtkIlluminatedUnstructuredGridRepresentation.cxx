@@ -2,6 +2,7 @@
 
 #include "IlluminationViewLights.h"
 #include "vtkAlgorithmOutput.h"
+#include "vtkDataArray.h"
 #include "vtkInformation.h"
 #include "vtkObjectFactory.h"
 #include "vtkPVLODVolume.h"
@@ -121,10 +122,21 @@ bool vtkIlluminatedUnstructuredGridRepresentation::UpdateIllumination(vtkInforma
   auto* grid =
     port ? vtkUnstructuredGrid::SafeDownCast(port->GetProducer()->GetOutputDataObject(0)) : nullptr;
   volillum::ColouredArray coloured;
-  if (!volillum::ColouredScalars(this, grid, coloured) || grid->GetNumberOfCells() == 0)
+  vtkDataArray* array = volillum::ColouredArrayOf(this, grid, coloured);
+  if (!array || grid->GetNumberOfCells() == 0)
   {
     return false;
   }
+  // Vectors are lit by what the colour map shows of them: their magnitude or a component;
+  // vectors mapped as they are (colours, or a separate opacity component) are not lit.
+  const bool vectors = array->GetNumberOfComponents() > 1;
+  if (vectors &&
+    (!this->MapScalars || this->MultiComponentsMapping || this->UseSeparateOpacityArray))
+  {
+    return false;
+  }
+  this->Illumination->SetScalarComponent(
+    vectors ? volillum::ColouredComponent(this->Property) : -1);
   this->LitProperty->SetScalarOpacityUnitDistance(this->Property->GetScalarOpacityUnitDistance(0));
   if (volillum::IsInteractiveRender(view) && this->Internals->Lit)
   {

@@ -12,8 +12,10 @@
  * keep the current lighting (or draw the level-of-detail outline when ParaView asks for
  * it). UpdateMode, UpdateSeconds and PropagationPasses report the last update.
  *
- * The coloured array must be a one-component point array; otherwise the grid is drawn as
- * the Volume representation draws it.
+ * The coloured array is a point or cell array; an array of several components is lit by
+ * what the colour map shows of it (its magnitude or the chosen component). Arrays mapped
+ * without the colour map (Map Scalars off, Multi Components Mapping, a separate opacity
+ * array) are drawn as the Volume representation draws them, unlit.
  */
 #ifndef vtkIlluminatedUnstructuredGridRepresentation_h
 #define vtkIlluminatedUnstructuredGridRepresentation_h

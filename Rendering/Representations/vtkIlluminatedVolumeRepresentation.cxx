@@ -3,7 +3,6 @@
 #include "IlluminationFilterSupport.h"
 #include "IlluminationViewLights.h"
 #include "vtkAlgorithmOutput.h"
-#include "vtkColorTransferFunction.h"
 #include "vtkDataSetAttributes.h"
 #include "vtkDoubleArray.h"
 #include "vtkFilteredVolumetricShadows.h"
@@ -19,7 +18,6 @@
 #include "vtkRenderWindow.h"
 #include "vtkVolumeProperty.h"
 
-#include <algorithm>
 #include <array>
 
 struct vtkIlluminatedVolumeRepresentation::vtkInternals
@@ -33,19 +31,6 @@ struct vtkIlluminatedVolumeRepresentation::vtkInternals
   vtkSmartPointer<vtkDataArray> Reduced;
   int Component = -1;
 };
-
-namespace
-{
-// The component the colour map shows, or -1 for the magnitude (also without a colour map).
-int ColouredComponent(vtkVolumeProperty* property)
-{
-  vtkColorTransferFunction* lut = property->GetRGBTransferFunction(0);
-  return lut && lut->GetVectorMode() == vtkScalarsToColors::COMPONENT
-    ? std::max(lut->GetVectorComponent(), 0)
-    : -1;
-}
-
-}
 
 vtkStandardNewMacro(vtkIlluminatedVolumeRepresentation);
 
@@ -194,7 +179,7 @@ void vtkIlluminatedVolumeRepresentation::ReduceColouredVectors()
   }
   internals.Reduced->SetName(array->GetName());
   internals.Reduced->SetNumberOfTuples(array->GetNumberOfTuples());
-  internals.Component = ColouredComponent(this->Property);
+  internals.Component = volillum::ColouredComponent(this->Property);
   volillum::FillSingleComponent(array, internals.Component, internals.Reduced);
   internals.Vectors = array;
   attributes->RemoveArray(coloured.Name);
@@ -218,7 +203,7 @@ void vtkIlluminatedVolumeRepresentation::UpdateVectorMode()
   {
     return;
   }
-  const int component = ColouredComponent(this->Property);
+  const int component = volillum::ColouredComponent(this->Property);
   if (component != internals.Component)
   {
     internals.Component = component;

@@ -6,7 +6,9 @@ Unstructured Grid Illumination run separately on the same grid with the same lig
 transfer functions, unit distance and level-0 resolution (1e-5 relative); moving one light
 must recompute only that light (UpdateMode 1, one light propagated) and still agree; and
 the picture must take the key light's colour (orange vs blue key); a grid coloured by a
-cell array is lit like the filter lights that array.
+cell array is lit like the filter lights that array; a grid coloured by a vector array is
+lit by the magnitude or the component the colour map shows, like the filter lights the
+one-component array the Calculator makes of it.
 Usage: pvpython TestIlluminatedUnstructuredGridRepresentation.py PLUGIN OUTPUT_DIR
 """
 import os
@@ -94,5 +96,38 @@ check(max(got) > 0 and relative_difference(got, want) < 1e-5,
       "cell data: mean illumination %s vs filter on the cell array %s" %
       (["%.5f" % v for v in got], ["%.5f" % v for v in want]))
 SaveScreenshot(os.path.join(out, "IlluminatedGridCellData.png"), view)
+
+# A grid coloured by a vector array is lit by the magnitude or the component the colour map
+# shows (switched on the colour map alone), like the filter lights the one-component array
+# the Calculator makes of it.
+gradient = Gradient(Input=mesh, ScalarArray=["POINTS", "Density"])
+Hide(cells, view)
+vector_rep = Show(gradient, view)
+vector_rep.SetRepresentationType("Illuminated Volume")
+vector_rep.Level0Resolution = [32, 32, 32]
+glut = GetColorTransferFunction("Gradient")
+gpwf = GetOpacityTransferFunction("Gradient")
+glut.AutomaticRescaleRangeMode = "Never"
+for component, function, lo, hi in (("Magnitude", "mag(Gradient)", 0.0, 170.0),
+                                    ("X", "Gradient_X", -100.0, 100.0)):
+    ColorBy(vector_rep, ("POINTS", "Gradient", component))
+    glut.RescaleTransferFunction(lo, hi)
+    gpwf.Points = [lo, 0.0, 0.5, 0.0, lo + 0.3 * (hi - lo), 0.0, 0.5, 0.0, hi, 1.0, 0.5, 0.0]
+    Render(view)
+    got = info(vector_rep, "IlluminationMean")
+    SaveScreenshot(os.path.join(out, "IlluminatedGridVector%s.png" % component), view)
+    single = Calculator(Input=gradient, ResultArrayType="Float", Function=function,
+                        ResultArrayName="Single")
+    reference = UnstructuredGridIllumination(
+        Input=single, Scalars=["POINTS", "Single"], Lights=parameters(),
+        ColorTransferFunction=glut, OpacityFunction=gpwf,
+        ScalarOpacityUnitDistance=vector_rep.ScalarOpacityUnitDistance,
+        Level0Resolution=[32, 32, 32])
+    want = mean_illumination(reference)
+    Delete(reference)
+    Delete(single)
+    check(max(got) > 0 and relative_difference(got, want) < 1e-5,
+          "vector array by %s: mean illumination %s vs filter on the one-component array %s" %
+          (component, ["%.5f" % v for v in got], ["%.5f" % v for v in want]))
 
 finish(check.failures)
