@@ -322,15 +322,82 @@ double CartesianSAT::CellExtinction(int channel, int i, int j, int k) const
   return this->BoxIntegral(channel, lo, hi) / (this->H * this->H * this->H);
 }
 
+namespace
+{
+// Coordinates of p - light along the frame's axes.
+void LightCoordinates(
+  const SatFrame& frame, const std::array<double, 3>& light, const double p[3], double q[3])
+{
+  const double d[3] = { p[0] - light[0], p[1] - light[1], p[2] - light[2] };
+  for (int a = 0; a < 3; ++a)
+  {
+    q[a] = vtkMath::Dot(d, frame.Axes[a].data());
+  }
+}
+
+// Signed solid angle of the rectangle [0, x] x [0, y] of the plane z = 1 seen from the origin.
+double PlaneRectangleSolidAngle(double x, double y)
+{
+  return std::atan(x * y / std::sqrt(1.0 + x * x + y * y));
+}
+
+// Radial cells are this many angular cells long: a shadow ray's near end is integrated
+// through the data (vtkFilteredVolumetricShadows), so the table mostly serves the far part,
+// where the angular resolution matters most. Measured (material RMS, point and spot lights,
+// tables at scale 1, capped at 2^25 cells): aneurism 4.56 / 5.01 % with 1, 3.43 / 3.92 % with
+// 2; chest CT 4.93 / 3.85 % with 1, 4.28 / 3.34 % with 2.
+constexpr double RadialCellLength = 2.0;
+
+// Cube-map face angles stay this far inside +-pi/2 (their tangents stay finite).
+constexpr double FaceAngleLimit = 0.5 * 3.14159265358979323846 * (1.0 - 1e-9);
+}
+
 void SphericalSAT::ToSpherical(const double p[3], double s[3]) const
 {
-  double d[3] = { p[0] - this->Light[0], p[1] - this->Light[1], p[2] - this->Light[2] };
-  const double x = vtkMath::Dot(d, this->Frame.Axes[0].data());
-  const double y = vtkMath::Dot(d, this->Frame.Axes[1].data());
-  const double z = vtkMath::Dot(d, this->Frame.Axes[2].data());
-  s[2] = std::sqrt(x * x + y * y + z * z);
-  s[1] = std::atan2(std::sqrt(x * x + y * y), z);
-  s[0] = std::atan2(y, x);
+  double q[3];
+  LightCoordinates(this->Frame, this->Light, p, q);
+  s[2] = vtkMath::Norm(q);
+  if (this->Polar)
+  {
+    s[0] = std::atan2(q[1], q[0]);
+    s[1] = std::atan2(std::sqrt(q[0] * q[0] + q[1] * q[1]), q[2]);
+  }
+  else
+  {
+    s[0] = std::atan2(q[0], q[2]);
+    s[1] = std::atan2(q[1], q[2]);
+  }
+}
+
+void SphericalSAT::Direction(double u, double v, double direction[3]) const
+{
+  double local[3] = { std::tan(u), std::tan(v), 1.0 };
+  if (this->Polar)
+  {
+    local[0] = std::sin(v) * std::cos(u);
+    local[1] = std::sin(v) * std::sin(u);
+    local[2] = std::cos(v);
+  }
+  else
+  {
+    vtkMath::Normalize(local);
+  }
+  for (int a = 0; a < 3; ++a)
+  {
+    direction[a] = local[0] * this->Frame.Axes[0][a] + local[1] * this->Frame.Axes[1][a] +
+      local[2] * this->Frame.Axes[2][a];
+  }
+}
+
+double SphericalSAT::SolidAngle(double u0, double u1, double v0, double v1) const
+{
+  if (this->Polar)
+  {
+    return (std::cos(v0) - std::cos(v1)) * (u1 - u0);
+  }
+  const double x0 = std::tan(u0), x1 = std::tan(u1), y0 = std::tan(v0), y1 = std::tan(v1);
+  return PlaneRectangleSolidAngle(x1, y1) - PlaneRectangleSolidAngle(x0, y1) -
+    PlaneRectangleSolidAngle(x1, y0) + PlaneRectangleSolidAngle(x0, y0);
 }
 
 void SphericalSAT::Build(const ClassifiedVolume& data, const double light[3], double cellSize,
@@ -352,9 +419,11 @@ void SphericalSAT::Build(const ClassifiedVolume& data, const double light[3], do
   vtkMath::Normalize(toCentre);
   this->Frame = FrameForDirection(toCentre);
 
-  // Radii and opening angle that hold the whole box. Outside the box, the cone about the
-  // axis that holds its eight corners holds all of it (a cone narrower than a half-space is
-  // convex); from inside, every direction is needed.
+  // Radii and angles that hold the whole box. Outside the box, the cone about the axis that
+  // holds its eight corners holds all of it (a cone narrower than a half-space is convex),
+  // and so does the rectangle of face angles that holds them when all lie in front (x / z
+  // and y / z take their extremes over a convex polyhedron at its vertices); from inside,
+  // every direction is needed.
   bool inside = true;
   double nearest[3];
   for (int a = 0; a < 3; ++a)
@@ -363,20 +432,52 @@ void SphericalSAT::Build(const ClassifiedVolume& data, const double light[3], do
     nearest[a] = std::min(std::max(light[a], bounds[2 * a]), bounds[2 * a + 1]);
   }
   double rMax = 0.0, thetaMax = 0.0;
+  double face[4] = { FaceAngleLimit, -FaceAngleLimit, FaceAngleLimit, -FaceAngleLimit };
+  bool inFront = !inside;
   for (int corner = 0; corner < 8; ++corner)
   {
     const double p[3] = { bounds[corner & 1], bounds[2 + ((corner >> 1) & 1)],
       bounds[4 + ((corner >> 2) & 1)] };
-    double s[3];
-    this->ToSpherical(p, s);
-    rMax = std::max(rMax, s[2]);
-    thetaMax = std::max(thetaMax, s[1]);
+    double q[3];
+    LightCoordinates(this->Frame, this->Light, p, q);
+    const double r = vtkMath::Norm(q);
+    rMax = std::max(rMax, r);
+    thetaMax = std::max(thetaMax, std::atan2(std::sqrt(q[0] * q[0] + q[1] * q[1]), q[2]));
+    inFront = inFront && q[2] > 1e-6 * r;
+    const double u = std::atan2(q[0], q[2]), v = std::atan2(q[1], q[2]);
+    face[0] = std::min(face[0], u);
+    face[1] = std::max(face[1], u);
+    face[2] = std::min(face[2], v);
+    face[3] = std::max(face[3], v);
   }
-  this->ThetaMax = inside || thetaMax >= 0.5 * vtkMath::Pi() ? vtkMath::Pi() : thetaMax;
+  thetaMax = inside || thetaMax >= 0.5 * vtkMath::Pi() ? vtkMath::Pi() : thetaMax;
   this->RMin = inside ? 0.0 : std::sqrt(vtkMath::Distance2BetweenPoints(light, nearest));
-  const double spread = this->ThetaMax >= 0.5 * vtkMath::Pi() ? 1.0 : std::sin(this->ThetaMax);
-  double counts[3] = { 2.0 * vtkMath::Pi() * rMax * spread / cellSize,
-    this->ThetaMax * rMax / cellSize, (rMax - this->RMin) / cellSize };
+  // Angular extents at the far side, in cells: the polar layout spends 2 pi sin(theta) cells
+  // on every ring of theta, the face layout about one per cell of solid angle.
+  const double spread = thetaMax >= 0.5 * vtkMath::Pi() ? 1.0 : std::sin(thetaMax);
+  const double polar[2] = { 2.0 * vtkMath::Pi() * spread, thetaMax };
+  const double square[2] = { face[1] - face[0], face[3] - face[2] };
+  this->Polar = !inFront || square[0] * square[1] >= polar[0] * polar[1];
+  if (this->Polar)
+  {
+    this->U0 = -vtkMath::Pi();
+    this->U1 = vtkMath::Pi();
+    this->V0 = 0.0;
+    this->V1 = thetaMax;
+  }
+  else
+  {
+    this->U0 = face[0];
+    this->U1 = face[1];
+    this->V0 = face[2];
+    this->V1 = face[3];
+  }
+  // The face layout spends the cells the polar one would need, on finer cells.
+  const double* angles = this->Polar ? polar : square;
+  const double h =
+    this->Polar ? cellSize : cellSize * std::cbrt(square[0] * square[1] / (polar[0] * polar[1]));
+  double counts[3] = { angles[0] * rMax / h, angles[1] * rMax / h,
+    (rMax - this->RMin) / (RadialCellLength * h) };
   const double total =
     std::max(counts[0], 1.0) * std::max(counts[1], 1.0) * std::max(counts[2], 1.0);
   const double shrink = total > maxCells ? std::cbrt(maxCells / total) : 1.0;
@@ -385,9 +486,9 @@ void SphericalSAT::Build(const ClassifiedVolume& data, const double light[3], do
   {
     n[a] = std::max(1, static_cast<int>(std::ceil(counts[a] * shrink)));
   }
-  this->H = cellSize / shrink;
-  this->DPhi = 2.0 * vtkMath::Pi() / n[0];
-  this->DTheta = this->ThetaMax / n[1];
+  this->H = h / shrink;
+  this->DU = (this->U1 - this->U0) / n[0];
+  this->DV = (this->V1 - this->V0) / n[1];
   this->DR = (rMax - this->RMin) / n[2];
   this->Table.Allocate(n, channels);
 
@@ -403,21 +504,13 @@ void SphericalSAT::Build(const ClassifiedVolume& data, const double light[3], do
       {
         for (long long j = 0; j < n[1]; ++j)
         {
-          const double theta0 = j * this->DTheta;
-          const double theta = theta0 + 0.5 * this->DTheta;
-          const double solidAngle =
-            (std::cos(theta0) - std::cos(theta0 + this->DTheta)) * this->DPhi;
+          const double v0 = this->V0 + j * this->DV;
           for (long long i = 0; i < n[0]; ++i)
           {
-            const double phi = -vtkMath::Pi() + (i + 0.5) * this->DPhi;
-            const double local[3] = { std::sin(theta) * std::cos(phi),
-              std::sin(theta) * std::sin(phi), std::cos(theta) };
+            const double u0 = this->U0 + i * this->DU;
+            const double solidAngle = this->SolidAngle(u0, u0 + this->DU, v0, v0 + this->DV);
             double direction[3];
-            for (int a = 0; a < 3; ++a)
-            {
-              direction[a] = local[0] * this->Frame.Axes[0][a] + local[1] * this->Frame.Axes[1][a] +
-                local[2] * this->Frame.Axes[2][a];
-            }
+            this->Direction(u0 + 0.5 * this->DU, v0 + 0.5 * this->DV, direction);
             double cell[3] = { 0.0, 0.0, 0.0 };
             for (int m = 0; m < samples; ++m)
             {
@@ -447,21 +540,24 @@ void SphericalSAT::Build(const ClassifiedVolume& data, const double light[3], do
 }
 
 double SphericalSAT::Integral(
-  int channel, double phi0, double phi1, double theta0, double theta1, double r) const
+  int channel, double u0, double u1, double v0, double v1, double r) const
 {
-  // A cell holds its content in proportion to solid angle, so a fraction of a theta cell is
-  // measured in cos(theta), not in theta.
-  auto thetaIndex = [this](double theta)
+  // A cell holds its content in proportion to solid angle, so a fraction of a polar theta
+  // cell is measured in cos(theta), not in theta (face cells are near enough to uniform).
+  auto vIndex = [this](double v)
   {
+    if (!this->Polar)
+    {
+      return (v - this->V0) / this->DV;
+    }
     const int n = this->Table.GetDimensions()[1];
-    const int j = std::min(std::max(static_cast<int>(theta / this->DTheta), 0), n - 1);
-    const double c0 = std::cos(j * this->DTheta);
-    const double c1 = std::cos((j + 1) * this->DTheta);
-    return j + (c0 - std::cos(theta)) / (c0 - c1);
+    const int j = std::min(std::max(static_cast<int>(v / this->DV), 0), n - 1);
+    const double c0 = std::cos(j * this->DV);
+    const double c1 = std::cos((j + 1) * this->DV);
+    return j + (c0 - std::cos(v)) / (c0 - c1);
   };
-  const double lo[3] = { (phi0 + vtkMath::Pi()) / this->DPhi, thetaIndex(theta0), 0.0 };
-  const double hi[3] = { (phi1 + vtkMath::Pi()) / this->DPhi, thetaIndex(theta1),
-    (r - this->RMin) / this->DR };
+  const double lo[3] = { (u0 - this->U0) / this->DU, vIndex(v0), 0.0 };
+  const double hi[3] = { (u1 - this->U0) / this->DU, vIndex(v1), (r - this->RMin) / this->DR };
   return this->Table.Box(channel, lo, hi);
 }
 
@@ -471,37 +567,64 @@ double SphericalSAT::FilteredOpticalDepth(int channel, const double p[3], double
   this->ToSpherical(p, s);
   const double r = std::max(s[2], 1e-12);
   const double pi = vtkMath::Pi();
-  // The patch spans at least one cell each way: a hard shadow reads the table at its own
-  // angular resolution wherever the sample is.
-  const double dTheta = std::max(std::min(halfWidth / r, pi), 0.5 * this->DTheta);
-  const double theta0 = std::max(0.0, s[1] - dTheta);
-  const double theta1 = std::min(pi, s[1] + dTheta);
-  const double sine = std::sin(s[1]);
-  const double dPhi = std::max(
-    sine * r > halfWidth / pi ? std::min(halfWidth / (r * sine), pi) : pi, 0.5 * this->DPhi);
-  const double phi0 = s[0] - dPhi;
-  const double phi1 = s[0] + dPhi;
-  const double thetaTop = std::min(theta1, this->ThetaMax);
+  // The patch's half-extent in each angle: its angular half-width divided by how fast the
+  // direction turns with that angle, and at least half a cell (a hard shadow reads the
+  // table at its own angular resolution wherever the sample is).
+  const double w = halfWidth / r;
+  double du, dv;
+  if (this->Polar)
+  {
+    const double sine = std::sin(s[1]);
+    du = sine * pi > w ? std::min(w / sine, pi) : pi;
+    dv = std::min(w, pi);
+  }
+  else
+  {
+    const double x = std::tan(s[0]), y = std::tan(s[1]);
+    const double n2 = 1.0 + x * x + y * y;
+    du = std::min(w * n2 / ((1.0 + x * x) * std::sqrt(1.0 + y * y)), pi);
+    dv = std::min(w * n2 / ((1.0 + y * y) * std::sqrt(1.0 + x * x)), pi);
+  }
+  du = std::max(du, 0.5 * this->DU);
+  dv = std::max(dv, 0.5 * this->DV);
+  // The patch's angles, where they exist (theta in [0, pi], face angles inside +-pi/2); the
+  // table holds the part within its own range, the rest of the patch misses the box.
+  const double lowest = this->Polar ? 0.0 : -FaceAngleLimit;
+  const double highest = this->Polar ? pi : FaceAngleLimit;
+  const double v0 = std::max(lowest, s[1] - dv);
+  const double v1 = std::min(highest, s[1] + dv);
+  double u0 = s[0] - du, u1 = s[0] + du;
+  if (!this->Polar)
+  {
+    u0 = std::max(u0, -FaceAngleLimit);
+    u1 = std::min(u1, FaceAngleLimit);
+  }
+  const double vLow = std::max(v0, this->V0), vHigh = std::min(v1, this->V1);
   double integral = 0.0;
-  if (theta0 < thetaTop)
+  if (vLow < vHigh && this->Polar)
   {
     // The patch may wrap around phi = +-pi: integrate the pieces.
-    if (phi0 < -pi)
+    if (u0 < -pi)
     {
-      integral += this->Integral(channel, phi0 + 2.0 * pi, pi, theta0, thetaTop, r);
-      integral += this->Integral(channel, -pi, phi1, theta0, thetaTop, r);
+      integral += this->Integral(channel, u0 + 2.0 * pi, pi, vLow, vHigh, r);
+      integral += this->Integral(channel, -pi, u1, vLow, vHigh, r);
     }
-    else if (phi1 > pi)
+    else if (u1 > pi)
     {
-      integral += this->Integral(channel, phi0, pi, theta0, thetaTop, r);
-      integral += this->Integral(channel, -pi, phi1 - 2.0 * pi, theta0, thetaTop, r);
+      integral += this->Integral(channel, u0, pi, vLow, vHigh, r);
+      integral += this->Integral(channel, -pi, u1 - 2.0 * pi, vLow, vHigh, r);
     }
     else
     {
-      integral += this->Integral(channel, phi0, phi1, theta0, thetaTop, r);
+      integral += this->Integral(channel, u0, u1, vLow, vHigh, r);
     }
   }
-  const double solidAngle = (std::cos(theta0) - std::cos(theta1)) * (phi1 - phi0);
+  else if (vLow < vHigh)
+  {
+    const double uLow = std::max(u0, this->U0), uHigh = std::min(u1, this->U1);
+    integral = uLow < uHigh ? this->Integral(channel, uLow, uHigh, vLow, vHigh, r) : 0.0;
+  }
+  const double solidAngle = this->SolidAngle(u0, u1, v0, v1);
   return solidAngle > 0.0 ? integral / solidAngle : 0.0;
 }
 

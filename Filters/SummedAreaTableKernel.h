@@ -135,17 +135,23 @@ private:
 
 /**
  * Spherical summed-area table around a point light (eq. 16-24). Cells are laid out in
- * (phi, theta, r) about the axis from the light toward the volume's centre and hold
- * extinction x dr x solid angle (the volume element divided by r^2), so the integral over
- * the spherical pyramid from the light to a sample, divided by the pyramid's solid angle, is
- * the optical depth averaged over the shadow rays through a patch of constant base area at
- * the sample. Works for lights outside and inside the volume.
+ * (u, v, r): two angles about the axis from the light toward the volume's centre, and the
+ * distance from the light. A light outside the box that sees all of it in front uses the
+ * angles of an equiangular cube-map face, u = atan(x / z) and v = atan(y / z) in the axis's
+ * frame: nearly square cells of nearly equal solid angle over the rectangle of angles the box
+ * covers. A light inside or beside the box uses azimuth and polar angle (phi, theta) over the
+ * cone that holds the box (every direction from inside). Build takes whichever needs fewer
+ * cells. Cells hold extinction x dr x solid angle (the volume element divided by r^2), so the
+ * integral over the spherical pyramid from the light to a sample, divided by the pyramid's
+ * solid angle, is the optical depth averaged over the shadow rays through a patch of constant
+ * base area at the sample.
  */
 class VOLILLUMFILTERS_EXPORT SphericalSAT
 {
 public:
-  /// Cells of about cellSize at the volume's far side (coarser when that would exceed
-  /// maxCells cells).
+  /// Angular cells of about cellSize at the volume's far side (finer in the face layout, which
+  /// spends the cells the polar one would need), radial cells twice as long; all coarser when
+  /// that would exceed maxCells cells (GetCellSize is then larger than cellSize).
   void Build(const ClassifiedVolume& data, const double light[3], double cellSize, int channels,
     long long maxCells = 1LL << 25);
 
@@ -153,23 +159,30 @@ public:
   /// halfWidth at p's distance, widened to one table cell where it is narrower.
   double FilteredOpticalDepth(int channel, const double p[3], double halfWidth) const;
 
-  /// (phi, theta, r) of a world point.
+  /// (u, v, r) of a world point.
   void ToSpherical(const double p[3], double s[3]) const;
 
+  /// Whether the angles are azimuth and polar angle (else those of a cube-map face).
+  bool IsPolar() const { return this->Polar; }
   const RunningIntegralTable& GetTable() const { return this->Table; }
   const std::array<double, 3>& GetLight() const { return this->Light; }
   double GetCellSize() const { return this->H; }
 
 private:
-  double Integral(
-    int channel, double phi0, double phi1, double theta0, double theta1, double r) const;
+  /// World direction of the angles (u, v).
+  void Direction(double u, double v, double direction[3]) const;
+  /// Solid angle of the angle rectangle [u0, u1] x [v0, v1].
+  double SolidAngle(double u0, double u1, double v0, double v1) const;
+  /// Table integral over [u0, u1] x [v0, v1] x [RMin, r] (angles within the table's range).
+  double Integral(int channel, double u0, double u1, double v0, double v1, double r) const;
 
   std::array<double, 3> Light{ { 0.0, 0.0, 0.0 } };
   SatFrame Frame; // third axis: from the light toward the volume's centre
+  bool Polar = true;
   double H = 1.0;
-  double ThetaMax = 0.0;
-  double RMin = 0.0; // cells start where the box begins
-  double DPhi = 1.0, DTheta = 1.0, DR = 1.0;
+  double U0 = 0.0, U1 = 0.0, V0 = 0.0, V1 = 0.0; // the angles' range
+  double RMin = 0.0;                             // cells start where the box begins
+  double DU = 1.0, DV = 1.0, DR = 1.0;
   RunningIntegralTable Table;
 };
 

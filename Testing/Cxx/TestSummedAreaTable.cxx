@@ -340,10 +340,11 @@ TEST(SummedAreaTable, KernelsAgreeWhereTheMediumIsLaterallyUniform)
 TEST(SummedAreaTable, SphericalTablesIntegrateAUniformMediumFromTheLight)
 {
   // Extinction sigma everywhere in the box [0, 31]^3: the optical depth from a point light
-  // to p is sigma times the length of the ray inside the box, for lights beside a face,
-  // beyond a corner and inside the box, with the table's cells starting where the box
-  // begins and its cone fitted to the corners. Cells that the box's face cuts are sampled
-  // at their centre, so the depth may be off by sigma x half a cell there.
+  // to p is sigma times the length of the ray inside the box, for lights beside a face and
+  // beyond a corner (cube-map face angles fitted to the corners) and inside the box (polar
+  // angles), with the table's cells starting where the box begins. Cells that the box's
+  // face cuts are sampled at their centre, so the depth may be off by sigma x half a cell
+  // there.
   ClassifiedVolume v;
   v.Geometry.Dimensions = { { 32, 32, 32 } };
   v.Properties.assign(4 * static_cast<size_t>(v.Geometry.NumberOfPoints()), 1.0f);
@@ -361,6 +362,9 @@ TEST(SummedAreaTable, SphericalTablesIntegrateAUniformMediumFromTheLight)
   {
     SphericalSAT table;
     table.Build(v, light.data(), 1.0, 1);
+    const bool inside = light[0] >= 0.0 && light[0] <= 31.0 && light[1] >= 0.0 &&
+      light[1] <= 31.0 && light[2] >= 0.0 && light[2] <= 31.0;
+    EXPECT_EQ(table.IsPolar(), inside);
     double worst = 0.0;
     for (int n = 0; n < 200; ++n)
     {
