@@ -13,19 +13,19 @@
  * Tables are kept while only the lights' colour, intensity or switch change.
  * PropagationPasses reports the number of tables built by the last update.
  *
- * For hard shadows (a patch at most one table cell wide) the first four table cells of
+ * For hard shadows (a patch at most one table cell wide) the first eight table cells of
  * every shadow ray, next to the sample, are integrated along the ray through the
  * full-resolution data instead of read from the table: there the optical depth changes
- * fastest from ray to ray (a sample inside a thin structure or at its edge). At FilterWidth
- * 0 this halves the error where there is material (fidelity tests). The segment shortens
- * linearly to nothing as the patch widens to two cells: soft shadows are filtered along
- * the whole ray.
+ * fastest from ray to ray (a sample inside a thin structure or at its edge). Beyond, the
+ * table is read over a patch one data spacing wide. The segment shortens linearly to
+ * nothing as the patch widens to two cells: soft shadows are filtered along the whole ray.
  *
  * Point and spot lights, outside or inside the volume, read a spherical summed-area table
  * centred on the light (eq. 16-24): the optical depth is averaged over the shadow rays
  * through a patch of constant base area at the sample; a spot light's cone is applied on
- * top. The Gaussian kernel applies to directional lights; point and spot lights use the
- * box.
+ * top. The table's angles are those of a cube-map face when the whole volume lies in front
+ * of the light, azimuth and polar angle otherwise (volillum::SphericalSAT). The Gaussian
+ * kernel applies to directional lights; point and spot lights use the box.
  */
 #ifndef vtkFilteredVolumetricShadows_h
 #define vtkFilteredVolumetricShadows_h

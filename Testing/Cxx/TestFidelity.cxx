@@ -86,30 +86,30 @@ void CheckScene(const Scene& scene, double propagation1, double propagation05, d
 TEST(Fidelity, Slab)
 {
   CheckScene(volillumfidelity::PhantomScene("slab", vtkIlluminationPhantomSource::Slab, 64, 0.05),
-    0.5, 3.5, 3, 1.5);
+    0.5, 3.5, 2.8, 1.5);
 }
 
 TEST(Fidelity, ThreeSpheres)
 {
   CheckScene(
     volillumfidelity::PhantomScene("spheres", vtkIlluminationPhantomSource::ThreeSpheres, 64, 0.3),
-    2, 6, 3.5, 2.5);
+    2, 6, 2, 1.2);
 }
 
 TEST(Fidelity, Engine)
 {
-  CheckScene(
-    volillumfidelity::FileScene("engine", Data + "/volumes/engine.vti", 0.3, 0.8), 2.5, 5, 8, 3.5);
+  CheckScene(volillumfidelity::FileScene("engine", Data + "/volumes/engine.vti", 0.3, 0.8), 2.5, 5,
+    5.5, 2.6);
 }
 
 TEST(Fidelity, Aneurism)
 {
   CheckScene(volillumfidelity::FileScene("aneurism", Data + "/volumes/aneurism.vti", 0.3, 0.8), 5.5,
-    9, 10.5, 7);
+    9, 8.5, 4.6);
 }
 
 TEST(Fidelity, ChestCT)
 {
-  CheckScene(volillumfidelity::FileScene("lidc2", Data + "/volumes/LIDC2.mha", 0.3, 0.8), 5, 10.5,
-    12.5, 7.5);
+  CheckScene(
+    volillumfidelity::FileScene("lidc2", Data + "/volumes/LIDC2.mha", 0.3, 0.8), 5, 10.5, 9.6, 4.7);
 }
