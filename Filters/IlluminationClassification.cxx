@@ -49,41 +49,12 @@ GridGeometry ScaledGeometry(const GridGeometry& data, double scale)
 void TrilinearSample(
   const GridGeometry& g, const float* field, int channels, const double p[3], float* out)
 {
-  int i0[3];
-  double f[3];
-  for (int a = 0; a < 3; ++a)
-  {
-    const int n = g.Dimensions[a];
-    double u = (p[a] - g.Origin[a]) / g.Spacing[a];
-    u = std::min(std::max(u, 0.0), static_cast<double>(n - 1));
-    int i = static_cast<int>(u);
-    if (i >= n - 1)
-    {
-      i = std::max(n - 2, 0);
-    }
-    i0[a] = i;
-    f[a] = n > 1 ? u - i : 0.0;
-  }
-  const long long sx = channels;
-  const long long sy = sx * g.Dimensions[0];
-  const long long sz = sy * g.Dimensions[1];
-  const long long dx = g.Dimensions[0] > 1 ? sx : 0;
-  const long long dy = g.Dimensions[1] > 1 ? sy : 0;
-  const long long dz = g.Dimensions[2] > 1 ? sz : 0;
-  const float* base = field + i0[0] * sx + i0[1] * sy + i0[2] * sz;
-  const float fx = static_cast<float>(f[0]);
-  const float fy = static_cast<float>(f[1]);
-  const float fz = static_cast<float>(f[2]);
+  const double u[3] = { (p[0] - g.Origin[0]) / g.Spacing[0], (p[1] - g.Origin[1]) / g.Spacing[1],
+    (p[2] - g.Origin[2]) / g.Spacing[2] };
+  const TrilinearCell cell = CellAt(g, u);
   for (int c = 0; c < channels; ++c)
   {
-    const float* q = base + c;
-    const float c00 = q[0] + fx * (q[dx] - q[0]);
-    const float c10 = q[dy] + fx * (q[dy + dx] - q[dy]);
-    const float c01 = q[dz] + fx * (q[dz + dx] - q[dz]);
-    const float c11 = q[dz + dy] + fx * (q[dz + dy + dx] - q[dz + dy]);
-    const float c0 = c00 + fy * (c10 - c00);
-    const float c1 = c01 + fy * (c11 - c01);
-    out[c] = c0 + fz * (c1 - c0);
+    out[c] = Interpolate(g, field, channels, cell, c);
   }
 }
 

@@ -63,6 +63,23 @@ VOLILLUMFILTERS_EXPORT GridGeometry ScaledGeometry(const GridGeometry& data, dou
 VOLILLUMFILTERS_EXPORT void TrilinearSample(
   const GridGeometry& geometry, const float* field, int channels, const double p[3], float* out);
 
+/// The grid cell a trilinear sample reads (the index of its first point per axis) and the
+/// sample's fractions in it.
+struct TrilinearCell
+{
+  int Index[3];
+  float Fraction[3];
+};
+
+/// The cell of a sample at grid coordinates u ((position - origin) / spacing per axis),
+/// clamped onto the grid, as TrilinearSample reads it; for kernels that step through the grid
+/// in grid coordinates.
+inline TrilinearCell CellAt(const GridGeometry& geometry, const double u[3]);
+
+/// Channel c of a field with `channels` floats per grid point, interpolated in a cell.
+inline float Interpolate(
+  const GridGeometry& geometry, const float* field, int channels, const TrilinearCell& cell, int c);
+
 /// Optical properties per data point, interleaved as {sigma, k_r, k_g, k_b} where sigma is
 /// the extinction coefficient and k_c the fraction of the step opacity that removes light of
 /// channel c (1 - colour with chromatic attenuation, 1 without).
@@ -113,6 +130,41 @@ VOLILLUMFILTERS_EXPORT double DistanceToBoxExit(
 }
 
 #include <cmath>
+
+inline volillum::TrilinearCell volillum::CellAt(const GridGeometry& geometry, const double u[3])
+{
+  TrilinearCell cell;
+  for (int a = 0; a < 3; ++a)
+  {
+    const int n = geometry.Dimensions[a];
+    const double c = std::min(std::max(u[a], 0.0), static_cast<double>(n - 1));
+    const int i = std::min(static_cast<int>(c), std::max(n - 2, 0));
+    cell.Index[a] = i;
+    cell.Fraction[a] = n > 1 ? static_cast<float>(c - i) : 0.0f;
+  }
+  return cell;
+}
+
+inline float volillum::Interpolate(
+  const GridGeometry& geometry, const float* field, int channels, const TrilinearCell& cell, int c)
+{
+  const long long sx = channels;
+  const long long sy = sx * geometry.Dimensions[0];
+  const long long sz = sy * geometry.Dimensions[1];
+  const long long dx = geometry.Dimensions[0] > 1 ? sx : 0;
+  const long long dy = geometry.Dimensions[1] > 1 ? sy : 0;
+  const long long dz = geometry.Dimensions[2] > 1 ? sz : 0;
+  const float* q = field + cell.Index[0] * sx + cell.Index[1] * sy + cell.Index[2] * sz + c;
+  const float fx = cell.Fraction[0], fy = cell.Fraction[1], fz = cell.Fraction[2];
+  const float c00 = q[0] + fx * (q[dx] - q[0]);
+  const float c10 = q[dy] + fx * (q[dy + dx] - q[dy]);
+  const float c01 = q[dz] + fx * (q[dz + dx] - q[dz]);
+  const float c11 = q[dz + dy] + fx * (q[dz + dy + dx] - q[dz + dy]);
+  const float c0 = c00 + fy * (c10 - c00);
+  const float c1 = c01 + fy * (c11 - c01);
+  return c0 + fz * (c1 - c0);
+}
+
 inline double volillum::StepOpacity(double sigma, double dt)
 {
   return 1.0 - std::exp(-sigma * dt);

@@ -47,17 +47,15 @@ EmptyBlocks::EmptyBlocks(const ClassifiedVolume& volume)
 
 bool EmptyBlocks::Contains(const double q[3]) const
 {
-  long long block[3];
+  int cell[3];
   for (int a = 0; a < 3; ++a)
   {
-    // The cell TrilinearSample reads (clamped onto the grid), then its block.
+    // The cell TrilinearSample reads (clamped onto the grid).
     const double u =
       std::min(std::max((q[a] - this->Origin[a]) * this->Inverse[a], 0.0), double(this->Last[a]));
-    const int cell = std::min(static_cast<int>(u), std::max(this->Last[a] - 1, 0));
-    block[a] = std::min(cell / Cells, this->Blocks[a] - 1);
+    cell[a] = std::min(static_cast<int>(u), std::max(this->Last[a] - 1, 0));
   }
-  return this->Empty[static_cast<size_t>(
-           block[0] + this->Blocks[0] * (block[1] + this->Blocks[1] * block[2]))] != 0;
+  return this->ContainsCell(cell);
 }
 
 std::array<double, 3> RayMarchTransmittance(const ClassifiedVolume& volume, const LightState& light,
@@ -106,22 +104,34 @@ void SegmentOpticalDepth(const ClassifiedVolume& volume, const double p[3], cons
   {
     return;
   }
-  const int n =
-    std::max(1, static_cast<int>(std::ceil(length / volume.Geometry.MinimumSpacing() - 1e-9)));
+  const auto& g = volume.Geometry;
+  const int n = std::max(1, static_cast<int>(std::ceil(length / g.MinimumSpacing() - 1e-9)));
   const double h = length / n;
-  float s[4];
+  // Steps in grid coordinates; only the channels asked for are interpolated.
+  double first[3], step[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    first[a] = (p[a] + 0.5 * h * d[a] - g.Origin[a]) / g.Spacing[a];
+    step[a] = h * d[a] / g.Spacing[a];
+  }
+  const float* field = volume.Properties.data();
   for (int m = 0; m < n; ++m)
   {
-    const double t = (m + 0.5) * h;
-    const double q[3] = { p[0] + t * d[0], p[1] + t * d[1], p[2] + t * d[2] };
-    if (empty && empty->Contains(q))
+    const double u[3] = { first[0] + m * step[0], first[1] + m * step[1], first[2] + m * step[2] };
+    const TrilinearCell cell = CellAt(g, u);
+    if (empty && empty->ContainsCell(cell.Index))
     {
       continue;
     }
-    volume.Sample(q, s);
-    for (int c = 0; c < channels; ++c)
+    const double sigma = Interpolate(g, field, 4, cell, 0) * h;
+    if (channels != 3)
     {
-      depth[c] += s[0] * (channels == 3 ? s[1 + c] : 1.0f) * h;
+      depth[0] += sigma;
+      continue;
+    }
+    for (int c = 0; c < 3; ++c)
+    {
+      depth[c] += sigma * Interpolate(g, field, 4, cell, 1 + c);
     }
   }
 }

@@ -49,6 +49,17 @@ public:
   explicit EmptyBlocks(const ClassifiedVolume& volume);
   /// Whether the sample at world position q is certainly 0.
   bool Contains(const double q[3]) const;
+  /// Whether samples in a grid cell (TrilinearCell::Index) are certainly 0.
+  bool ContainsCell(const int cell[3]) const
+  {
+    long long block[3];
+    for (int a = 0; a < 3; ++a)
+    {
+      block[a] = std::min(cell[a] / Cells, this->Blocks[a] - 1);
+    }
+    return this->Empty[static_cast<size_t>(
+             block[0] + this->Blocks[0] * (block[1] + this->Blocks[1] * block[2]))] != 0;
+  }
 
 private:
   static constexpr int Cells = 4;
