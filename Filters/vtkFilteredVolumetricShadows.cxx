@@ -198,11 +198,19 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
   }
   double bounds[6];
   volume.Geometry.GetBounds(bounds);
-  // Empty blocks speed up the near segments; soft shadows have none.
+  // Empty blocks speed up the near segments (built once per classification); soft shadows
+  // have none.
   const bool anyNear = nearLength > 0.0 ||
     std::any_of(sphericalNear.begin(), sphericalNear.end(), [](double l) { return l > 0.0; });
-  const std::unique_ptr<const volillum::EmptyBlocks> empty(
-    anyNear ? new volillum::EmptyBlocks(volume) : nullptr);
+  if (inputModified)
+  {
+    this->Empty.reset();
+  }
+  if (anyNear && !this->Empty)
+  {
+    this->Empty = std::make_shared<const volillum::EmptyBlocks>(volume);
+  }
+  const volillum::EmptyBlocks* empty = anyNear ? this->Empty.get() : nullptr;
   const std::vector<double> gaussian =
     this->FilterKernel == Gaussian ? volillum::GaussianWeights(5) : std::vector<double>();
   // Optional per-light transmittance arrays, indexed by light.
@@ -242,8 +250,7 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
           {
             const auto& table = this->Tables[l.Table];
             double near[3], far[3];
-            NearSegment(
-              volume, empty.get(), bounds, p, l.Toward.data(), nearLength, channels, near, far);
+            NearSegment(volume, empty, bounds, p, l.Toward.data(), nearLength, channels, near, far);
             double transmittance[3] = { 1.0, 1.0, 1.0 };
             for (int c = 0; c < channels; ++c)
             {
@@ -270,7 +277,7 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
             const auto& table = this->SphericalTables[l.Table];
             const auto radiance = l.Light.Radiance();
             double near[3], far[3];
-            NearSegment(volume, empty.get(), bounds, p, incidence.ToLight.data(),
+            NearSegment(volume, empty, bounds, p, incidence.ToLight.data(),
               std::min(sphericalNear[l.Table], incidence.Distance), channels, near, far);
             double transmittance[3] = { 1.0, 1.0, 1.0 };
             for (int c = 0; c < channels; ++c)

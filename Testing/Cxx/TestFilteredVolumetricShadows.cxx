@@ -178,6 +178,41 @@ TEST(FilteredVolumetricShadows, OnlyLightColourChangesReuseTheTables)
   EXPECT_EQ(Passes(filter), 1);
 }
 
+TEST(FilteredVolumetricShadows, KeptEmptyBlocksFollowTheTransferFunction)
+{
+  // Hard shadows skip the empty blocks of the classification along their near segments; the
+  // blocks are kept between updates. After a transfer-function change that fills the empty
+  // background, the kept filter must equal a new one exactly.
+  auto image = Spheres(32);
+  auto otf = Opacity();
+  auto light = DirectionalLight(0.3, 0.2, -1);
+  vtkNew<vtkFilteredVolumetricShadows> kept;
+  kept->SetInputData(image);
+  kept->SetOpacityFunction(otf);
+  kept->SetFilterWidth(0);
+  kept->AddLight(light);
+  kept->Update();
+  auto before = Result(kept);
+  otf->AddPoint(0.0, 0.2);
+  kept->Update();
+  vtkNew<vtkFilteredVolumetricShadows> fresh;
+  fresh->SetInputData(image);
+  fresh->SetOpacityFunction(otf);
+  fresh->SetFilterWidth(0);
+  fresh->AddLight(light);
+  fresh->Update();
+  auto after = Result(kept);
+  auto want = Result(fresh);
+  double difference = 0.0, change = 0.0;
+  for (vtkIdType i = 0; i < want->GetNumberOfValues(); ++i)
+  {
+    difference = std::max(difference, std::abs(double(after->GetValue(i)) - want->GetValue(i)));
+    change = std::max(change, std::abs(double(after->GetValue(i)) - before->GetValue(i)));
+  }
+  EXPECT_GT(change, 0.1);
+  EXPECT_EQ(difference, 0.0);
+}
+
 TEST(FilteredVolumetricShadows, PointAndSpotLightsAgreeWithTheReference)
 {
   auto image = Spheres(64);
