@@ -559,41 +559,50 @@ void SphericalSAT::Build(const ClassifiedVolume& data, const double light[3], do
   const int samples =
     std::max(1, static_cast<int>(std::ceil(this->DR / data.Geometry.MinimumSpacing() - 1e-9)));
   const double eps = 1e-9 * std::max(bounds[1] - bounds[0], 1.0);
+  // Each ray's direction and solid angle, shared by its cells along r.
+  const long long rays = static_cast<long long>(n[0]) * n[1];
+  std::vector<std::array<double, 4>> ray(static_cast<size_t>(rays));
+  vtkSMPTools::For(0, rays,
+    [&](long long begin, long long end)
+    {
+      for (long long id = begin; id < end; ++id)
+      {
+        const double u0 = this->U0 + (id % n[0]) * this->DU;
+        const double v0 = this->V0 + (id / n[0]) * this->DV;
+        auto& r = ray[static_cast<size_t>(id)];
+        this->Direction(u0 + 0.5 * this->DU, v0 + 0.5 * this->DV, r.data());
+        r[3] = this->SolidAngle(u0, u0 + this->DU, v0, v0 + this->DV);
+      }
+    });
   vtkSMPTools::For(0, static_cast<long long>(n[2]),
     [&](long long k0, long long k1)
     {
       for (long long k = k0; k < k1; ++k)
       {
-        for (long long j = 0; j < n[1]; ++j)
+        for (long long id = 0; id < rays; ++id)
         {
-          const double v0 = this->V0 + j * this->DV;
-          for (long long i = 0; i < n[0]; ++i)
+          const double* direction = ray[static_cast<size_t>(id)].data();
+          const double solidAngle = direction[3];
+          double cell[3] = { 0.0, 0.0, 0.0 };
+          for (int m = 0; m < samples; ++m)
           {
-            const double u0 = this->U0 + i * this->DU;
-            const double solidAngle = this->SolidAngle(u0, u0 + this->DU, v0, v0 + this->DV);
-            double direction[3];
-            this->Direction(u0 + 0.5 * this->DU, v0 + 0.5 * this->DV, direction);
-            double cell[3] = { 0.0, 0.0, 0.0 };
-            for (int m = 0; m < samples; ++m)
+            const double r = this->RMin + (k + (m + 0.5) / samples) * this->DR;
+            const double p[3] = { light[0] + r * direction[0], light[1] + r * direction[1],
+              light[2] + r * direction[2] };
+            float s[4];
+            if (!SampleInside(data, bounds, eps, p, s))
             {
-              const double r = this->RMin + (k + (m + 0.5) / samples) * this->DR;
-              const double p[3] = { light[0] + r * direction[0], light[1] + r * direction[1],
-                light[2] + r * direction[2] };
-              float s[4];
-              if (!SampleInside(data, bounds, eps, p, s))
-              {
-                continue;
-              }
-              for (int c = 0; c < channels; ++c)
-              {
-                const double absorb = channels == 3 ? s[1 + c] : 1.0;
-                cell[c] += s[0] * absorb * this->DR * solidAngle / samples;
-              }
+              continue;
             }
             for (int c = 0; c < channels; ++c)
             {
-              this->Table.SetCell(c, i, j, k, cell[c]);
+              const double absorb = channels == 3 ? s[1 + c] : 1.0;
+              cell[c] += s[0] * absorb * this->DR * solidAngle / samples;
             }
+          }
+          for (int c = 0; c < channels; ++c)
+          {
+            this->Table.SetCell(c, id % n[0], id / n[0], k, cell[c]);
           }
         }
       }
