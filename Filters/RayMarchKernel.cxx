@@ -11,12 +11,11 @@ namespace volillum
 EmptyBlocks::EmptyBlocks(const ClassifiedVolume& volume)
 {
   const auto& g = volume.Geometry;
+  this->Geometry = g;
   for (int a = 0; a < 3; ++a)
   {
     this->Last[a] = g.Dimensions[a] - 1;
     this->Blocks[a] = std::max(1, (this->Last[a] + Cells - 1) / Cells);
-    this->Origin[a] = g.Origin[a];
-    this->Inverse[a] = 1.0 / g.Spacing[a];
   }
   const long long bx = this->Blocks[0], by = this->Blocks[1], bz = this->Blocks[2];
   this->Empty.assign(static_cast<size_t>(bx * by * bz), 1);
@@ -47,15 +46,10 @@ EmptyBlocks::EmptyBlocks(const ClassifiedVolume& volume)
 
 bool EmptyBlocks::Contains(const double q[3]) const
 {
-  int cell[3];
-  for (int a = 0; a < 3; ++a)
-  {
-    // The cell TrilinearSample reads (clamped onto the grid).
-    const double u =
-      std::min(std::max((q[a] - this->Origin[a]) * this->Inverse[a], 0.0), double(this->Last[a]));
-    cell[a] = std::min(static_cast<int>(u), std::max(this->Last[a] - 1, 0));
-  }
-  return this->ContainsCell(cell);
+  const double u[3] = { (q[0] - this->Geometry.Origin[0]) / this->Geometry.Spacing[0],
+    (q[1] - this->Geometry.Origin[1]) / this->Geometry.Spacing[1],
+    (q[2] - this->Geometry.Origin[2]) / this->Geometry.Spacing[2] };
+  return this->ContainsCell(CellAt(this->Geometry, u).Index);
 }
 
 std::array<double, 3> RayMarchTransmittance(const ClassifiedVolume& volume, const LightState& light,

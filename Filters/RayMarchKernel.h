@@ -65,8 +65,7 @@ private:
   static constexpr int Cells = 4;
   std::array<int, 3> Last{ { 0, 0, 0 } };   // last point index per axis
   std::array<int, 3> Blocks{ { 0, 0, 0 } }; // blocks per axis
-  std::array<double, 3> Origin{ { 0, 0, 0 } };
-  std::array<double, 3> Inverse{ { 1, 1, 1 } };
+  GridGeometry Geometry;                    // of the classification, to find a position's cell
   std::vector<char> Empty;
 };
 
