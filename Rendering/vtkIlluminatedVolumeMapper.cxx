@@ -1,7 +1,8 @@
 #include "vtkIlluminatedVolumeMapper.h"
 
+#include "vtkArrayDispatch.h"
 #include "vtkDataArray.h"
-#include "vtkFloatArray.h"
+#include "vtkDataArrayRange.h"
 #include "vtkImageData.h"
 #include "vtkMatrix3x3.h"
 #include "vtkObjectFactory.h"
@@ -9,12 +10,16 @@
 #include "vtkOpenGLShaderProperty.h"
 #include "vtkPointData.h"
 #include "vtkRenderer.h"
+#include "vtkSMPTools.h"
 #include "vtkTextureObject.h"
 #include "vtkUniforms.h"
 #include "vtkVolume.h"
+#include "vtk_glew.h"
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include "IlluminatedShadingDec.h"
 #include "IlluminatedShadingImpl.h"
@@ -27,20 +32,22 @@ namespace
 const char* const ShadingDecTag = "//VTK::Shading::Dec";
 const char* const ShadingImplTag = "//VTK::Shading::Impl";
 const char* const TerminateInitTag = "//VTK::Terminate::Init";
-// Moves each ray's first sample by a per-pixel random fraction of a step before the
-// termination point is computed (VTK's own start is one full step in). VTK's jittering
-// samples a Perlin-noise texture whose lattice shows as a regular dot pattern on
-// surfaces; a hash of the pixel position gives white noise instead.
+// Sets the per-fragment illumination transform, then moves each ray's first sample by a per-pixel
+// random fraction of a step before the termination point is computed (VTK's own start is one full
+// step in). VTK's jittering samples a Perlin-noise texture whose lattice shows as a regular dot
+// pattern on surfaces; a hash of the pixel position gives white noise instead.
 const char* const JitteredTerminateInit =
+  "volillumInitialize();\n"
   "vec3 volillumJitter = g_dirStep * (volillumRandom(gl_FragCoord.xy) - 1.0);\n"
   "g_rayOrigin += volillumJitter;\n"
   "g_dataPos += volillumJitter;\n"
   "//VTK::Terminate::Init";
 const char* const SamplerIntDeclaration = "uniform int volillum_illumination;";
 const char* const SamplerDeclaration = "uniform sampler3D volillum_illumination;";
+const char* const GradientShadingDefine = "#define VOLILLUM_GRADIENT_SHADING\n";
 const char* const UniformNames[] = { "volillum_illumination", "volillum_toIlluminationX",
   "volillum_toIlluminationY", "volillum_toIlluminationZ", "volillum_ambient", "volillum_diffuse",
-  "volillum_gradientShading", "volillum_phong" };
+  "volillum_phong" };
 
 vtkDataArray* IlluminationArray(vtkImageData* image)
 {
@@ -56,6 +63,45 @@ vtkDataArray* IlluminationArray(vtkImageData* image)
   }
   return a;
 }
+
+// Largest finite value of any channel of the illumination; 0 when there is none.
+double LargestValue(vtkDataArray* illumination)
+{
+  double largest = 0;
+  for (int c = 0; c < 3; ++c)
+  {
+    double range[2];
+    illumination->GetFiniteRange(range, c);
+    if (range[0] <= range[1])
+    {
+      largest = std::max(largest, range[1]);
+    }
+  }
+  return largest;
+}
+
+// Illumination as RGBA bytes, value x scale rounded into [0, 255] (NaN and negative
+// values 0); alpha unused.
+struct Quantise
+{
+  template <typename ArrayT>
+  void operator()(ArrayT* array, double scale, std::vector<unsigned char>& bytes) const
+  {
+    const auto tuples = vtk::DataArrayTupleRange<3>(array);
+    vtkSMPTools::For(0, tuples.size(),
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        for (vtkIdType i = begin; i < end; ++i)
+        {
+          for (int c = 0; c < 3; ++c)
+          {
+            const double v = static_cast<double>(tuples[i][c]) * scale;
+            bytes[4 * i + c] = v > 0 ? static_cast<unsigned char>(std::min(v + 0.5, 255.0)) : 0;
+          }
+        }
+      });
+  }
+};
 }
 
 //------------------------------------------------------------------------------
@@ -100,11 +146,15 @@ bool vtkIlluminatedVolumeMapper::UpdateIlluminationTexture(vtkRenderer* ren)
   }
   int dims[3];
   this->IlluminationData->GetDimensions(dims);
-  vtkSmartPointer<vtkFloatArray> values = vtkFloatArray::FastDownCast(array);
-  if (!values)
+  // 8 bits per channel of the largest value: a quarter of the memory of float texels, and
+  // the sampler's fastest path on software renderers.
+  const double largest = LargestValue(array);
+  this->IlluminationTextureScale = largest > 0 ? largest : 1.0;
+  std::vector<unsigned char> bytes(4 * static_cast<size_t>(array->GetNumberOfTuples()), 0);
+  if (!vtkArrayDispatch::DispatchByValueType<vtkArrayDispatch::Reals>::Execute(
+        array, Quantise{}, 255.0 / this->IlluminationTextureScale, bytes))
   {
-    values = vtkSmartPointer<vtkFloatArray>::New();
-    values->DeepCopy(array);
+    Quantise{}(array, 255.0 / this->IlluminationTextureScale, bytes);
   }
   auto* texture = this->IlluminationTexture.Get();
   texture->SetWrapS(vtkTextureObject::ClampToEdge);
@@ -112,7 +162,8 @@ bool vtkIlluminatedVolumeMapper::UpdateIlluminationTexture(vtkRenderer* ren)
   texture->SetWrapR(vtkTextureObject::ClampToEdge);
   texture->SetMinificationFilter(vtkTextureObject::Linear);
   texture->SetMagnificationFilter(vtkTextureObject::Linear);
-  if (!texture->Create3DFromRaw(dims[0], dims[1], dims[2], 3, VTK_FLOAT, values->GetPointer(0)))
+  texture->SetInternalFormat(GL_RGBA8);
+  if (!texture->Create3DFromRaw(dims[0], dims[1], dims[2], 4, VTK_UNSIGNED_CHAR, bytes.data()))
   {
     vtkErrorMacro("Could not upload the illumination volume as a 3D texture.");
     return false;
@@ -126,22 +177,27 @@ void vtkIlluminatedVolumeMapper::SetShaderReplacements(
   vtkOpenGLShaderProperty* property, bool enable)
 {
   vtkShader::ReplacementSpec spec;
-  spec.OriginalValue = ShadingImplTag;
+  spec.OriginalValue = ShadingDecTag;
   spec.ShaderType = vtkShader::Fragment;
   spec.ReplaceFirst = true;
-  const bool present = property->GetAllShaderReplacements().count(spec) > 0;
+  const auto& replacements = property->GetAllShaderReplacements();
+  const auto present = replacements.find(spec);
+  // Features that are off are compiled out rather than branched over: the declarations
+  // carry the defines of the mapper's state.
+  const std::string declarations =
+    std::string(this->GradientShading ? GradientShadingDefine : "") + IlluminatedShadingDec;
   // Adding or clearing marks the property modified, which rebuilds the shader: only do it
   // when the state changes.
-  if (enable && !present)
+  if (enable && (present == replacements.end() || present->second.Replacement != declarations))
   {
-    property->AddFragmentShaderReplacement(ShadingDecTag, true, IlluminatedShadingDec, false);
+    property->AddFragmentShaderReplacement(ShadingDecTag, true, declarations, false);
     property->AddFragmentShaderReplacement(ShadingImplTag, true, IlluminatedShadingImpl, false);
     property->AddFragmentShaderReplacement(TerminateInitTag, true, JitteredTerminateInit, false);
     // Custom uniforms know no sampler type: the texture unit is set as an int uniform and
     // its declaration turned into a sampler after VTK has written it.
     property->AddFragmentShaderReplacement(SamplerIntDeclaration, false, SamplerDeclaration, false);
   }
-  else if (!enable && present)
+  else if (!enable && present != replacements.end())
   {
     property->ClearFragmentShaderReplacement(ShadingDecTag, true);
     property->ClearFragmentShaderReplacement(ShadingImplTag, true);
@@ -187,8 +243,9 @@ void vtkIlluminatedVolumeMapper::SetShadingUniforms(vtkOpenGLShaderProperty* pro
   u->SetUniform4f("volillum_toIlluminationY", rows[1]);
   u->SetUniform4f("volillum_toIlluminationZ", rows[2]);
   u->SetUniformf("volillum_ambient", static_cast<float>(this->Ambient));
-  u->SetUniformf("volillum_diffuse", static_cast<float>(this->Diffuse));
-  u->SetUniformi("volillum_gradientShading", this->GradientShading ? 1 : 0);
+  // The texture holds illumination / IlluminationTextureScale.
+  u->SetUniformf(
+    "volillum_diffuse", static_cast<float>(this->Diffuse * this->IlluminationTextureScale));
   const float phong[4] = { static_cast<float>(this->PhongAmbient),
     static_cast<float>(this->PhongDiffuse), static_cast<float>(this->PhongSpecular),
     static_cast<float>(this->PhongSpecularPower) };

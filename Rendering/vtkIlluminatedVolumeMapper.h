@@ -4,19 +4,23 @@
  *
  * The illumination volume (a vtkImageData with the 3-component point array
  * "Illumination", as the VolumetricIllumination filters produce) is uploaded as the
- * mapper's own 3D texture at its own resolution and sampled trilinearly. Each sample's
+ * mapper's own 3D texture at its own resolution and sampled trilinearly. Texels hold 8 bits
+ * per channel of the volume's largest value (4 bytes per voxel; steps of 1/255 of the
+ * brightest light, below what an 8-bit display shows of a colour shaded with it). Each sample's
  * colour is the transfer-function colour x (Ambient + Diffuse x illumination), optionally
  * times a gradient-based Phong factor for a headlight (eq. 3 of the unstructured-grid
  * lighting paper), then composited front to back as usual.
  *
  * The shading code replaces the //VTK::Shading::Impl tag through the volume's shader
- * property, and the texture is bound by this mapper around each render, so the very first
- * frame is lit (no reliance on UpdateShaderEvent). Supported: one-component scalars and
- * the composite blend mode; otherwise, or without illumination data, the mapper renders
- * as its superclass. Leave the volume property's Shade off: the illumination volume
- * replaces local lighting. Ray starts are jittered by a per-pixel random fraction of a
- * step so that samples at equal depths do not draw rings. The illumination bounds are given
- * in the data's coordinates.
+ * property; features that are off (gradient shading) are compiled out of the shader, which
+ * is rebuilt when they change, instead of branched over per sample. The texture coordinate
+ * of the illumination is one affine transform of the volume's, set up once per ray. The
+ * texture is bound by this mapper around each render, so the very first frame is lit (no reliance
+ * on UpdateShaderEvent). Supported: one-component scalars and the composite blend mode; otherwise,
+ * or without illumination data, the mapper renders as its superclass. Leave the volume property's
+ * Shade off: the illumination volume replaces local lighting. Ray starts are jittered by a
+ * per-pixel random fraction of a step so that samples at equal depths do not draw rings. The
+ * illumination bounds are given in the data's coordinates.
  */
 #ifndef vtkIlluminatedVolumeMapper_h
 #define vtkIlluminatedVolumeMapper_h
@@ -113,6 +117,8 @@ protected:
   double PhongSpecularPower = 20.0;
 
   vtkNew<vtkTextureObject> IlluminationTexture;
+  /// Illumination per unit of the texture's normalised values (its largest value).
+  double IlluminationTextureScale = 1.0;
   vtkTimeStamp IlluminationUploadTime;
   vtkTimeStamp RefusedInputTime;
 

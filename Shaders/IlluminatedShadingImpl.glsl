@@ -10,10 +10,11 @@
       if (g_srcColor.a > 0.0)
       {
         g_srcColor = computeColor(scalar, g_srcColor.a);
-        vec3 received = volillum_ambient +
-          volillum_diffuse * volillumIllumination(g_dataPos) * volillumPhong(g_dataPos, g_dirStep);
-        g_srcColor.rgb *= received;
-        g_srcColor.rgb *= g_srcColor.a;
+        vec3 light = volillum_diffuse * volillumIllumination(g_dataPos);
+#ifdef VOLILLUM_GRADIENT_SHADING
+        light *= volillumPhong(g_dataPos, g_dirStep);
+#endif
+        g_srcColor.rgb *= (volillum_ambient + light) * g_srcColor.a;
         g_fragColor = (1.0 - g_fragColor.a) * g_srcColor + g_fragColor;
       }
     }

@@ -20,6 +20,7 @@ from paraview.simple import *
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from IlluminatedVolumeTestUtilities import (Checks, finish, camera_to_world, illuminated_view, info,
+                                            image_difference,
                                             light_parameters, scene_light,
                                             mean_colours, mean_illumination,
                                             relative_difference)
@@ -164,6 +165,34 @@ for method, label in ((1, "Filtered Shadows"), (2, "Ray-Marched Reference")):
     Render(view)
     m = info(rep, "IlluminationMean")
     check(m[2] > 0, "%s renders with illumination (mean %s)" % (label, ["%.4f" % v for v in m]))
+
+# Gradient shading is compiled into the shader only while it is on. With the Phong factor
+# held at 0.5 (ambient 0.5, no diffuse or specular term) the image must equal the unshaded
+# one at half the Diffuse weight; the default factor must change it; switching it off
+# again must give back the unshaded image.
+rep.IlluminationMethod = "Multi-Light Propagation"
+
+
+def screenshot(name, **properties):
+    for key, value in properties.items():
+        setattr(rep, key, value)
+    path = os.path.join(out, name)
+    SaveScreenshot(path, view)
+    return path
+
+
+half = screenshot("GradientShadingOff.png", GradientShading=0, IlluminationDiffuse=0.5)
+constant = screenshot("GradientShadingConstant.png", GradientShading=1, IlluminationDiffuse=1.0,
+                      PhongAmbient=0.5, PhongDiffuse=0.0, PhongSpecular=0.0)
+shaded = screenshot("GradientShadingOn.png", PhongAmbient=0.3, PhongDiffuse=0.7,
+                    PhongSpecular=0.2)
+again = screenshot("GradientShadingOffAgain.png", GradientShading=0, IlluminationDiffuse=0.5)
+rep.IlluminationDiffuse = 1.0
+differences = [image_difference(half, constant), image_difference(constant, shaded),
+               image_difference(half, again)]
+check(differences[0] < 0.01 and differences[1] > 0.3 and differences[2] < 0.01,
+      "gradient shading: constant factor 0.5 vs half the diffuse weight %.3f, default factor "
+      "vs constant %.2f, off again vs off %.3f (mean levels)" % tuple(differences))
 
 # An array on the cells (ParaView colours the volume by it as such) is lit too: through
 # point values averaged from the cells, as the filter does when given the same array.
