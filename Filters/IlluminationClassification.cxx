@@ -60,13 +60,17 @@ void TrilinearSample(
 
 void ClassifiedVolume::Sample(const double p[3], float out[4]) const
 {
-  TrilinearSample(this->Geometry, this->Properties.data(), 4, p, out);
+  TrilinearSample(this->Geometry, this->Properties.data(), this->Channels, p, out);
+  if (this->Channels == 1)
+  {
+    out[1] = out[2] = out[3] = 1.0f;
+  }
 }
 
 float ClassifiedVolume::MaxExtinction() const
 {
   float m = 0.0f;
-  for (size_t i = 0; i < this->Properties.size(); i += 4)
+  for (size_t i = 0; i < this->Properties.size(); i += static_cast<size_t>(this->Channels))
   {
     m = std::max(m, this->Properties[i]);
   }
@@ -128,14 +132,15 @@ struct TransferTable
     }
   }
 
-  void Lookup(double v, float* out) const
+  /// sigma into out[0], with channels 4 also k_c into out[1 + c].
+  void Lookup(double v, int channels, float* out) const
   {
     double u = (v - this->Min) / (this->Max - this->Min) * (Size - 1);
     u = std::min(std::max(u, 0.0), static_cast<double>(Size - 1));
     int i = std::min(static_cast<int>(u), Size - 2);
     const float f = static_cast<float>(u - i);
     out[0] = this->Sigma[i] + f * (this->Sigma[i + 1] - this->Sigma[i]);
-    for (int c = 0; c < 3; ++c)
+    for (int c = 0; c < channels - 1; ++c)
     {
       const float a0 = this->Absorb[3 * i + c];
       const float a1 = this->Absorb[3 * (i + 1) + c];
@@ -147,8 +152,8 @@ struct TransferTable
 struct ClassifyWorker
 {
   template <typename ArrayT>
-  void operator()(ArrayT* array, int component, const TransferTable& table, float* out,
-    std::atomic<long long>& nans)
+  void operator()(ArrayT* array, int component, const TransferTable& table, int channels,
+    float* out, std::atomic<long long>& nans)
   {
     const auto values = vtk::DataArrayTupleRange(array);
     vtkSMPTools::For(0, values.size(),
@@ -158,15 +163,15 @@ struct ClassifyWorker
         for (vtkIdType t = begin; t < end; ++t)
         {
           const double v = static_cast<double>(values[t][component]);
-          float* o = out + 4 * t;
+          float* o = out + channels * t;
           if (std::isnan(v))
           {
             ++localNans;
+            std::fill(o, o + channels, 1.0f);
             o[0] = 0.0f;
-            o[1] = o[2] = o[3] = 1.0f;
             continue;
           }
-          table.Lookup(v, o);
+          table.Lookup(v, channels, o);
         }
         nans += localNans;
       });
@@ -215,13 +220,14 @@ bool Classify(vtkDataArray* scalars, const GridGeometry& geometry,
   table.Build(settings, range[0], range[1]);
 
   out.Geometry = geometry;
-  out.Properties.assign(4 * static_cast<size_t>(geometry.NumberOfPoints()), 0.0f);
+  out.Channels = settings.Chromatic ? 4 : 1;
+  out.Properties.assign(out.Channels * static_cast<size_t>(geometry.NumberOfPoints()), 0.0f);
   std::atomic<long long> nans(0);
   ClassifyWorker worker;
   if (!vtkArrayDispatch::Dispatch::Execute(
-        scalars, worker, settings.Component, table, out.Properties.data(), nans))
+        scalars, worker, settings.Component, table, out.Channels, out.Properties.data(), nans))
   {
-    worker(scalars, settings.Component, table, out.Properties.data(), nans);
+    worker(scalars, settings.Component, table, out.Channels, out.Properties.data(), nans);
   }
   if (nanCount)
   {

@@ -80,16 +80,27 @@ inline TrilinearCell CellAt(const GridGeometry& geometry, const double u[3]);
 inline float Interpolate(
   const GridGeometry& geometry, const float* field, int channels, const TrilinearCell& cell, int c);
 
-/// Optical properties per data point, interleaved as {sigma, k_r, k_g, k_b} where sigma is
-/// the extinction coefficient and k_c the fraction of the step opacity that removes light of
-/// channel c (1 - colour with chromatic attenuation, 1 without).
+/// Optical properties per data point: the extinction coefficient sigma and, with chromatic
+/// attenuation, k_c, the fraction of the step opacity that removes light of channel c
+/// (1 - colour), interleaved as {sigma, k_r, k_g, k_b} (Channels 4). Without chromatic
+/// attenuation every k_c is 1 and only sigma is stored (Channels 1: 4 bytes a point).
 struct VOLILLUMFILTERS_EXPORT ClassifiedVolume
 {
   GridGeometry Geometry;
+  int Channels = 4;
   std::vector<float> Properties;
 
-  /// Trilinear interpolation of the four properties at a world position; positions outside
-  /// the grid are clamped onto it.
+  /// Whether k_c may differ from 1 (Channels 4).
+  bool IsChromatic() const { return this->Channels == 4; }
+
+  /// Extinction at grid point `point` (x fastest).
+  float Extinction(long long point) const
+  {
+    return this->Properties[static_cast<size_t>(this->Channels * point)];
+  }
+
+  /// Trilinear interpolation of {sigma, k_r, k_g, k_b} at a world position (k_c 1 without
+  /// chromatic attenuation); positions outside the grid are clamped onto it.
   void Sample(const double p[3], float out[4]) const;
 
   /// Largest sigma in the volume (0 for an empty one).

@@ -81,8 +81,8 @@ struct Incidence
 
 VOLILLUMFILTERS_EXPORT Incidence ComputeIncidence(const LightState& light, const double point[3]);
 
-/// Brightest light accepted (colour x intensity per channel): illumination volumes sum light
-/// in 64-bit fixed point with 32 fraction bits, which holds sums up to about 2e9.
+/// Brightest light accepted (colour x intensity per channel): keeps sums of light, and the
+/// fixed-point scales chosen from them (FixedPointIllumination), far from overflow.
 constexpr double MaximumRadiance = 1e6;
 
 /// A point or spot light farther than this many volume diagonals from the volume's centre

@@ -41,8 +41,8 @@ struct RaySource
 // state removed later cancels to the last unit.
 inline std::int64_t RoundToFixed(double x)
 {
-  // Light sums stay far below this (MaximumRadiance); the clamp only keeps a NaN or an
-  // overflowing product from becoming an undefined conversion.
+  // Contributions stay far below this (FixedPointIllumination::ScaleFor); the clamp only
+  // keeps a NaN or an overflowing product from becoming an undefined conversion.
   constexpr double limit = 4.0e18;
   if (!(std::abs(x) < limit))
   {
@@ -166,62 +166,13 @@ inline void MonotoneBicubic(const float* base, int nb, int nc, const SlicePoint&
   }
 }
 
-// Trilinear samples of the four optical properties of a classified volume, positions
-// clamped onto the grid (ClassifiedVolume::Sample inlined for the sweep's inner loop).
-struct VolumeSampler
-{
-  const float* Properties;
-  int Last[3];
-  double Origin[3], Inverse[3];
-  long long Stride[3];
-
-  explicit VolumeSampler(const ClassifiedVolume& v)
-    : Properties(v.Properties.data())
-  {
-    const auto& g = v.Geometry;
-    for (int a = 0; a < 3; ++a)
-    {
-      this->Last[a] = g.Dimensions[a] - 1;
-      this->Origin[a] = g.Origin[a];
-      this->Inverse[a] = 1.0 / g.Spacing[a];
-    }
-    this->Stride[0] = g.Dimensions[0] > 1 ? 4 : 0;
-    this->Stride[1] = g.Dimensions[1] > 1 ? 4LL * g.Dimensions[0] : 0;
-    this->Stride[2] = g.Dimensions[2] > 1 ? 4LL * g.Dimensions[0] * g.Dimensions[1] : 0;
-  }
-
-  inline void operator()(const double p[3], float out[4]) const
-  {
-    long long offset = 0;
-    float f[3];
-    for (int a = 0; a < 3; ++a)
-    {
-      const double u = std::min(std::max((p[a] - this->Origin[a]) * this->Inverse[a], 0.0),
-        static_cast<double>(this->Last[a]));
-      const int i = std::min(static_cast<int>(u), std::max(this->Last[a] - 1, 0));
-      f[a] = static_cast<float>(u - i);
-      offset += i * this->Stride[a];
-    }
-    const float* q = this->Properties + offset;
-    const long long dx = this->Stride[0], dy = this->Stride[1], dz = this->Stride[2];
-    for (int c = 0; c < 4; ++c)
-    {
-      const float c00 = q[c] + f[0] * (q[dx + c] - q[c]);
-      const float c10 = q[dy + c] + f[0] * (q[dy + dx + c] - q[dy + c]);
-      const float c01 = q[dz + c] + f[0] * (q[dz + dx + c] - q[dz + c]);
-      const float c11 = q[dz + dy + c] + f[0] * (q[dz + dy + dx + c] - q[dz + dy + c]);
-      const float c0 = c00 + f[1] * (c10 - c00);
-      const float c1 = c01 + f[1] * (c11 - c01);
-      out[c] = c0 + f[2] * (c1 - c0);
-    }
-  }
-};
-
 // One sweep over the illumination grid (N, Stride, Origin, Spacing, Bounds) along Axis
-// toward Sign; light is attenuated through the full-resolution volume the Sampler reads.
+// toward Sign; light is attenuated through the full-resolution Volume, whose Empty blocks
+// (when given) are skipped.
 struct SweepContext
 {
-  VolumeSampler Sampler;
+  const ClassifiedVolume& Volume;
+  const EmptyBlocks* Empty;
   double SegmentStep; // longest midpoint step: the volume's smallest spacing
   int Axis, Sign, B, C;
   int N[3];
@@ -342,16 +293,49 @@ void SegmentTransmittance(
   }
   const int n = std::max(1, static_cast<int>(std::ceil((to - from) / s.SegmentStep - 1e-9)));
   const double h = (to - from) / n;
-  float props[4];
+  // Steps in the volume's grid coordinates, from the far end of the part inside.
+  const GridGeometry& g = s.Volume.Geometry;
+  double first[3], step[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    first[a] = (p[a] - (from + 0.5 * h) * d[a] - g.Origin[a]) / g.Spacing[a];
+    step[a] = -h * d[a] / g.Spacing[a];
+  }
+  const float* field = s.Volume.Properties.data();
+  const float hf = static_cast<float>(h);
+  // Without chromatic attenuation every channel keeps exp(-sigma h) of each step: the
+  // product is the exponential of the summed optical depth.
+  float depth = 0.0f;
   for (int m = 0; m < n; ++m)
   {
-    const double back = from + (m + 0.5) * h;
-    const double q[3] = { p[0] - back * d[0], p[1] - back * d[1], p[2] - back * d[2] };
-    s.Sampler(q, props);
-    const float a = 1.0f - std::exp(-props[0] * static_cast<float>(h));
+    const double u[3] = { first[0] + m * step[0], first[1] + m * step[1], first[2] + m * step[2] };
+    const TrilinearCell cell = CellAt(g, u);
+    if (s.Empty && s.Empty->ContainsCell(cell.Index))
+    {
+      continue;
+    }
+    const float sigma = Interpolate(g, field, s.Volume.Channels, cell, 0);
+    if (!(sigma > 0.0f))
+    {
+      continue;
+    }
+    if (!s.Volume.IsChromatic())
+    {
+      depth += sigma * hf;
+      continue;
+    }
+    const float a = 1.0f - std::exp(-sigma * hf);
     for (int ch = 0; ch < 3; ++ch)
     {
-      out[ch] *= 1.0f - a * props[1 + ch];
+      out[ch] *= 1.0f - a * Interpolate(g, field, 4, cell, 1 + ch);
+    }
+  }
+  if (depth > 0.0f)
+  {
+    const float t = std::exp(-depth);
+    for (int ch = 0; ch < 3; ++ch)
+    {
+      out[ch] *= t;
     }
   }
 }
@@ -623,12 +607,12 @@ void RowFromLattice(const SweepContext& s, const SweepSource& sweep, const Latti
 }
 
 // One sweep of the tasks (all in the same group) through the grid.
-bool Sweep(const ClassifiedVolume& volume, const GridGeometry& g, int group,
-  const std::vector<PropagationTask>& tasks, FixedPointIllumination& illumination,
+bool Sweep(const ClassifiedVolume& volume, const EmptyBlocks* empty, const GridGeometry& g,
+  int group, const std::vector<PropagationTask>& tasks, FixedPointIllumination& illumination,
   PropagationStatistics& statistics, const std::function<bool(double)>& progress)
 {
   const auto& sp = volume.Geometry.Spacing;
-  SweepContext s{ VolumeSampler(volume), std::min(sp[0], std::min(sp[1], sp[2])), group / 2,
+  SweepContext s{ volume, empty, std::min(sp[0], std::min(sp[1], sp[2])), group / 2,
     group % 2 == 0 ? 1 : -1, (group / 2 + 1) % 3, (group / 2 + 2) % 3,
     { g.Dimensions[0], g.Dimensions[1], g.Dimensions[2] },
     { 1, g.Dimensions[0], static_cast<long long>(g.Dimensions[0]) * g.Dimensions[1] },
@@ -667,7 +651,7 @@ bool Sweep(const ClassifiedVolume& volume, const GridGeometry& g, int group,
     const auto r = l.Radiance();
     for (int ch = 0; ch < 3; ++ch)
     {
-      deposit.Scaled[ch] = r[ch] * task.Weight * task.Sign * FixedPointIllumination::Scale;
+      deposit.Scaled[ch] = r[ch] * task.Weight * task.Sign * illumination.Scale;
     }
     deposits.push_back(deposit);
   }
@@ -692,8 +676,11 @@ bool Sweep(const ClassifiedVolume& volume, const GridGeometry& g, int group,
     write.emplace_back(size, 1.0f);
     bufferBytes += 2 * size * sizeof(float);
   }
+  // Each thread's row buffers: light, direction and group factor per pixel and source.
+  bufferBytes += static_cast<size_t>(vtkSMPTools::GetEstimatedNumberOfThreads()) * nb * count *
+    (3 * sizeof(float) + 4 * sizeof(double));
   statistics.PeakBufferBytes = std::max(statistics.PeakBufferBytes, bufferBytes);
-  std::int64_t* values = illumination.Values.data();
+  std::uint32_t* values = illumination.Values.data();
   const int progressEvery = std::max(1, na / 16);
 
   for (int t = 0; t < na; ++t)
@@ -782,7 +769,8 @@ bool Sweep(const ClassifiedVolume& volume, const GridGeometry& g, int group,
             const long long index = k * s.Stride[s.Axis] + ib * s.Stride[s.B] + ic * s.Stride[s.C];
             for (int ch = 0; ch < 3; ++ch)
             {
-              values[3 * index + ch] += sum[ch];
+              // Modulo 2^32 (see FixedPointIllumination).
+              values[3 * index + ch] += static_cast<std::uint32_t>(sum[ch]);
             }
           }
         }
@@ -891,15 +879,34 @@ int CountSweeps(const std::vector<PropagationTask>& tasks, bool coherent)
   return static_cast<int>(groups.size());
 }
 
+double FixedPointIllumination::ScaleFor(double bound)
+{
+  if (!(bound > 0.0) || !std::isfinite(bound))
+  {
+    return 1.0; // no light: any scale holds the zeros
+  }
+  int exponent;
+  std::frexp(bound, &exponent); // bound < 2^exponent
+  return std::ldexp(1.0, 28 - exponent);
+}
+
+bool FixedPointIllumination::Holds(double largest, double final) const
+{
+  const double units = largest * this->Scale;
+  return std::isfinite(units) && units <= std::ldexp(1.0, 30) &&
+    final * this->Scale >= std::ldexp(1.0, 20);
+}
+
 void FixedPointIllumination::ToFloat(float* rgb) const
 {
-  const std::int64_t* v = this->Values.data();
+  const std::uint32_t* v = this->Values.data();
+  const double unit = 1.0 / this->Scale;
   vtkSMPTools::For(0, static_cast<long long>(this->Values.size()),
     [&](long long b, long long e)
     {
       for (long long i = b; i < e; ++i)
       {
-        rgb[i] = static_cast<float>(static_cast<double>(v[i]) / Scale);
+        rgb[i] = static_cast<float>(static_cast<std::int32_t>(v[i]) * unit);
       }
     });
 }
@@ -907,7 +914,7 @@ void FixedPointIllumination::ToFloat(float* rgb) const
 bool PropagateTasks(const ClassifiedVolume& volume, const GridGeometry& target,
   const std::vector<PropagationTask>& tasks, bool coherent, int maxSweeps,
   FixedPointIllumination& illumination, std::vector<PropagationTask>& remaining,
-  PropagationStatistics& statistics, const ProgressCallback& progress)
+  PropagationStatistics& statistics, const ProgressCallback& progress, const EmptyBlocks* empty)
 {
   remaining.clear();
   // Sweeps in group order, so the two directions of an axis run one after the other.
@@ -948,8 +955,8 @@ bool PropagateTasks(const ClassifiedVolume& volume, const GridGeometry& target,
       continue;
     }
     auto sweepProgress = [&](double f) { return !progress || progress((i + f) / planned); };
-    if (!Sweep(
-          volume, target, sweeps[i][0].Group, sweeps[i], illumination, statistics, sweepProgress))
+    if (!Sweep(volume, empty, target, sweeps[i][0].Group, sweeps[i], illumination, statistics,
+          sweepProgress))
     {
       return false;
     }

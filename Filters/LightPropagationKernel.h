@@ -32,11 +32,11 @@
  * the volume travels away from itself in all six groups, a point p weighted by
  * d_a^2 for the group of its direction d = (p - light)/|p - light| along axis a.
  *
- * The illumination volume holds 64-bit fixed-point values (2^-32 units), and every light
- * contribution is rounded before it is added. A light state always rounds to the same
- * integers, so subtracting it later cancels it exactly: selective updates cannot drift,
- * however many are made. Coherent and one-light-per-pass propagation give bit-identical
- * results for the same reason.
+ * The illumination volume holds 32-bit fixed-point values (FixedPointIllumination), and
+ * every light contribution is rounded before it is added. A light state always rounds to
+ * the same integers, so subtracting it later cancels it exactly: selective updates cannot
+ * drift, however many are made. Coherent and one-light-per-pass propagation give
+ * bit-identical results for the same reason.
  */
 #ifndef LightPropagationKernel_h
 #define LightPropagationKernel_h
@@ -89,25 +89,43 @@ VOLILLUMFILTERS_EXPORT std::vector<PropagationTask> TasksForLight(
 /// Number of sweeps the tasks need: distinct groups when coherent, tasks otherwise.
 VOLILLUMFILTERS_EXPORT int CountSweeps(const std::vector<PropagationTask>& tasks, bool coherent);
 
-/// RGB illumination in 64-bit fixed point.
+/**
+ * RGB illumination in 32-bit fixed point: Scale units (a power of two) per unit of light.
+ * Units are added modulo 2^32 and read back as signed: integer sums are exact in any order,
+ * and a total reads back exactly while it stays below 2^31 units. Totals are bounded by the
+ * summed radiance of the lights (transmittances, group weights and spot factors are at most
+ * 1), so the scale is chosen from that bound with room for lights to brighten or dim
+ * (ScaleFor); bounds the scale no longer suits (Holds) calls for a reset with a new scale.
+ * Precision: 1 / Scale, between 2^-30 and 2^-20 of the bound.
+ */
 class VOLILLUMFILTERS_EXPORT FixedPointIllumination
 {
 public:
-  static constexpr double Scale = 4294967296.0; // 2^32
+  /// Largest power of two with bound x Scale <= 2^28 (1 when there is no light).
+  static double ScaleFor(double bound);
+  /// Whether totals up to `largest` (per channel; any state an update may show) read back
+  /// exactly, largest x Scale <= 2^30 (room for the rounding of every contribution), and
+  /// the final ones, up to `final`, to at least 2^-20 of it: final x Scale >= 2^20.
+  bool Holds(double largest, double final) const;
 
-  void Reset(long long points) { this->Values.assign(3 * static_cast<size_t>(points), 0); }
+  void Reset(long long points, double scale)
+  {
+    this->Values.assign(3 * static_cast<size_t>(points), 0);
+    this->Scale = scale;
+  }
   long long NumberOfPoints() const { return static_cast<long long>(this->Values.size() / 3); }
   /// Convert to float RGB (3 floats a point).
   void ToFloat(float* rgb) const;
 
-  std::vector<std::int64_t> Values;
+  double Scale = 1.0;
+  std::vector<std::uint32_t> Values;
 };
 
 struct PropagationStatistics
 {
   int Sweeps = 0;             // sweeps done
   long long LightSweeps = 0;  // sum over sweeps of the tasks each carried
-  size_t PeakBufferBytes = 0; // largest total of slice buffers alive at once
+  size_t PeakBufferBytes = 0; // largest total of slice and row buffers alive at once
 };
 
 /**
@@ -116,12 +134,14 @@ struct PropagationStatistics
  * sweep; otherwise each task has a sweep of its own. Groups along the same axis run
  * consecutively. At most maxSweeps sweeps run (0: no limit); the tasks not done are
  * returned in remaining. Returns false when progress asked to stop (the illumination is
- * then partly updated).
+ * then partly updated). With `empty` (the volume's empty blocks), segments skip the samples
+ * there (they are 0): the same result, faster where the volume is mostly empty.
  */
 VOLILLUMFILTERS_EXPORT bool PropagateTasks(const ClassifiedVolume& volume,
   const GridGeometry& target, const std::vector<PropagationTask>& tasks, bool coherent,
   int maxSweeps, FixedPointIllumination& illumination, std::vector<PropagationTask>& remaining,
-  PropagationStatistics& statistics, const ProgressCallback& progress);
+  PropagationStatistics& statistics, const ProgressCallback& progress,
+  const EmptyBlocks* empty = nullptr);
 
 }
 

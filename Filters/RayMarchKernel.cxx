@@ -37,7 +37,7 @@ EmptyBlocks::EmptyBlocks(const ClassifiedVolume& volume)
                 for (long long i = ib * Cells;
                      empty && i <= std::min<long long>((ib + 1) * Cells, this->Last[0]); ++i)
                 {
-                  empty = volume.Properties[4 * (i + nx * (j + ny * k))] <= 0.0f;
+                  empty = volume.Extinction(i + nx * (j + ny * k)) <= 0.0f;
                 }
             this->Empty[static_cast<size_t>(ib + bx * (jb + by * kb))] = empty ? 1 : 0;
           }
@@ -117,8 +117,8 @@ void SegmentOpticalDepth(const ClassifiedVolume& volume, const double p[3], cons
     {
       continue;
     }
-    const double sigma = Interpolate(g, field, 4, cell, 0) * h;
-    if (channels != 3)
+    const double sigma = Interpolate(g, field, volume.Channels, cell, 0) * h;
+    if (channels != 3 || !volume.IsChromatic())
     {
       depth[0] += sigma;
       continue;
@@ -127,6 +127,10 @@ void SegmentOpticalDepth(const ClassifiedVolume& volume, const double p[3], cons
     {
       depth[c] += sigma * Interpolate(g, field, 4, cell, 1 + c);
     }
+  }
+  if (channels == 3 && !volume.IsChromatic())
+  {
+    depth[1] = depth[2] = depth[0];
   }
 }
 

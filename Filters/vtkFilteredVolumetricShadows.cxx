@@ -198,19 +198,10 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
   }
   double bounds[6];
   volume.Geometry.GetBounds(bounds);
-  // Empty blocks speed up the near segments (built once per classification); soft shadows
-  // have none.
+  // Empty blocks speed up the near segments; soft shadows have none.
   const bool anyNear = nearLength > 0.0 ||
     std::any_of(sphericalNear.begin(), sphericalNear.end(), [](double l) { return l > 0.0; });
-  if (inputModified)
-  {
-    this->Empty.reset();
-  }
-  if (anyNear && !this->Empty)
-  {
-    this->Empty = std::make_shared<const volillum::EmptyBlocks>(volume);
-  }
-  const volillum::EmptyBlocks* empty = anyNear ? this->Empty.get() : nullptr;
+  const volillum::EmptyBlocks* empty = anyNear ? this->GetEmptyBlocks() : nullptr;
   const std::vector<double> gaussian =
     this->FilterKernel == Gaussian ? volillum::GaussianWeights(5) : std::vector<double>();
   // Optional per-light transmittance arrays, indexed by light.

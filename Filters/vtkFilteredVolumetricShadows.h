@@ -36,13 +36,6 @@
 #include "vtkFloatArray.h"
 #include "vtkSmartPointer.h"
 
-#include <memory> // for std::shared_ptr
-
-namespace volillum
-{
-class EmptyBlocks;
-}
-
 class VOLILLUMFILTERS_EXPORT vtkFilteredVolumetricShadows : public vtkIlluminationVolumeAlgorithm
 {
 public:
@@ -115,8 +108,6 @@ private:
   std::vector<volillum::CartesianSAT> Tables;
   std::vector<volillum::SphericalSAT> SphericalTables;
   double TablesScale = 0.0;
-  // Empty blocks of the classification, for the near segments; kept with the tables.
-  std::shared_ptr<const volillum::EmptyBlocks> Empty;
   std::vector<vtkSmartPointer<vtkFloatArray>> Transmittances;
 };
 

@@ -1,6 +1,7 @@
 #include "vtkIlluminationVolumeAlgorithm.h"
 
 #include "IlluminationLightingMacros.h"
+#include "RayMarchKernel.h"
 
 #include "vtkColorTransferFunction.h"
 #include "vtkDataArray.h"
@@ -21,6 +22,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <memory>
 #include <string>
 
 volillumLightingImplementationMacro(vtkIlluminationVolumeAlgorithm);
@@ -175,6 +177,20 @@ bool vtkIlluminationVolumeAlgorithm::ReportProgress(double fraction)
 }
 
 //------------------------------------------------------------------------------
+const volillum::EmptyBlocks* vtkIlluminationVolumeAlgorithm::GetEmptyBlocks()
+{
+  if (!this->HasClassification)
+  {
+    return nullptr;
+  }
+  if (!this->Empty)
+  {
+    this->Empty = std::make_unique<const volillum::EmptyBlocks>(this->Classified);
+  }
+  return this->Empty.get();
+}
+
+//------------------------------------------------------------------------------
 int vtkIlluminationVolumeAlgorithm::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -228,6 +244,7 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
     settings.Chromatic = this->ChromaticAttenuation;
     long long nans = 0;
     this->HasClassification = false;
+    this->Empty.reset();
     if (!volillum::Classify(scalars, data, settings, this->Classified, error, &nans))
     {
       vtkErrorMacro("Cannot classify the input: " << error << ".");

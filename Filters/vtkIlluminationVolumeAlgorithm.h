@@ -40,7 +40,13 @@
 #include "vtkImageData.h"
 #include "vtkSmartPointer.h"
 
+#include <memory> // for std::unique_ptr
 #include <vector>
+
+namespace volillum
+{
+class EmptyBlocks;
+}
 
 class vtkColorTransferFunction;
 class vtkLight;
@@ -167,6 +173,10 @@ protected:
   /// Report progress; returns false when the update should stop.
   bool ReportProgress(double fraction);
 
+  /// Empty blocks of the current classification, built on first use and kept until the
+  /// classification changes (for kernels that skip empty space during ComputeIllumination).
+  const volillum::EmptyBlocks* GetEmptyBlocks();
+
   volillum::LightList Lights;
   int ScalarComponent = -1;
   double ResolutionScale = 1.0;
@@ -199,6 +209,7 @@ private:
   volillum::PointScalars Scalars; // the last update's, reused while their source is unchanged
   bool HasClassification = false;
   volillum::ClassifiedVolume Classified;
+  std::unique_ptr<const volillum::EmptyBlocks> Empty; // of Classified, when asked for
   vtkSmartPointer<vtkImageData> LastOutput;
 };
 

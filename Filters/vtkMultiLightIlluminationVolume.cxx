@@ -2,6 +2,8 @@
 
 #include "vtkObjectFactory.h"
 
+#include <algorithm>
+
 vtkStandardNewMacro(vtkMultiLightIlluminationVolume);
 
 namespace
@@ -9,6 +11,22 @@ namespace
 long long LightPropagations(const std::vector<volillum::PropagationTask>& tasks)
 {
   return static_cast<long long>(tasks.size());
+}
+
+// Largest channel radiance summed over the lights that are on: a bound on the illumination
+// they give any point.
+double RadianceBound(const std::vector<volillum::LightState>& lights)
+{
+  double bound = 0.0;
+  for (const auto& light : lights)
+  {
+    if (light.On)
+    {
+      const auto r = light.Radiance();
+      bound += std::max(r[0], std::max(r[1], r[2]));
+    }
+  }
+  return bound;
 }
 }
 
@@ -50,8 +68,19 @@ bool vtkMultiLightIlluminationVolume::ComputeIllumination(const volillum::Classi
     full.insert(full.end(), tasks.begin(), tasks.end());
   }
 
+  // The illumination's fixed-point scale must hold every total an update can show (the
+  // states applied, the pending work and the new states together) and keep the precision of
+  // the new lights' totals.
+  const auto& applied = this->Applied.GetApplied();
+  const double bound = RadianceBound(lights);
+  double largest = bound + RadianceBound(applied);
+  for (const auto& task : this->Pending)
+  {
+    largest += RadianceBound({ task.Light });
+  }
   const bool mustRecompute = inputModified || !this->Valid || !this->SelectiveUpdates ||
-    this->Illumination.NumberOfPoints() != target.NumberOfPoints();
+    this->Illumination.NumberOfPoints() != target.NumberOfPoints() ||
+    !this->Illumination.Holds(largest, bound);
   bool selective = false;
   std::vector<volillum::PropagationTask> work;
   if (!mustRecompute)
@@ -59,7 +88,6 @@ bool vtkMultiLightIlluminationVolume::ComputeIllumination(const volillum::Classi
     // Remove the applied states of the changed lights and add their new states, after the
     // work an earlier update left pending.
     const std::vector<int> changed = this->Applied.ChangedLights(lights);
-    const auto& applied = this->Applied.GetApplied();
     std::vector<volillum::PropagationTask> changes;
     for (int i : changed)
     {
@@ -83,14 +111,16 @@ bool vtkMultiLightIlluminationVolume::ComputeIllumination(const volillum::Classi
   this->Valid = false;
   if (!selective)
   {
-    this->Illumination.Reset(target.NumberOfPoints());
+    this->Illumination.Reset(
+      target.NumberOfPoints(), volillum::FixedPointIllumination::ScaleFor(bound));
     work = full;
   }
   this->LastStatistics = volillum::PropagationStatistics();
   std::vector<volillum::PropagationTask> remaining;
-  if (!volillum::PropagateTasks(volume, target, work, this->CoherentPropagation,
-        this->MaximumPassesPerUpdate, this->Illumination, remaining, this->LastStatistics,
-        [this](double f) { return this->ReportProgress(f); }))
+  if (!volillum::PropagateTasks(
+        volume, target, work, this->CoherentPropagation, this->MaximumPassesPerUpdate,
+        this->Illumination, remaining, this->LastStatistics,
+        [this](double f) { return this->ReportProgress(f); }, this->GetEmptyBlocks()))
   {
     // The accumulated illumination is partly updated: the next update starts afresh.
     this->Pending.clear();

@@ -17,9 +17,11 @@
  * - PropagationPasses (default): selective when it needs fewer sweeps than a full update
  *   (on a tie, fewer light propagations).
  * UpdateMode (0 full, 1 selective) and PropagationPasses (sweeps done) in the output's field
- * data report the choice. The illumination is kept in 64-bit fixed point, so a selective
- * update cancels an old light state exactly: any number of selective updates equals a full
- * recompute of the final lights up to float rounding of the output.
+ * data report the choice. The illumination is kept in 32-bit fixed point (a unit chosen from
+ * the lights' summed radiance, see FixedPointIllumination), so a selective update cancels
+ * an old light state exactly: any number of selective updates equals a full recompute of
+ * the final lights up to float rounding of the output. A light brightened or dimmed beyond
+ * what the unit suits makes the update a full one with a new unit.
  *
  * MaximumPassesPerUpdate limits the sweeps of one update for progressive refinement: the
  * rest is kept (field array PendingPasses) and done by the next update (call Modified()

@@ -179,7 +179,7 @@ bool vtkUnstructuredGridIllumination::Classify(vtkDataArray* scalars)
   this->Extinction.resize(np * nc);
   for (size_t p = 0; p < np; ++p)
   {
-    const float* props = classified.Properties.data() + 4 * p;
+    const float* props = classified.Properties.data() + classified.Channels * p;
     for (int c = 0; c < nc; ++c)
     {
       this->Extinction[nc * p + c] =

@@ -174,8 +174,7 @@ inline std::vector<char> MaterialMask(
               const long long i = std::min(i0[0] + di, g.Dimensions[0] - 1);
               const long long j = std::min(i0[1] + dj, g.Dimensions[1] - 1);
               const long long k = std::min(i0[2] + dk, g.Dimensions[2] - 1);
-              material =
-                data.Properties[4 * (i + g.Dimensions[0] * (j + g.Dimensions[1] * k))] > 0.0f;
+              material = data.Extinction(i + g.Dimensions[0] * (j + g.Dimensions[1] * k)) > 0.0f;
             }
         mask[id] = material ? 1 : 0;
       }

@@ -143,6 +143,44 @@ TEST(MultiLightIlluminationVolume, SelectiveUpdatesMatchAFullRecompute)
   EXPECT_LE(error, 1e-4);
 }
 
+// The fixed-point scale is chosen from the lights' summed radiance: a light brightened far
+// beyond the room the scale leaves, or dimmed far below the precision it keeps, must give a
+// full update (with a new scale) equal to a fresh filter's, not totals that wrapped around
+// or lost their precision; a light dimmed a little stays a selective update.
+TEST(MultiLightIlluminationVolume, BrightenedLightsKeepTheFixedPointExact)
+{
+  auto image = PhantomScene(vtkIlluminationPhantomSource::ThreeSpheres, 24);
+  auto otf = RampOpacity(image, 0.3);
+  auto filter = ImageFilter<vtkMultiLightIlluminationVolume>(image, otf);
+  auto a = PointLight(-20, 12, 12, 1, 0.5, 0.2);
+  auto b = DirectionalLight(0.2, -0.1, -1);
+  filter->AddLight(a);
+  filter->AddLight(b);
+  filter->Update();
+  const std::vector<std::pair<double, int>> edits = { { 1000.0, 0 }, { 1e5, 0 }, { 0.5, 0 },
+    { 0.3, 1 } };
+  for (const auto& edit : edits)
+  {
+    const double intensity = edit.first;
+    a->SetIntensity(intensity);
+    filter->Update();
+    const int mode = Field(filter, "UpdateMode");
+    auto fresh = ImageFilter<vtkMultiLightIlluminationVolume>(image, otf);
+    fresh->AddLight(a);
+    fresh->AddLight(b);
+    fresh->Update();
+    const double error = MaxRelative(Result(filter), Result(fresh));
+    double range[2];
+    Result(filter)->GetRange(range, 0);
+    std::cout << "intensity " << intensity << ": update mode " << mode << ", red range ["
+              << range[0] << ", " << range[1] << "], max relative difference to a fresh filter "
+              << error << std::endl;
+    EXPECT_EQ(mode, edit.second);
+    EXPECT_GE(range[0], 0.0);
+    EXPECT_LE(error, 1e-6);
+  }
+}
+
 TEST(MultiLightIlluminationVolume, TogglingALightRestoresTheVolume)
 {
   auto image = PhantomScene(vtkIlluminationPhantomSource::ThreeSpheres, 32);
