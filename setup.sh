@@ -22,7 +22,7 @@ packages=(
   libavformat-dev libavcodec-dev libavutil-dev libswscale-dev libeigen3-dev libexpat1-dev
   libboost-dev libxml2-dev libx11-dev libxt-dev libgl-dev
   xvfb xauth mesa-utils libgl1-mesa-dri mpi-default-bin
-  libtet1.5-dev libcgal-dev libgtest-dev libbenchmark-dev
+  libtet1.5-dev libcgal-dev libgtest-dev libbenchmark-dev python3-matplotlib
 )
 
 install_packages() {
@@ -79,6 +79,8 @@ case "${1:-}" in
     xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" bash -c 'set -e
       (cd build && ctest --output-on-failure)
       build/bin/volillum-benchmark --smoke --json build/benchmark-smoke.json
+      /usr/bin/python3 Testing/Benchmarks/plot_benchmark.py build/benchmark-smoke.json \
+        build/benchmark-smoke-plots
       build/bin/volillum-unstructured-benchmark --smoke
       pvpython Testing/Benchmarks/IlluminatedVolumeBenchmark.py \
         build/lib/paraview-5.11/plugins/VolumetricIllumination/VolumetricIllumination.so \

@@ -2,7 +2,7 @@
 // ratios measured in one run. Prints tables and writes everything as JSON.
 //
 //   volillum-benchmark [--smoke] [--only rendering|multilight|filtered] [--engine FILE] [--json
-//   FILE]
+//   FILE] [--peak multilight|filtered]
 //
 // rendering:  reference illumination time; frame time of the illuminated mapper, a plain GPU
 //             ray-cast frame, one with Shade on and VTK's built-in volumetric shadows
@@ -11,7 +11,10 @@
 // filtered:   a transfer-function change with three orthodirectional lights: filtered
 //             shadows against the reference and the multi-light propagation, filter
 //             width 11 against 3, the share of building the tables, Gaussian against box.
-// multilight: a replica of Table 1 of the selective-light-updates paper (sequential and
+// multilight: full-update time per voxel for the first and each added light (directional,
+//             point, spot) on a 256^3 volume; peak memory per voxel of both filters (each
+//             measured in a run of its own, --peak NAME); a replica of Table 1 of the
+//             selective-light-updates paper (sequential and
 //             coherent full updates, one-light state change, on/off), a replica of its
 //             Fig. 10 (1..40 lights from one direction), the speed-up over the reference at
 //             equal resolution and the memory throughput of a full update.
@@ -47,7 +50,11 @@
 #include "vtk_nlohmannjson.h"
 #include VTK_NLOHMANN_JSON(json.hpp)
 
+#include <sys/resource.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <iomanip>
@@ -341,6 +348,115 @@ json Fig10(const Volume& v, bool smoke)
   return result;
 }
 
+// Oblique lights of one kind from `count` distinct directions around the volume.
+std::vector<vtkSmartPointer<vtkLight>> ObliqueLights(
+  const std::string& kind, int count, const double b[6])
+{
+  const double c[3] = { 0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5]) };
+  const double size = std::max(b[1] - b[0], std::max(b[3] - b[2], b[5] - b[4]));
+  std::vector<vtkSmartPointer<vtkLight>> lights;
+  for (int i = 0; i < count; ++i)
+  {
+    const double angle = 0.7 + 1.3 * i;
+    auto l = vtkSmartPointer<vtkLight>::New();
+    l->SetPositional(kind != "directional");
+    l->SetConeAngle(kind == "spot" ? 30.0 : 180.0);
+    l->SetPosition(c[0] + 1.5 * size * std::cos(angle), c[1] + 1.5 * size * std::sin(angle),
+      c[2] + (1.0 + 0.15 * i) * size);
+    l->SetFocalPoint(c);
+    lights.push_back(l);
+  }
+  return lights;
+}
+
+// Wall time per illumination point of a full update: the first light, and each further
+// light from a direction of its own (1 and 4 lights), for each kind of light.
+json PerVoxel(const Volume& v)
+{
+  double bounds[6];
+  v.Image->GetBounds(bounds);
+  const double points = static_cast<double>(v.Image->GetNumberOfPoints());
+  std::cout << "\nFull update, " << v.Name << " at scale 1, oblique lights (ns per voxel)\n"
+            << std::left << std::setw(14) << "light" << std::right << std::setw(14) << "first light"
+            << std::setw(14) << "each added"
+            << "\n";
+  json rows = json::array();
+  for (const std::string kind : { "directional", "point", "spot" })
+  {
+    const double one = FullUpdate(v, 1.0, ObliqueLights(kind, 1, bounds), true);
+    const double four = FullUpdate(v, 1.0, ObliqueLights(kind, 4, bounds), true);
+    json r;
+    r["light"] = kind;
+    r["first_light_ns_per_voxel"] = 1e9 * one / points;
+    r["added_light_ns_per_voxel"] = 1e9 * (four - one) / 3.0 / points;
+    std::cout << std::left << std::setw(14) << kind << std::right << std::setw(14)
+              << r["first_light_ns_per_voxel"].get<double>() << std::setw(14)
+              << r["added_light_ns_per_voxel"].get<double>() << "\n";
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+// Peak resident memory of one update of a filter at scale 1 with one light, in bytes per
+// illumination point above what the process held before it (the input included). Run in a
+// process of its own (--peak), as the peak only grows within one.
+double PeakBytesPerVoxel(const Volume& v, const std::string& filterName)
+{
+  vtkSmartPointer<vtkIlluminationVolumeAlgorithm> filter;
+  if (filterName == "filtered")
+  {
+    filter = vtkSmartPointer<vtkFilteredVolumetricShadows>::New();
+  }
+  else
+  {
+    filter = vtkSmartPointer<vtkMultiLightIlluminationVolume>::New();
+  }
+  Configure(filter, v, 1.0);
+  double bounds[6];
+  v.Image->GetBounds(bounds);
+  filter->AddLight(ObliqueLights("directional", 1, bounds).front());
+  // Resident now (not the peak so far, which reading the input may have raised).
+  long long pages = 0, resident = 0;
+  if (std::FILE* statm = std::fopen("/proc/self/statm", "r"))
+  {
+    if (std::fscanf(statm, "%lld %lld", &pages, &resident) != 2)
+    {
+      resident = 0;
+    }
+    std::fclose(statm);
+  }
+  const double before = static_cast<double>(resident) * static_cast<double>(getpagesize());
+  filter->Update();
+  rusage after;
+  getrusage(RUSAGE_SELF, &after);
+  return (1024.0 * static_cast<double>(after.ru_maxrss) - before) /
+    static_cast<double>(filter->GetOutput()->GetNumberOfPoints());
+}
+
+// Peak bytes per voxel of both filters, each measured by this program run again (--peak).
+json PeakMemory(const std::string& self, const std::string& engine, bool smoke)
+{
+  json r;
+  std::cout << "\nPeak memory of an update at scale 1 (bytes per voxel above the input)\n";
+  for (const std::string name : { "multilight", "filtered" })
+  {
+    const std::string command =
+      "'" + self + "' --peak " + name + " --engine '" + engine + "'" + (smoke ? " --smoke" : "");
+    double value = -1.0;
+    if (FILE* pipe = popen(command.c_str(), "r"))
+    {
+      if (std::fscanf(pipe, "%lf", &value) != 1)
+      {
+        value = -1.0;
+      }
+      pclose(pipe);
+    }
+    r[name] = value;
+    std::cout << std::left << std::setw(14) << name << std::right << std::setw(10) << value << "\n";
+  }
+  return r;
+}
+
 // Seconds of an update after a transfer-function change (the tables are rebuilt).
 double AfterTransferFunctionChange(vtkIlluminationVolumeAlgorithm* filter, const Volume& v)
 {
@@ -509,10 +625,11 @@ json AgainstReference(const Volume& v, double scale)
   const double materialRms = volillumfidelity::MaterialRms(propagated, got, exact);
   const double wholeRms = volillumtest::RmsRelative(got, exact);
 
-  // A sweep reads the classified grid (16 bytes a point) and reads and writes the
-  // fixed-point illumination (2 x 24 bytes); the conversion to float reads 24 and writes 12.
+  // A sweep reads the classified grid (4 bytes a point, extinction only) and reads and
+  // writes the fixed-point illumination (2 x 12 bytes); the conversion to float reads 12 and
+  // writes 12.
   const double points = static_cast<double>(reference->GetOutput()->GetNumberOfPoints());
-  const double bytes = points * (passes * (16.0 + 48.0) + 36.0);
+  const double bytes = points * (passes * (4.0 + 24.0) + 24.0);
   const size_t copyBytes = 256u << 20;
   std::vector<char> from(copyBytes, 1), to(copyBytes, 0);
   const double copySeconds = Seconds(
@@ -643,6 +760,7 @@ int main(int argc, char* argv[])
   std::string only;
   std::string engine = VOLILLUM_SHARED_DATA "/volumes/engine.vti";
   std::string jsonPath = "volillum-benchmark.json";
+  std::string peak;
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
@@ -654,10 +772,12 @@ int main(int argc, char* argv[])
       engine = argv[++i];
     else if (a == "--json" && i + 1 < argc)
       jsonPath = argv[++i];
+    else if (a == "--peak" && i + 1 < argc)
+      peak = argv[++i];
     else
     {
       std::cerr << "usage: volillum-benchmark [--smoke] [--only rendering|multilight|filtered] "
-                   "[--engine FILE] [--json FILE]\n";
+                   "[--engine FILE] [--json FILE] [--peak multilight|filtered]\n";
       return 2;
     }
   }
@@ -669,6 +789,13 @@ int main(int argc, char* argv[])
     reader->SetFileName(engine.c_str());
     reader->Update();
     vtkSmartPointer<vtkImageData> image = reader->GetOutput();
+    if (!peak.empty())
+    {
+      std::cout << PeakBytesPerVoxel(
+                     MakeVolume("engine", smoke ? Resize(image, 32, 32, 16) : image), peak)
+                << std::endl;
+      return 0;
+    }
     volumes.push_back(MakeVolume("engine", smoke ? Resize(image, 32, 32, 16) : image));
     volumes.push_back(
       MakeVolume("engine-256^3", smoke ? Resize(image, 24, 24, 24) : Resize(image, 256, 256, 256)));
@@ -684,10 +811,17 @@ int main(int argc, char* argv[])
     volumes.push_back(MakeVolume("ct-phantom-" + std::to_string(n), phantom->GetOutput()));
   }
 
+  if (!peak.empty())
+  {
+    std::cout << PeakBytesPerVoxel(volumes.front(), peak) << std::endl;
+    return 0;
+  }
   json results;
   results["smoke"] = smoke;
   if (only.empty() || only == "multilight")
   {
+    results["per_voxel"] = PerVoxel(volumes.back());
+    results["peak_bytes_per_voxel"] = PeakMemory(argv[0], engine, smoke);
     results["table1"] = Table1(volumes, smoke);
     results["fig10"] = Fig10(volumes.back(), smoke);
     results["against_reference"] = AgainstReference(volumes.front(), 0.5);
