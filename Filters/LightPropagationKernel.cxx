@@ -179,6 +179,9 @@ struct SweepContext
   long long Stride[3];
   double Origin[3], Spacing[3];
   double Bounds[6];
+  // Whether rows of parallel segments may share their samples' cells (RowSegments); false
+  // integrates every segment on its own.
+  bool RowKernels;
 };
 
 // A ray source as one sweep uses it; for a directional light everything that does not
@@ -277,6 +280,53 @@ bool ClipToBox(const double bounds[6], const double p[3], const double d[3], dou
   return to > from;
 }
 
+// One midpoint sample (in `cell`, step length h) of a segment: without chromatic
+// attenuation every channel keeps exp(-sigma h), so the optical depth is summed (depth) and
+// applied once per segment (ApplyDepth); with it, out is multiplied per channel.
+inline void AttenuateBySample(
+  const SweepContext& s, const TrilinearCell& cell, float h, float& depth, float out[3])
+{
+  if (s.Empty && s.Empty->ContainsCell(cell.Index))
+  {
+    return;
+  }
+  const GridGeometry& g = s.Volume.Geometry;
+  const float* field = s.Volume.Properties.data();
+  const float sigma = Interpolate(g, field, s.Volume.Channels, cell, 0);
+  if (!(sigma > 0.0f))
+  {
+    return;
+  }
+  if (!s.Volume.IsChromatic())
+  {
+    depth += sigma * h;
+    return;
+  }
+  const float a = 1.0f - std::exp(-sigma * h);
+  for (int ch = 0; ch < 3; ++ch)
+  {
+    out[ch] *= 1.0f - a * Interpolate(g, field, 4, cell, 1 + ch);
+  }
+}
+
+inline void ApplyDepth(float depth, float out[3])
+{
+  if (depth > 0.0f)
+  {
+    const float t = std::exp(-depth);
+    for (int ch = 0; ch < 3; ++ch)
+    {
+      out[ch] *= t;
+    }
+  }
+}
+
+// Number of midpoint steps of a segment of the given length.
+inline int SegmentSteps(const SweepContext& s, double length)
+{
+  return std::max(1, static_cast<int>(std::ceil(length / s.SegmentStep - 1e-9)));
+}
+
 // Chromatic transmittance (multiplied into out) of the segment from p back along -d over
 // `length`, integrated through the full-resolution classification with the midpoint rule and
 // steps of at most its smallest spacing (read at full resolution, stored at the illumination
@@ -291,7 +341,7 @@ void SegmentTransmittance(
   {
     return;
   }
-  const int n = std::max(1, static_cast<int>(std::ceil((to - from) / s.SegmentStep - 1e-9)));
+  const int n = SegmentSteps(s, to - from);
   const double h = (to - from) / n;
   // Steps in the volume's grid coordinates, from the far end of the part inside.
   const GridGeometry& g = s.Volume.Geometry;
@@ -301,52 +351,99 @@ void SegmentTransmittance(
     first[a] = (p[a] - (from + 0.5 * h) * d[a] - g.Origin[a]) / g.Spacing[a];
     step[a] = -h * d[a] / g.Spacing[a];
   }
-  const float* field = s.Volume.Properties.data();
   const float hf = static_cast<float>(h);
-  // Without chromatic attenuation every channel keeps exp(-sigma h) of each step: the
-  // product is the exponential of the summed optical depth.
   float depth = 0.0f;
   for (int m = 0; m < n; ++m)
   {
     const double u[3] = { first[0] + m * step[0], first[1] + m * step[1], first[2] + m * step[2] };
-    const TrilinearCell cell = CellAt(g, u);
-    if (s.Empty && s.Empty->ContainsCell(cell.Index))
-    {
-      continue;
-    }
-    const float sigma = Interpolate(g, field, s.Volume.Channels, cell, 0);
-    if (!(sigma > 0.0f))
-    {
-      continue;
-    }
-    if (!s.Volume.IsChromatic())
-    {
-      depth += sigma * hf;
-      continue;
-    }
-    const float a = 1.0f - std::exp(-sigma * hf);
-    for (int ch = 0; ch < 3; ++ch)
-    {
-      out[ch] *= 1.0f - a * Interpolate(g, field, 4, cell, 1 + ch);
-    }
+    AttenuateBySample(s, CellAt(g, u), hf, depth, out);
   }
-  if (depth > 0.0f)
-  {
-    const float t = std::exp(-depth);
-    for (int ch = 0; ch < 3; ++ch)
-    {
-      out[ch] *= t;
-    }
-  }
+  ApplyDepth(depth, out);
 }
 
-// Light that entered the box through a side face after the previous slice: out is the
-// transmittance of the part of the step inside the box.
-void EnteredThroughSide(
-  const SweepContext& s, const double p[3], const double d[3], double step, float out[3])
+// Most steps of a segment that RowSegments integrates as part of a row.
+constexpr int MaximumRowSteps = 64;
+
+// SegmentTransmittance for `count` parallel segments (direction d, length) whose near ends
+// lie `spacing` apart along the slice axis B, ray i at p + i spacing e_B (out: 3 floats a
+// ray). When the rays lie a whole number of the volume's cells apart along B (the
+// illumination grid at the data's resolution), the samples of every ray wholly inside the
+// volume fall at the same fractions of cells a whole number of cells apart: the cells are
+// found once for the row and moved per ray (the row kernel). Other rays are integrated one
+// by one. Both give the same cells up to the rounding of the positions.
+void RowSegments(const SweepContext& s, const double p[3], double spacing, int count,
+  const double d[3], double length, float* out)
 {
-  out[0] = out[1] = out[2] = 1.0f;
-  SegmentTransmittance(s, p, d, step, out);
+  const GridGeometry& g = s.Volume.Geometry;
+  const double ratio = spacing / g.Spacing[s.B];
+  const int shift = static_cast<int>(std::lround(ratio));
+  const int n = SegmentSteps(s, length);
+  int first = 0, last = -1; // the rays wholly inside
+  if (s.RowKernels && count > 1 && shift >= 1 && std::abs(ratio - shift) < 1e-9 &&
+    n <= MaximumRowSteps)
+  {
+    // Grid coordinates of both ends of ray 0's segment: rays inside the volume's grid (short
+    // of its last point along B, so that a cell moved by whole cells stays a cell) are inside
+    // the box, whose bounds are the volume's.
+    bool inside = true;
+    double low = 0.0, high = 0.0;
+    for (int a = 0; a < 3; ++a)
+    {
+      const double near = (p[a] - g.Origin[a]) / g.Spacing[a];
+      const double far = (p[a] - length * d[a] - g.Origin[a]) / g.Spacing[a];
+      const double lo = std::min(near, far), hi = std::max(near, far);
+      if (a == s.B)
+      {
+        low = lo;
+        high = hi;
+      }
+      else
+      {
+        inside = inside && lo >= 0.0 && hi < g.Dimensions[a] - 1;
+      }
+    }
+    if (inside)
+    {
+      first = std::max(0, static_cast<int>(std::ceil(-low / shift)));
+      last = std::min(
+        count - 1, static_cast<int>(std::ceil((g.Dimensions[s.B] - 1 - high) / shift)) - 1);
+    }
+  }
+  TrilinearCell cells[MaximumRowSteps];
+  const double h = length / n;
+  if (first <= last)
+  {
+    double u[3];
+    for (int m = 0; m < n; ++m)
+    {
+      for (int a = 0; a < 3; ++a)
+      {
+        const double along = a == s.B ? first * spacing : 0.0;
+        u[a] = (p[a] + along - (m + 0.5) * h * d[a] - g.Origin[a]) / g.Spacing[a];
+      }
+      cells[m] = CellAt(g, u);
+    }
+  }
+  const float hf = static_cast<float>(h);
+  double q[3] = { p[0], p[1], p[2] };
+  for (int i = 0; i < count; ++i)
+  {
+    float* o = out + 3 * i;
+    if (i < first || i > last)
+    {
+      q[s.B] = p[s.B] + i * spacing;
+      SegmentTransmittance(s, q, d, length, o);
+      continue;
+    }
+    float depth = 0.0f;
+    for (int m = 0; m < n; ++m)
+    {
+      TrilinearCell cell = cells[m];
+      cell.Index[s.B] += (i - first) * shift;
+      AttenuateBySample(s, cell, hf, depth, o);
+    }
+    ApplyDepth(depth, o);
+  }
 }
 
 // A point or spot light's rays diverge, so no lattice keeps them a whole number of cells
@@ -543,26 +640,27 @@ void LatticeRow(const SweepContext& s, const SweepSource& sweep, const LatticePh
     std::fill(out, out + 3 * width, 1.0f);
     return;
   }
-  const double* d = sweep.Source.Travel;
-  double p[3];
-  p[s.Axis] = SliceCoordinate(s, k);
-  p[s.C] = s.Origin[s.C] + (j - 1 + phase.FractionV) * s.Spacing[s.C];
   const int from = j - phase.ShiftV;
   for (int i = 0; i < width; ++i)
   {
     float* o = out + 3 * i;
-    p[s.B] = s.Origin[s.B] + (i - 1 + phase.FractionU) * s.Spacing[s.B];
     const int fromU = i - phase.ShiftU;
     if (from < 0 || from >= height || fromU < 0 || fromU >= width)
     {
-      EnteredThroughSide(s, p, d, sweep.Step, o);
+      // Entered through a side face after the previous slice.
+      std::fill(o, o + 3, 1.0f);
       continue;
     }
     // Rays beside the box carry light unattenuated (SegmentTransmittance integrates inside
     // the box only); points on its faces interpolate between them and the rays inside.
     std::copy_n(previous + 3 * (static_cast<long long>(from) * width + fromU), 3, o);
-    SegmentTransmittance(s, p, d, sweep.Step, o);
   }
+  // Every ray is attenuated over its step back to the previous slice.
+  double p[3];
+  p[s.Axis] = SliceCoordinate(s, k);
+  p[s.B] = s.Origin[s.B] + (phase.FractionU - 1) * s.Spacing[s.B];
+  p[s.C] = s.Origin[s.C] + (j - 1 + phase.FractionV) * s.Spacing[s.C];
+  RowSegments(s, p, s.Spacing[s.B], width, sweep.Source.Travel, sweep.Step, out);
 }
 
 // Light of a directional source along row ic of slice t (out: 3 floats a pixel), with its
@@ -575,49 +673,64 @@ void RowFromLattice(const SweepContext& s, const SweepSource& sweep, const Latti
   const int nb = s.N[s.B];
   const int nc = s.N[s.C];
   const double* d = sweep.Source.Travel;
-  double p[3];
-  p[s.Axis] = SliceCoordinate(s, k);
-  p[s.C] = s.Origin[s.C] + ic * s.Spacing[s.C];
-  const double v = ic - sweep.OffsetV;
-  SlicePoint at;
   for (int ib = 0; ib < nb; ++ib)
   {
     std::copy_n(d, 3, direction + 3 * ib);
     groupFactor[ib] = 1.0;
-    float* o = out + 3 * ib;
-    if (t == 0)
-    {
-      std::fill(o, o + 3, 1.0f);
-      continue;
-    }
-    p[s.B] = s.Origin[s.B] + ib * s.Spacing[s.B];
+  }
+  std::fill(out, out + 3 * nb, 1.0f);
+  if (t == 0)
+  {
+    return;
+  }
+  const double v = ic - sweep.OffsetV;
+  SlicePoint at;
+  for (int ib = 0; ib < nb; ++ib)
+  {
     const double u = ib - sweep.OffsetU;
     if (u < 0.0 || u > nb - 1 || v < 0.0 || v > nc - 1)
     {
-      EnteredThroughSide(s, p, d, sweep.Step, o);
-      continue;
+      continue; // entered through a side face after the previous slice
     }
     // In the lattice of slice t - 1, ray (i, j) lies at (i - 1 + f, j - 1 + g) where
     // f + OffsetU = FractionU + ShiftU (and so for v).
     Locate(ib + 1 - phase.FractionU - phase.ShiftU, ic + 1 - phase.FractionV - phase.ShiftV, nb + 1,
       nc + 1, at);
-    MonotoneBicubic(previous, nb + 1, nc + 1, at, o);
-    SegmentTransmittance(s, p, d, sweep.Step, o);
+    MonotoneBicubic(previous, nb + 1, nc + 1, at, out + 3 * ib);
   }
+  // Each point's own last step: material just before it shades it exactly.
+  double p[3];
+  p[s.Axis] = SliceCoordinate(s, k);
+  p[s.B] = s.Origin[s.B];
+  p[s.C] = s.Origin[s.C] + ic * s.Spacing[s.C];
+  RowSegments(s, p, s.Spacing[s.B], nb, d, sweep.Step, out);
 }
 
 // One sweep of the tasks (all in the same group) through the grid.
-bool Sweep(const ClassifiedVolume& volume, const EmptyBlocks* empty, const GridGeometry& g,
-  int group, const std::vector<PropagationTask>& tasks, FixedPointIllumination& illumination,
-  PropagationStatistics& statistics, const std::function<bool(double)>& progress)
+bool Sweep(const ClassifiedVolume& volume, const EmptyBlocks* empty, bool rowKernels,
+  const GridGeometry& g, int group, const std::vector<PropagationTask>& tasks,
+  FixedPointIllumination& illumination, PropagationStatistics& statistics,
+  const std::function<bool(double)>& progress)
 {
   const auto& sp = volume.Geometry.Spacing;
   SweepContext s{ volume, empty, std::min(sp[0], std::min(sp[1], sp[2])), group / 2,
     group % 2 == 0 ? 1 : -1, (group / 2 + 1) % 3, (group / 2 + 2) % 3,
     { g.Dimensions[0], g.Dimensions[1], g.Dimensions[2] },
     { 1, g.Dimensions[0], static_cast<long long>(g.Dimensions[0]) * g.Dimensions[1] },
-    { g.Origin[0], g.Origin[1], g.Origin[2] }, { g.Spacing[0], g.Spacing[1], g.Spacing[2] }, {} };
+    { g.Origin[0], g.Origin[1], g.Origin[2] }, { g.Spacing[0], g.Spacing[1], g.Spacing[2] }, {},
+    false };
   g.GetBounds(s.Bounds);
+  // Row kernels take a ray inside the volume's grid to be inside the box: they need the two
+  // to coincide.
+  double volumeBounds[6];
+  volume.Geometry.GetBounds(volumeBounds);
+  s.RowKernels = rowKernels;
+  for (int a = 0; a < 3; ++a)
+  {
+    const double tolerance = 1e-9 * (s.Bounds[2 * a + 1] - s.Bounds[2 * a] + 1.0);
+    s.RowKernels = s.RowKernels && std::abs(volumeBounds[2 * a] - s.Bounds[2 * a]) <= tolerance &&
+      std::abs(volumeBounds[2 * a + 1] - s.Bounds[2 * a + 1]) <= tolerance;
+  }
   const int na = s.N[s.Axis];
   const int nb = s.N[s.B];
   const int nc = s.N[s.C];
@@ -914,7 +1027,8 @@ void FixedPointIllumination::ToFloat(float* rgb) const
 bool PropagateTasks(const ClassifiedVolume& volume, const GridGeometry& target,
   const std::vector<PropagationTask>& tasks, bool coherent, int maxSweeps,
   FixedPointIllumination& illumination, std::vector<PropagationTask>& remaining,
-  PropagationStatistics& statistics, const ProgressCallback& progress, const EmptyBlocks* empty)
+  PropagationStatistics& statistics, const ProgressCallback& progress, const EmptyBlocks* empty,
+  bool rowKernels)
 {
   remaining.clear();
   // Sweeps in group order, so the two directions of an axis run one after the other.
@@ -955,8 +1069,8 @@ bool PropagateTasks(const ClassifiedVolume& volume, const GridGeometry& target,
       continue;
     }
     auto sweepProgress = [&](double f) { return !progress || progress((i + f) / planned); };
-    if (!Sweep(volume, empty, target, sweeps[i][0].Group, sweeps[i], illumination, statistics,
-          sweepProgress))
+    if (!Sweep(volume, empty, rowKernels, target, sweeps[i][0].Group, sweeps[i], illumination,
+          statistics, sweepProgress))
     {
       return false;
     }

@@ -12,7 +12,9 @@
  * points: reading grid values by interpolation at every slice would blur a shadow edge a
  * little at every slice (the numerical diffusion that dominated the error in material). A
  * directional light's parallel rays form a lattice that moves a whole number of cells
- * between slices, so it is never resampled; a point or spot light's diverging rays leave
+ * between slices, so it is never resampled (and where the illumination grid has the data's
+ * resolution, the samples of a row of its segments share their cells' fractions: they are
+ * found once per row); a point or spot light's diverging rays leave
  * an anchor slice 1.5 times denser than its points and are resampled onto a new anchor
  * when they have spread to a cell apart. The read is a bicubic (Catmull-Rom)
  * interpolation limited to the range of the four surrounding rays, so it creates neither
@@ -135,13 +137,16 @@ struct PropagationStatistics
  * consecutively. At most maxSweeps sweeps run (0: no limit); the tasks not done are
  * returned in remaining. Returns false when progress asked to stop (the illumination is
  * then partly updated). With `empty` (the volume's empty blocks), segments skip the samples
- * there (they are 0): the same result, faster where the volume is mostly empty.
+ * there (they are 0): the same result, faster where the volume is mostly empty. rowKernels
+ * false integrates every segment on its own instead of a row of a directional light's
+ * segments at once where the illumination grid has the data's resolution (the reference
+ * the row kernels are tested against; the same result up to float rounding).
  */
 VOLILLUMFILTERS_EXPORT bool PropagateTasks(const ClassifiedVolume& volume,
   const GridGeometry& target, const std::vector<PropagationTask>& tasks, bool coherent,
   int maxSweeps, FixedPointIllumination& illumination, std::vector<PropagationTask>& remaining,
   PropagationStatistics& statistics, const ProgressCallback& progress,
-  const EmptyBlocks* empty = nullptr);
+  const EmptyBlocks* empty = nullptr, bool rowKernels = true);
 
 }
 
