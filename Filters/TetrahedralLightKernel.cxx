@@ -785,10 +785,23 @@ void CombineLights(const TetrahedralMesh& mesh, const std::vector<LightState>& l
 VertexColoring ColorVertices(const TetrahedralMesh& mesh)
 {
   const int np = mesh.NumberOfPoints();
+  // Greedy colouring in the order of the vertices' coordinates (ids break ties between
+  // coincident vertices): the colours, and so the Gauss-Seidel iterations of Scatter, depend
+  // on the mesh's geometry, not on how its points are numbered (a grid assembled from
+  // parallel pieces is lit as the serial one).
+  std::vector<int> visit(np);
+  std::iota(visit.begin(), visit.end(), 0);
+  const double* x = mesh.Points.data();
+  std::sort(visit.begin(), visit.end(),
+    [x](int a, int b)
+    {
+      return std::lexicographical_compare(x + 3 * a, x + 3 * a + 3, x + 3 * b, x + 3 * b + 3) ||
+        (std::equal(x + 3 * a, x + 3 * a + 3, x + 3 * b) && a < b);
+    });
   std::vector<int> color(np, -1);
   std::vector<char> taken;
   int colors = 0;
-  for (int p = 0; p < np; ++p)
+  for (int p : visit)
   {
     taken.assign(colors + 1, 0);
     for (int k = mesh.EdgeOffsets[p]; k < mesh.EdgeOffsets[p + 1]; ++k)
@@ -816,7 +829,7 @@ VertexColoring ColorVertices(const TetrahedralMesh& mesh)
   std::partial_sum(coloring.Offsets.begin(), coloring.Offsets.end(), coloring.Offsets.begin());
   coloring.Order.resize(np);
   std::vector<int> fill(coloring.Offsets.begin(), coloring.Offsets.end() - 1);
-  for (int p = 0; p < np; ++p)
+  for (int p : visit)
   {
     coloring.Order[fill[color[p]]++] = p;
   }
