@@ -1,11 +1,13 @@
 #include "vtkIlluminationVolumeAlgorithm.h"
 
 #include "IlluminationLightingMacros.h"
+#include "IlluminationParallel.h"
 #include "RayMarchKernel.h"
 
 #include "vtkColorTransferFunction.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
+#include "vtkExtentTranslator.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
@@ -14,6 +16,7 @@
 #include "vtkIntArray.h"
 #include "vtkLight.h"
 #include "vtkMatrix3x3.h"
+#include "vtkMultiProcessController.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
 #include "vtkSMPTools.h"
@@ -37,8 +40,10 @@ bool vtkIlluminationVolumeAlgorithm::ClassificationKey::operator==(const Classif
 
 //------------------------------------------------------------------------------
 vtkIlluminationVolumeAlgorithm::vtkIlluminationVolumeAlgorithm()
+  : Distributed(new volillum::DistributedInput)
 {
   volillum::UseThreadedBackend();
+  this->SetController(vtkMultiProcessController::GetGlobalController());
   this->SetInputArrayToProcess(
     0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
 }
@@ -48,7 +53,11 @@ vtkIlluminationVolumeAlgorithm::~vtkIlluminationVolumeAlgorithm()
 {
   this->SetColorTransferFunction(nullptr);
   this->SetOpacityFunction(nullptr);
+  this->SetController(nullptr);
 }
+
+//------------------------------------------------------------------------------
+vtkCxxSetObjectMacro(vtkIlluminationVolumeAlgorithm, Controller, vtkMultiProcessController);
 
 //------------------------------------------------------------------------------
 std::vector<volillum::LightState> vtkIlluminationVolumeAlgorithm::GetLightStates() const
@@ -162,10 +171,28 @@ int vtkIlluminationVolumeAlgorithm::RequestInformation(
 int vtkIlluminationVolumeAlgorithm::RequestUpdateExtent(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
 {
-  // Light crosses the whole volume: always ask for all of the input.
+  // Light crosses the whole volume: a serial run asks for all of the input. In a parallel
+  // run process p of N asks for block p of N of the data's extent, whatever piece its output
+  // is asked for (its output is the illumination over that block), as an explicit extent,
+  // so that an unchanged block is not read again; RequestData assembles the blocks.
   vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
-  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(),
-    inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()), 6);
+  int extent[6];
+  inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent);
+  if (vtkMultiProcessController* controller = volillum::ParallelRun(this->Controller))
+  {
+    int whole[6];
+    std::copy(extent, extent + 6, whole);
+    vtkNew<vtkExtentTranslator> translator;
+    if (!translator->PieceToExtentThreadSafe(controller->GetLocalProcessId(),
+          controller->GetNumberOfProcesses(), 0, whole, extent, vtkExtentTranslator::BLOCK_MODE, 0))
+    {
+      std::fill(extent, extent + 6, 0); // more processes than blocks: nothing to read
+      extent[1] = extent[3] = extent[5] = -1;
+    }
+    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
+    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
+  }
+  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), extent, 6);
   return 1;
 }
 
@@ -194,19 +221,43 @@ const volillum::EmptyBlocks* vtkIlluminationVolumeAlgorithm::GetEmptyBlocks()
 int vtkIlluminationVolumeAlgorithm::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  const auto start = std::chrono::steady_clock::now();
   vtkImageData* input = vtkImageData::GetData(inputVector[0]);
   vtkImageData* output = vtkImageData::GetData(outputVector);
   output->Initialize();
-  if (!input)
+  vtkMultiProcessController* controller = volillum::ParallelRun(this->Controller);
+  if (!controller)
   {
-    vtkErrorMacro("The input is not a vtkImageData.");
+    if (!input)
+    {
+      vtkErrorMacro("The input is not a vtkImageData.");
+      return 1;
+    }
+    this->Illuminate(input, output);
     return 1;
   }
+  // Light crosses every piece: light the whole image, output this process's part.
+  vtkImageData* whole = this->Distributed->Image(controller, this, input);
+  vtkNew<vtkImageData> illuminated;
+  this->Illuminate(whole, illuminated);
+  if (input && input->GetNumberOfPoints() > 0 && illuminated->GetNumberOfPoints() > 0)
+  {
+    int extent[6];
+    volillum::TargetPieceExtent(
+      whole->GetExtent(), illuminated->GetDimensions(), input->GetExtent(), extent);
+    output->ShallowCopy(illuminated);
+    output->Crop(extent);
+  }
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkIlluminationVolumeAlgorithm::Illuminate(vtkImageData* input, vtkImageData* output)
+{
+  const auto start = std::chrono::steady_clock::now();
   volillum::GridGeometry data, target;
   if (!this->ValidGeometry(input, data, target))
   {
-    return 1;
+    return;
   }
   std::string error;
   this->Scalars = volillum::CheckScalarsAndLights(
@@ -215,7 +266,7 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
   if (!scalars)
   {
     vtkErrorMacro(<< error);
-    return 1;
+    return;
   }
   double bounds[6];
   data.GetBounds(bounds);
@@ -248,7 +299,7 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
     if (!volillum::Classify(scalars, data, settings, this->Classified, error, &nans))
     {
       vtkErrorMacro("Cannot classify the input: " << error << ".");
-      return 1;
+      return;
     }
     if (nans > 0)
     {
@@ -271,7 +322,7 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
     {
       output->ShallowCopy(this->LastOutput);
     }
-    return 1;
+    return;
   }
 
   output->SetDimensions(target.Dimensions.data());
@@ -286,7 +337,6 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
   volillum::AddUpdateFieldData(output->GetFieldData(), report, seconds);
   this->LastOutput = vtkSmartPointer<vtkImageData>::New();
   this->LastOutput->ShallowCopy(output);
-  return 1;
 }
 
 //------------------------------------------------------------------------------
@@ -300,4 +350,5 @@ void vtkIlluminationVolumeAlgorithm::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ChromaticAttenuation: " << this->ChromaticAttenuation << "\n";
   os << indent << "ColorTransferFunction: " << this->ColorTransferFunction << "\n";
   os << indent << "OpacityFunction: " << this->OpacityFunction << "\n";
+  os << indent << "Controller: " << this->Controller << "\n";
 }

@@ -45,11 +45,13 @@
 
 namespace volillum
 {
+class DistributedInput;
 class EmptyBlocks;
 }
 
 class vtkColorTransferFunction;
 class vtkLight;
+class vtkMultiProcessController;
 class vtkPiecewiseFunction;
 class vtkPointData;
 
@@ -135,6 +137,18 @@ public:
   vtkBooleanMacro(ChromaticAttenuation, bool);
   ///@}
 
+  ///@{
+  /**
+   * The processes of a parallel run (default: the global controller). With more than one
+   * process every process assembles the whole input from the pieces and lights it, and
+   * outputs the illumination points that cover its own piece (see IlluminationParallel.h):
+   * the result equals a serial run's. Every process must update the filter together. Set
+   * nullptr to light each piece on its own.
+   */
+  virtual void SetController(vtkMultiProcessController* controller);
+  vtkGetObjectMacro(Controller, vtkMultiProcessController);
+  ///@}
+
   /// Current states of the lights.
   std::vector<volillum::LightState> GetLightStates() const;
 
@@ -192,6 +206,9 @@ private:
   bool ValidGeometry(
     vtkImageData* input, volillum::GridGeometry& data, volillum::GridGeometry& target);
 
+  // Light the whole image input into output (the serial update).
+  void Illuminate(vtkImageData* input, vtkImageData* output);
+
   // What the last successful classification was made from; equal keys mean the cached
   // classification is still valid.
   struct ClassificationKey
@@ -211,6 +228,8 @@ private:
   volillum::ClassifiedVolume Classified;
   std::unique_ptr<const volillum::EmptyBlocks> Empty; // of Classified, when asked for
   vtkSmartPointer<vtkImageData> LastOutput;
+  vtkMultiProcessController* Controller = nullptr;
+  std::unique_ptr<volillum::DistributedInput> Distributed; // the whole input of a parallel run
 };
 
 #endif

@@ -2,6 +2,7 @@
 
 #include "IlluminationFilterSupport.h"
 #include "IlluminationLightingMacros.h"
+#include "IlluminationParallel.h"
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
 #include "vtkColorTransferFunction.h"
@@ -10,9 +11,11 @@
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
+#include "vtkIdList.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkLight.h"
+#include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
@@ -59,8 +62,10 @@ void AddSeconds(vtkFieldData* fieldData, const char* name, double seconds)
 
 //------------------------------------------------------------------------------
 vtkUnstructuredGridIllumination::vtkUnstructuredGridIllumination()
+  : Distributed(new volillum::DistributedInput)
 {
   volillum::UseThreadedBackend();
+  this->SetController(vtkMultiProcessController::GetGlobalController());
   this->SetInputArrayToProcess(
     0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
 }
@@ -70,7 +75,11 @@ vtkUnstructuredGridIllumination::~vtkUnstructuredGridIllumination()
 {
   this->SetColorTransferFunction(nullptr);
   this->SetOpacityFunction(nullptr);
+  this->SetController(nullptr);
 }
+
+//------------------------------------------------------------------------------
+vtkCxxSetObjectMacro(vtkUnstructuredGridIllumination, Controller, vtkMultiProcessController);
 
 //------------------------------------------------------------------------------
 bool vtkUnstructuredGridIllumination::PrepareMesh(vtkUnstructuredGrid* input)
@@ -236,15 +245,56 @@ vtkSmartPointer<vtkUnsignedCharArray> vtkUnstructuredGridIllumination::ShadeVert
 int vtkUnstructuredGridIllumination::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  const auto start = Clock::now();
   vtkUnstructuredGrid* input = vtkUnstructuredGrid::GetData(inputVector[0]);
   vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector);
   output->Initialize();
+  vtkMultiProcessController* controller = volillum::ParallelRun(this->Controller);
+  if (!controller)
+  {
+    this->Illuminate(input, output);
+    return 1;
+  }
+  // Light crosses every piece: light the whole grid, give this piece its points' values.
+  vtkUnstructuredGrid* whole = this->Distributed->Grid(controller, this, input);
+  vtkNew<vtkUnstructuredGrid> illuminated;
+  this->Illuminate(whole, illuminated);
+  if (!input || input->GetNumberOfPoints() == 0 || illuminated->GetNumberOfPoints() == 0)
+  {
+    return 1;
+  }
+  const std::vector<vtkIdType>& ids = this->Distributed->PiecePoints();
+  vtkNew<vtkIdList> points;
+  points->SetNumberOfIds(static_cast<vtkIdType>(ids.size()));
+  std::copy(ids.begin(), ids.end(), points->GetPointer(0));
+  output->ShallowCopy(input);
+  for (const char* name : { "Illumination", "LitColors" })
+  {
+    if (vtkDataArray* values = illuminated->GetPointData()->GetArray(name))
+    {
+      auto piece = vtk::TakeSmartPointer(values->NewInstance());
+      piece->SetName(name);
+      piece->SetNumberOfComponents(values->GetNumberOfComponents());
+      piece->SetNumberOfTuples(points->GetNumberOfIds());
+      values->GetTuples(points, piece);
+      output->GetPointData()->AddArray(piece);
+    }
+  }
+  vtkNew<vtkFieldData> fieldData;
+  fieldData->ShallowCopy(illuminated->GetFieldData());
+  output->SetFieldData(fieldData);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkUnstructuredGridIllumination::Illuminate(
+  vtkUnstructuredGrid* input, vtkUnstructuredGrid* output)
+{
+  const auto start = Clock::now();
   if (!input || input->GetNumberOfPoints() == 0 || input->GetNumberOfCells() == 0)
   {
     vtkErrorMacro("The input grid has no "
       << (input && input->GetNumberOfPoints() > 0 ? "cells" : "points") << ".");
-    return 1;
+    return;
   }
   std::string error;
   this->Scalars = volillum::CheckScalarsAndLights(
@@ -253,13 +303,13 @@ int vtkUnstructuredGridIllumination::RequestData(
   if (!scalars)
   {
     vtkErrorMacro(<< error);
-    return 1;
+    return;
   }
   if (!std::isfinite(this->Absorption) || !std::isfinite(this->ScatteringStrength[0]) ||
     !std::isfinite(this->ScatteringStrength[1]) || !std::isfinite(this->ScatteringStrength[2]))
   {
     vtkErrorMacro("Absorption and ScatteringStrength must be finite numbers.");
-    return 1;
+    return;
   }
   // Each axis is checked before the product (three huge axes would overflow it).
   const int* r = this->Level0Resolution;
@@ -270,12 +320,12 @@ int vtkUnstructuredGridIllumination::RequestData(
     vtkErrorMacro("Level0Resolution must be 2 to 1024 points per axis and at most "
       << MaximumLevel0Points << " points in all; it is " << r[0] << " x " << r[1] << " x " << r[2]
       << ".");
-    return 1;
+    return;
   }
   const auto meshStart = Clock::now();
   if (!this->PrepareMesh(input))
   {
-    return 1;
+    return;
   }
   const double meshSeconds = SecondsSince(meshStart);
   this->UpdateProgress(0.1);
@@ -297,7 +347,7 @@ int vtkUnstructuredGridIllumination::RequestData(
     report.Mode = 0;
     if (!this->Classify(scalars))
     {
-      return 1;
+      return;
     }
     const std::array<int, 3> dims = { { this->Level0Resolution[0], this->Level0Resolution[1],
       this->Level0Resolution[2] } };
@@ -357,7 +407,7 @@ int vtkUnstructuredGridIllumination::RequestData(
         {
           output->ShallowCopy(this->LastOutput);
         }
-        return 1;
+        return;
       }
       LightCache& cache = this->Cache[stale[first + b]];
       cache.Valid = false;
@@ -409,7 +459,6 @@ int vtkUnstructuredGridIllumination::RequestData(
   this->LastOutput = vtkSmartPointer<vtkUnstructuredGrid>::New();
   this->LastOutput->ShallowCopy(output);
   this->UpdateProgress(1.0);
-  return 1;
 }
 
 //------------------------------------------------------------------------------

@@ -43,10 +43,17 @@
 #include "vtkSmartPointer.h"
 #include "vtkUnstructuredGridAlgorithm.h"
 
+#include <memory> // for std::unique_ptr
 #include <vector>
+
+namespace volillum
+{
+class DistributedInput;
+}
 
 class vtkColorTransferFunction;
 class vtkLight;
+class vtkMultiProcessController;
 class vtkPiecewiseFunction;
 class vtkUnsignedCharArray;
 class vtkUnstructuredGrid;
@@ -160,6 +167,18 @@ public:
   vtkBooleanMacro(LitColors, bool);
   ///@}
 
+  ///@{
+  /**
+   * The processes of a parallel run (default: the global controller). With more than one
+   * process every process assembles the whole grid from the pieces (ghost cells dropped,
+   * coincident points merged) and lights it; each piece gets its points' values (see
+   * IlluminationParallel.h). Every process must update the filter together; an empty piece
+   * is normal and gives an empty output. Set nullptr to light each piece on its own.
+   */
+  virtual void SetController(vtkMultiProcessController* controller);
+  vtkGetObjectMacro(Controller, vtkMultiProcessController);
+  ///@}
+
   vtkMTimeType GetMTime() override;
 
   /// Largest level-0 grid (512^3 points).
@@ -175,6 +194,8 @@ private:
   vtkUnstructuredGridIllumination(const vtkUnstructuredGridIllumination&) = delete;
   void operator=(const vtkUnstructuredGridIllumination&) = delete;
 
+  // Light the whole grid input into output (the serial update).
+  void Illuminate(vtkUnstructuredGrid* input, vtkUnstructuredGrid* output);
   bool PrepareMesh(vtkUnstructuredGrid* input);
   bool Classify(vtkDataArray* scalars);
   vtkSmartPointer<vtkUnsignedCharArray> ShadeVertices(
@@ -213,6 +234,8 @@ private:
   };
   std::vector<LightCache> Cache;
   vtkSmartPointer<vtkUnstructuredGrid> LastOutput;
+  vtkMultiProcessController* Controller = nullptr;
+  std::unique_ptr<volillum::DistributedInput> Distributed; // the whole input of a parallel run
 };
 
 #endif

@@ -1,7 +1,11 @@
 """Helpers shared by the pvpython tests of the Illuminated Volume representation."""
+import contextlib
 import math
 import os
+import socket
+import subprocess
 import sys
+import time
 
 from paraview import servermanager
 
@@ -126,6 +130,60 @@ def image_difference(path_a, path_b):
         return float("inf")
     n = a.GetNumberOfValues()
     return sum(abs(a.GetValue(i) - b.GetValue(i)) for i in range(n)) / n
+
+
+def free_port():
+    """A TCP port of 127.0.0.1 free now."""
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def wait_for(port, process, seconds=60):
+    """Whether a server process listens on the port within the time."""
+    deadline = time.time() + seconds
+    while time.time() < deadline and process.poll() is None:
+        with socket.socket() as s:
+            if s.connect_ex(("127.0.0.1", port)) == 0:
+                return True
+        time.sleep(0.5)
+    return False
+
+
+def environment_for_mpiexec():
+    """This process's environment without the variables of an MPI job: pvpython may have
+    started MPI as a singleton, and they would make a child mpiexec think it runs inside a
+    job."""
+    return {k: v for k, v in os.environ.items()
+            if not k.startswith(("OMPI_", "PMIX_", "OPAL_", "PMI_"))}
+
+
+@contextlib.contextmanager
+def pvserver_session(command, plugin, ns, log=subprocess.DEVNULL):
+    """Start `command` (a pvserver command line, perhaps under mpiexec) on a free port of
+    127.0.0.1 and connect to it with the plugin loaded on both sides (its proxies into ns).
+    Yields the port, or None when the server did not listen; disconnects and stops the
+    server at the end."""
+    from paraview.simple import Connect, Disconnect, LoadPlugin
+    port = free_port()
+    server = subprocess.Popen(command + ["--server-port=%d" % port, "--hostname=127.0.0.1"],
+                              stdout=log, stderr=subprocess.STDOUT,
+                              env=environment_for_mpiexec())
+    try:
+        if not wait_for(port, server):
+            yield None
+        else:
+            Connect("127.0.0.1", port)
+            LoadPlugin(plugin, remote=True, ns=ns)
+            LoadPlugin(plugin, remote=False, ns=ns)
+            yield port
+            Disconnect()
+    finally:
+        server.terminate()
+        try:
+            server.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            server.kill()
 
 
 def finish(failures):

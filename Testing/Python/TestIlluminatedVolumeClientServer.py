@@ -9,15 +9,13 @@ images must match the builtin image (mean absolute difference below 0.5 of 255).
 Usage: pvpython TestIlluminatedVolumeClientServer.py PLUGIN OUTPUT_DIR PVSERVER
 """
 import os
-import socket
-import subprocess
 import sys
-import time
 
 from paraview.simple import *
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from IlluminatedVolumeTestUtilities import finish, illuminated_view, image_difference, scene_light
+from IlluminatedVolumeTestUtilities import (finish, illuminated_view, image_difference,
+                                             pvserver_session, scene_light)
 
 plugin, out, pvserver = sys.argv[1:4]
 
@@ -39,37 +37,15 @@ def scene(path, remote_render_threshold=None):
     Delete(view)
 
 
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
-def wait_for(port, process, seconds=60):
-    deadline = time.time() + seconds
-    while time.time() < deadline and process.poll() is None:
-        with socket.socket() as s:
-            if s.connect_ex(("127.0.0.1", port)) == 0:
-                return True
-        time.sleep(0.5)
-    return False
-
-
 LoadPlugin(plugin, remote=False, ns=globals())
 builtin = os.path.join(out, "ClientServerBuiltin.png")
 scene(builtin)
 
 failures = []
-port = free_port()
-server = subprocess.Popen([pvserver, "--server-port=%d" % port, "--hostname=127.0.0.1"],
-                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
-try:
-    if not wait_for(port, server):
-        failures.append("pvserver did not listen on port %d" % port)
+with pvserver_session([pvserver], plugin, globals()) as port:
+    if port is None:
+        failures.append("pvserver did not listen")
     else:
-        Connect("127.0.0.1", port)
-        LoadPlugin(plugin, remote=True, ns=globals())
-        LoadPlugin(plugin, remote=False, ns=globals())
         for label, threshold in (("remote rendering", 0), ("local rendering", 1e6)):
             path = os.path.join(out, "ClientServer%s.png" % label.split()[0].capitalize())
             scene(path, threshold)
@@ -77,11 +53,4 @@ try:
             print("%s: mean absolute difference to the builtin image %.3f" % (label, difference))
             if difference > 0.5:
                 failures.append("%s differs from the builtin image by %.3f" % (label, difference))
-        Disconnect()
-finally:
-    server.terminate()
-    try:
-        server.wait(timeout=30)
-    except subprocess.TimeoutExpired:
-        server.kill()
 finish(failures)

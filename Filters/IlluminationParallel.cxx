@@ -1,0 +1,400 @@
+#include "IlluminationParallel.h"
+
+#include "vtkAlgorithm.h"
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkDataSetAttributes.h"
+#include "vtkIdList.h"
+#include "vtkImageData.h"
+#include "vtkInformation.h"
+#include "vtkMatrix3x3.h"
+#include "vtkMultiProcessController.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkUnstructuredGrid.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <map>
+#include <tuple>
+#include <unordered_map>
+
+namespace volillum
+{
+
+namespace
+{
+// A copy of the piece's structure with only the arrays the algorithm may light (the one its
+// input array 0 names, in point or cell data, and the active scalars): what travels.
+void CopyLitArrays(vtkAlgorithm* algorithm, vtkDataSet* piece, vtkDataSet* out)
+{
+  vtkInformation* info = algorithm->GetInputArrayInformation(0);
+  const char* name = info && info->Has(vtkDataObject::FIELD_NAME())
+    ? info->Get(vtkDataObject::FIELD_NAME())
+    : nullptr;
+  for (int association : { vtkDataObject::POINT, vtkDataObject::CELL })
+  {
+    vtkDataSetAttributes* from = piece->GetAttributes(association);
+    vtkDataSetAttributes* to = out->GetAttributes(association);
+    if (name && *name)
+    {
+      if (vtkAbstractArray* named = from->GetAbstractArray(name))
+      {
+        to->AddArray(named);
+      }
+    }
+    if (vtkDataArray* scalars = from->GetScalars())
+    {
+      to->SetScalars(scalars);
+    }
+    if (vtkDataArray* ids = from->GetGlobalIds())
+    {
+      to->SetGlobalIds(ids);
+    }
+  }
+}
+
+// Which point of the whole grid a point of a piece is, by its global id when the pieces have
+// point global ids, else by its coordinates.
+class PointMatcher
+{
+public:
+  // The point of an earlier piece that point i of grid is, or -1.
+  vtkIdType Find(vtkDataSet* grid, vtkIdType i)
+  {
+    if (vtkDataArray* ids = grid->GetPointData()->GetGlobalIds())
+    {
+      const auto found = this->ById.find(static_cast<vtkIdType>(ids->GetTuple1(i)));
+      return found == this->ById.end() ? -1 : found->second;
+    }
+    std::array<double, 3> x;
+    grid->GetPoint(i, x.data());
+    const auto found = this->ByCoordinates.find(x);
+    return found == this->ByCoordinates.end() ? -1 : found->second;
+  }
+
+  // Remember point i of grid as point `id` of the whole grid (after the whole piece was
+  // matched: points of one piece are not matched with each other).
+  void Defer(vtkDataSet* grid, vtkIdType i, vtkIdType id) { this->Added.emplace_back(grid, i, id); }
+  void Commit()
+  {
+    for (const auto& added : this->Added)
+    {
+      vtkDataSet* grid = std::get<0>(added);
+      const vtkIdType i = std::get<1>(added);
+      if (vtkDataArray* ids = grid->GetPointData()->GetGlobalIds())
+      {
+        this->ById.emplace(static_cast<vtkIdType>(ids->GetTuple1(i)), std::get<2>(added));
+      }
+      else
+      {
+        std::array<double, 3> x;
+        grid->GetPoint(i, x.data());
+        this->ByCoordinates.emplace(x, std::get<2>(added));
+      }
+    }
+    this->Added.clear();
+  }
+
+private:
+  std::map<std::array<double, 3>, vtkIdType> ByCoordinates;
+  std::unordered_map<vtkIdType, vtkIdType> ById;
+  std::vector<std::tuple<vtkDataSet*, vtkIdType, vtkIdType>> Added;
+};
+
+// FNV-1a over bytes, continuing from hash.
+std::uint64_t HashBytes(const void* data, size_t size, std::uint64_t hash)
+{
+  const auto* bytes = static_cast<const unsigned char*>(data);
+  for (size_t i = 0; i < size; ++i)
+  {
+    hash = (hash ^ bytes[i]) * 1099511628211ULL;
+  }
+  return hash;
+}
+
+std::uint64_t HashArray(vtkAbstractArray* array, std::uint64_t hash)
+{
+  if (!array)
+  {
+    return HashBytes("-", 1, hash);
+  }
+  const int type = array->GetDataType();
+  const vtkIdType values = array->GetNumberOfValues();
+  hash = HashBytes(&type, sizeof(type), hash);
+  hash = HashBytes(&values, sizeof(values), hash);
+  if (const char* name = array->GetName())
+  {
+    hash = HashBytes(name, std::strlen(name), hash);
+  }
+  return HashBytes(array->GetVoidPointer(0), values * array->GetDataTypeSize(), hash);
+}
+
+// A fingerprint of what a process sends: its piece's structure and lit arrays. An update that
+// re-read an unchanged piece (readers may) keeps the assembled input and its classification.
+std::uint64_t Fingerprint(vtkDataSet* travelling)
+{
+  std::uint64_t hash = 14695981039346656037ULL;
+  if (auto* image = vtkImageData::SafeDownCast(travelling))
+  {
+    hash = HashBytes(image->GetExtent(), 6 * sizeof(int), hash);
+    hash = HashBytes(image->GetOrigin(), 3 * sizeof(double), hash);
+    hash = HashBytes(image->GetSpacing(), 3 * sizeof(double), hash);
+    hash = HashBytes(image->GetDirectionMatrix()->GetData(), 9 * sizeof(double), hash);
+  }
+  else if (auto* grid = vtkUnstructuredGrid::SafeDownCast(travelling))
+  {
+    hash = HashArray(grid->GetPoints() ? grid->GetPoints()->GetData() : nullptr, hash);
+    if (vtkCellArray* cells = grid->GetCells())
+    {
+      hash = HashArray(cells->GetOffsetsArray(), hash);
+      hash = HashArray(cells->GetConnectivityArray(), hash);
+      hash = HashArray(grid->GetCellTypesArray(), hash);
+    }
+  }
+  for (int association : { vtkDataObject::POINT, vtkDataObject::CELL })
+  {
+    vtkDataSetAttributes* attributes = travelling->GetAttributes(association);
+    for (int a = 0; a < attributes->GetNumberOfArrays(); ++a)
+    {
+      hash = HashArray(attributes->GetAbstractArray(a), hash);
+    }
+  }
+  return hash;
+}
+
+bool IsEmpty(const int extent[6])
+{
+  return extent[1] < extent[0] || extent[3] < extent[2] || extent[5] < extent[4];
+}
+
+// The point extent of an image's cells.
+void CellExtent(const int points[6], int cells[6])
+{
+  for (int a = 0; a < 3; ++a)
+  {
+    cells[2 * a] = points[2 * a];
+    cells[2 * a + 1] = std::max(points[2 * a], points[2 * a + 1] - 1);
+  }
+}
+}
+
+//------------------------------------------------------------------------------
+vtkMultiProcessController* ParallelRun(vtkMultiProcessController* controller)
+{
+  return controller && controller->GetNumberOfProcesses() > 1 ? controller : nullptr;
+}
+
+//------------------------------------------------------------------------------
+void DataPieceExtent(const int whole[6], const int target[6], const int piece[6], int out[6])
+{
+  int result[6];
+  for (int a = 0; a < 3; ++a)
+  {
+    const int points = target[2 * a + 1] - target[2 * a];
+    const double ratio =
+      points > 0 ? static_cast<double>(whole[2 * a + 1] - whole[2 * a]) / points : 0.0;
+    constexpr double slack = 1e-9;
+    const double first = (piece[2 * a] - target[2 * a]) * ratio;
+    const double last = (piece[2 * a + 1] - target[2 * a]) * ratio;
+    result[2 * a] =
+      std::max(whole[2 * a], whole[2 * a] + static_cast<int>(std::floor(first + slack)));
+    result[2 * a + 1] =
+      std::min(whole[2 * a + 1], whole[2 * a] + static_cast<int>(std::ceil(last - slack)));
+    if (piece[2 * a + 1] < piece[2 * a])
+    {
+      result[2 * a] = 0; // an empty piece asks for nothing
+      result[2 * a + 1] = -1;
+    }
+  }
+  std::copy(result, result + 6, out);
+}
+
+//------------------------------------------------------------------------------
+void TargetPieceExtent(const int whole[6], const int target[3], const int piece[6], int out[6])
+{
+  for (int a = 0; a < 3; ++a)
+  {
+    const int cells = whole[2 * a + 1] - whole[2 * a];
+    const double ratio = cells > 0 ? static_cast<double>(target[a] - 1) / cells : 0.0;
+    // Rounding slack: a piece boundary that falls on an illumination point keeps it.
+    constexpr double slack = 1e-9;
+    const double first = (piece[2 * a] - whole[2 * a]) * ratio;
+    const double last = (piece[2 * a + 1] - whole[2 * a]) * ratio;
+    out[2 * a] = std::max(0, static_cast<int>(std::floor(first + slack)));
+    out[2 * a + 1] = std::min(target[a] - 1, static_cast<int>(std::ceil(last - slack)));
+  }
+}
+
+//------------------------------------------------------------------------------
+bool DistributedInput::Changed(vtkMultiProcessController* controller, vtkDataSet* travelling)
+{
+  const std::uint64_t fingerprint = Fingerprint(travelling);
+  int changed = !this->Whole || fingerprint != this->PieceFingerprint;
+  int any = 0;
+  controller->AllReduce(&changed, &any, 1, vtkCommunicator::LOGICAL_OR_OP);
+  this->PieceFingerprint = fingerprint;
+  return any != 0;
+}
+
+//------------------------------------------------------------------------------
+vtkImageData* DistributedInput::Image(
+  vtkMultiProcessController* controller, vtkAlgorithm* algorithm, vtkImageData* piece)
+{
+  const int processes = controller->GetNumberOfProcesses();
+  int extent[6] = { 0, -1, 0, -1, 0, -1 };
+  vtkNew<vtkImageData> travelling;
+  if (piece && piece->GetNumberOfPoints() > 0)
+  {
+    piece->GetExtent(extent);
+    travelling->CopyStructure(piece);
+    CopyLitArrays(algorithm, piece, travelling);
+  }
+  if (!this->Changed(controller, travelling))
+  {
+    return vtkImageData::SafeDownCast(this->Whole);
+  }
+  std::vector<int> extents(6 * static_cast<size_t>(processes));
+  controller->AllGather(extent, extents.data(), 6);
+  std::vector<vtkSmartPointer<vtkDataObject>> pieces;
+  controller->AllGather(travelling, pieces);
+
+  // The union of the pieces' extents, and the first non-empty piece as the template of
+  // the arrays and of the grid's origin, spacing and direction.
+  auto whole = vtkSmartPointer<vtkImageData>::New();
+  int wholeExtent[6] = { 0, -1, 0, -1, 0, -1 };
+  vtkImageData* first = nullptr;
+  for (int p = 0; p < processes; ++p)
+  {
+    const int* e = extents.data() + 6 * p;
+    auto* image = vtkImageData::SafeDownCast(pieces[p]);
+    if (IsEmpty(e) || !image)
+    {
+      continue;
+    }
+    for (int a = 0; a < 3; ++a)
+    {
+      wholeExtent[2 * a] = first ? std::min(wholeExtent[2 * a], e[2 * a]) : e[2 * a];
+      wholeExtent[2 * a + 1] =
+        first ? std::max(wholeExtent[2 * a + 1], e[2 * a + 1]) : e[2 * a + 1];
+    }
+    if (!first)
+    {
+      first = image;
+    }
+  }
+  if (first)
+  {
+    vtkImageData* geometry = piece && piece->GetNumberOfPoints() > 0 ? piece : first;
+    whole->SetOrigin(geometry->GetOrigin());
+    whole->SetSpacing(geometry->GetSpacing());
+    whole->SetDirectionMatrix(geometry->GetDirectionMatrix());
+    whole->SetExtent(wholeExtent);
+    int wholeCells[6];
+    CellExtent(wholeExtent, wholeCells);
+    whole->GetPointData()->CopyAllocate(first->GetPointData(), whole->GetNumberOfPoints());
+    whole->GetCellData()->CopyAllocate(first->GetCellData(), whole->GetNumberOfCells());
+    for (int p = 0; p < processes; ++p)
+    {
+      int* e = extents.data() + 6 * p;
+      auto* image = vtkImageData::SafeDownCast(pieces[p]);
+      if (IsEmpty(e) || !image)
+      {
+        continue;
+      }
+      int cells[6];
+      CellExtent(e, cells);
+      whole->GetPointData()->CopyStructuredData(image->GetPointData(), e, wholeExtent);
+      whole->GetCellData()->CopyStructuredData(image->GetCellData(), cells, wholeCells);
+    }
+  }
+  this->Whole = whole;
+  return whole;
+}
+
+//------------------------------------------------------------------------------
+vtkUnstructuredGrid* DistributedInput::Grid(
+  vtkMultiProcessController* controller, vtkAlgorithm* algorithm, vtkUnstructuredGrid* piece)
+{
+  vtkNew<vtkUnstructuredGrid> travelling;
+  if (piece && piece->GetNumberOfPoints() > 0)
+  {
+    travelling->CopyStructure(piece);
+    CopyLitArrays(algorithm, piece, travelling);
+  }
+  if (!this->Changed(controller, travelling))
+  {
+    return vtkUnstructuredGrid::SafeDownCast(this->Whole);
+  }
+  std::vector<vtkSmartPointer<vtkDataObject>> pieces;
+  controller->AllGather(travelling, pieces);
+
+  // The pieces in process order without their ghost cells; a point of an earlier piece (a
+  // boundary shared with it: the same global id, or without point global ids the same
+  // coordinates) is that point. Points of one piece are never merged with each other.
+  auto whole = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  whole->SetPoints(points);
+  PointMatcher earlier;
+  bool first = true;
+  const int local = controller->GetLocalProcessId();
+  this->PointIds.clear();
+  for (size_t p = 0; p < pieces.size(); ++p)
+  {
+    auto* grid = vtkUnstructuredGrid::SafeDownCast(pieces[p]);
+    if (!grid || grid->GetNumberOfPoints() == 0)
+    {
+      continue;
+    }
+    if (first)
+    {
+      whole->GetPointData()->CopyAllocate(grid->GetPointData());
+      whole->GetCellData()->CopyAllocate(grid->GetCellData());
+      whole->AllocateEstimate(grid->GetNumberOfCells() * static_cast<vtkIdType>(pieces.size()), 4);
+      first = false;
+    }
+    const vtkIdType n = grid->GetNumberOfPoints();
+    std::vector<vtkIdType> ids(static_cast<size_t>(n));
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      ids[i] = earlier.Find(grid, i);
+      if (ids[i] < 0)
+      {
+        ids[i] = points->InsertNextPoint(grid->GetPoint(i));
+        whole->GetPointData()->CopyData(grid->GetPointData(), i, ids[i]);
+        earlier.Defer(grid, i, ids[i]);
+      }
+    }
+    earlier.Commit();
+    vtkUnsignedCharArray* ghosts = grid->GetCellGhostArray();
+    vtkNew<vtkIdList> cell;
+    for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
+    {
+      if (ghosts && (ghosts->GetValue(c) & vtkDataSetAttributes::DUPLICATECELL))
+      {
+        continue; // owned by another piece
+      }
+      grid->GetCellPoints(c, cell);
+      for (vtkIdType k = 0; k < cell->GetNumberOfIds(); ++k)
+      {
+        cell->SetId(k, ids[cell->GetId(k)]);
+      }
+      const vtkIdType id = whole->InsertNextCell(grid->GetCellType(c), cell);
+      whole->GetCellData()->CopyData(grid->GetCellData(), c, id);
+    }
+    if (static_cast<int>(p) == local)
+    {
+      this->PointIds = std::move(ids);
+    }
+  }
+  whole->Squeeze();
+  this->Whole = whole;
+  return whole;
+}
+
+}

@@ -1,0 +1,98 @@
+/**
+ * @file IlluminationParallel.h
+ * @brief The illumination filters on distributed data (pvbatch and pvserver under MPI).
+ *
+ * Light crosses the whole domain: the light reaching a point depends on material held by
+ * other processes. In this version every process assembles the whole input from the pieces
+ * of all processes (collective calls of the filter's vtkMultiProcessController), computes
+ * the whole illumination as the serial filter does, and outputs the part that belongs to
+ * its own piece: the result equals the serial run's bit for bit, and selective updates
+ * work as in a serial run (every process keeps the same state and does the same work).
+ * Memory and time per process are those of the whole data; sweeps over the distributed
+ * pieces are the planned next step (Documentation/parallel.md).
+ *
+ * Every process must update the filter together (ParaView does: pipelines update on all
+ * processes at once). A process with an empty piece takes part and outputs an empty piece.
+ */
+#ifndef IlluminationParallel_h
+#define IlluminationParallel_h
+
+#include "VolIllumFiltersModule.h"
+#include "vtkSmartPointer.h"
+#include "vtkType.h"
+
+#include <cstdint>
+#include <vector>
+
+class vtkAlgorithm;
+class vtkDataSet;
+class vtkImageData;
+class vtkMultiProcessController;
+class vtkUnstructuredGrid;
+
+namespace volillum
+{
+
+/// The controller of a parallel run: `controller` when it has more than one process, else
+/// nullptr (run serially).
+VOLILLUMFILTERS_EXPORT vtkMultiProcessController* ParallelRun(
+  vtkMultiProcessController* controller);
+
+/**
+ * The data extent under a piece `piece` of the illumination grid (`target`: its whole
+ * extent) over the whole data extent `whole` (out may be whole): the data points from the
+ * last one at or before the piece's first point to the first one at or after its last.
+ */
+VOLILLUMFILTERS_EXPORT void DataPieceExtent(
+  const int whole[6], const int target[6], const int piece[6], int out[6]);
+
+/**
+ * The extent of the illumination grid (`target` points per axis over the whole data extent
+ * `whole`) that covers the data piece `piece`: the points from the last one at or before the
+ * piece's first point to the first one at or after its last point. Pieces that share a
+ * boundary plane (vtkExtentTranslator's convention) give extents that share at least one
+ * plane, so the output pieces cover the whole illumination grid.
+ */
+VOLILLUMFILTERS_EXPORT void TargetPieceExtent(
+  const int whole[6], const int target[3], const int piece[6], int out[6]);
+
+/**
+ * The whole input of a filter assembled from the pieces of all processes, kept until the
+ * content of a piece changes (so a light edit neither moves data nor makes the
+ * classification look new, even where the reader read the piece again).
+ * Only the arrays the filter may light travel: the array its input array 0 names (point
+ * or cell data) and the active scalars.
+ */
+class VOLILLUMFILTERS_EXPORT DistributedInput
+{
+public:
+  /// Collective: the whole image (the union of the pieces' extents) on every process.
+  vtkImageData* Image(
+    vtkMultiProcessController* controller, vtkAlgorithm* algorithm, vtkImageData* piece);
+
+  /**
+   * Collective: the whole grid on every process: the pieces without their ghost cells, in
+   * process order; a point of an earlier piece (a shared boundary) is that point. Points
+   * are matched by their point global ids when the pieces have them, else by coordinates:
+   * then a grid with distinct coincident points (a seam) whose copies lie in different
+   * pieces is lit as if they were one point (give the data point global ids to avoid it).
+   */
+  vtkUnstructuredGrid* Grid(
+    vtkMultiProcessController* controller, vtkAlgorithm* algorithm, vtkUnstructuredGrid* piece);
+
+  /// After Grid: for each point of the piece, the id of the same point in the whole grid.
+  const std::vector<vtkIdType>& PiecePoints() const { return this->PointIds; }
+
+private:
+  // Collective: whether what any process sends (its piece's structure and lit arrays)
+  // changed since the last assembly.
+  bool Changed(vtkMultiProcessController* controller, vtkDataSet* travelling);
+
+  vtkSmartPointer<vtkDataSet> Whole;
+  std::uint64_t PieceFingerprint = 0;
+  std::vector<vtkIdType> PointIds;
+};
+
+}
+
+#endif

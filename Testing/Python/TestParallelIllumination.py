@@ -1,0 +1,187 @@
+"""pvpython: every illumination filter under MPI gives the serial result.
+
+The driver runs the worker below once serially (pvpython) and once under
+`MPIEXEC -np N pvbatch` for each N given. The worker reads the shipped CT head with
+ParaView's image reader (each process reads its own piece of the extent) and a
+tetrahedral grid with the unstructured reader, lights them with every filter and writes
+.pvti/.pvtu files (one piece per process). The driver then reads every file back whole
+and checks, against the serial run:
+- Multi-Light Illumination Volume, Filtered Volumetric Shadows, Ray-Marched Illumination
+  and Unstructured Grid Illumination (pieces from RedistributeDataSet, and the reader's
+  pieces, where all but one process hold nothing): largest difference / largest value
+  <= 1e-5 (points of the grid matched by their coordinates);
+- a one-light change in parallel is a selective update (UpdateMode 1) and equals a fresh
+  parallel filter with the new lights;
+- the files read back whole (the image pieces cover the illumination grid);
+- no process prints an error (an empty piece is normal in parallel).
+Usage: pvpython TestParallelIllumination.py PLUGIN OUTPUT_DIR PVBATCH MPIEXEC "MPI_FLAGS"
+       GRID NPROCS...
+"""
+import os
+import subprocess
+import sys
+
+TOLERANCE = 1e-5  # largest difference relative to the largest value
+FILES = ["multilight.pvti", "selective.pvti", "fresh.pvti", "filtered.pvti", "raymarched.pvti",
+         "unstructured.pvtu", "unstructured_pieces.pvtu"]
+HEAD = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Data", "headsq.vti")
+
+# Two lights (14 numbers each, see the filters' Lights property): an orange directional
+# light from above and the side, a blue point light; the edit moves and dims the second.
+LIGHTS = [0, -200, -150, 400, 100, 100, 70, 1.0, 0.7, 0.4, 1.0, 90, 1, 1,
+          1, 350, 120, 60, 100, 100, 70, 0.4, 0.6, 1.0, 1.0, 90, 1, 1]
+EDITED = LIGHTS[:14] + [1, 330, -40, 90, 100, 100, 70, 0.4, 0.6, 1.0, 0.8, 90, 1, 1]
+
+
+def worker(plugin, out, grid_file, parallel):
+    from paraview.simple import (LoadPlugin, XMLImageDataReader, XMLUnstructuredGridReader,
+                                 ProgrammableFilter, RedistributeDataSet, GetColorTransferFunction,
+                                 GetOpacityTransferFunction, SaveData)
+    ns = globals()
+    LoadPlugin(plugin, remote=False, ns=ns)
+    lut = GetColorTransferFunction("scalars")
+    lut.RGBPoints = [0, 0.9, 0.8, 0.7, 1200, 1.0, 0.9, 0.8, 3000, 1.0, 1.0, 1.0]
+    pwf = GetOpacityTransferFunction("scalars")
+    pwf.Points = [0, 0, 0.5, 0, 500, 0, 0.5, 0, 1200, 0.3, 0.5, 0, 3000, 0.8, 0.5, 0]
+    head = XMLImageDataReader(FileName=[HEAD])
+
+    def image_filter(name, **properties):
+        f = ns[name](Input=head, ColorTransferFunction=lut, OpacityFunction=pwf, **properties)
+        f.Scalars = ["POINTS", "scalars"]
+        f.Lights = LIGHTS
+        return f
+
+    def save(proxy, name):
+        SaveData(os.path.join(out, name), proxy=proxy)
+
+    multilight = image_filter("MultiLightIlluminationVolume", ResolutionScale=0.5)
+    save(multilight, "multilight.pvti")
+    multilight.Lights = EDITED
+    save(multilight, "selective.pvti")
+    fresh = image_filter("MultiLightIlluminationVolume", ResolutionScale=0.5)
+    fresh.Lights = EDITED
+    save(fresh, "fresh.pvti")
+    save(image_filter("FilteredVolumetricShadows", ResolutionScale=0.5, FilterWidth=3),
+         "filtered.pvti")
+    save(image_filter("RayMarchedIllumination", ResolutionScale=0.25), "raymarched.pvti")
+
+    grid = XMLUnstructuredGridReader(FileName=[grid_file])
+    association = "POINTS" if grid.PointData.keys() else "CELLS"
+    scalars = (grid.PointData if association == "POINTS" else grid.CellData).keys()[0]
+    ctf = GetColorTransferFunction(scalars)
+    otf = GetOpacityTransferFunction(scalars)
+    bounds = grid.GetDataInformation().GetBounds()
+    centre = [(bounds[2 * a] + bounds[2 * a + 1]) / 2 for a in range(3)]
+    size = max(bounds[2 * a + 1] - bounds[2 * a] for a in range(3))
+    grid_lights = [0, centre[0] - size, centre[1] + size, centre[2] + 2 * size] + centre + \
+        [1.0, 0.7, 0.4, 1.0, 90, 1, 1] + \
+        [1, centre[0] + size, centre[1], centre[2]] + centre + [0.4, 0.6, 1.0, 1.0, 90, 1, 1]
+    # Redistributed pieces carry point global ids (the reader's point ids: one process reads
+    # the whole single-piece file), so that the grid's coincident seam points stay distinct.
+    numbered = ProgrammableFilter(Input=grid, OutputDataSetType="Same as Input", Script="""
+from vtkmodules.vtkCommonCore import vtkIdTypeArray
+grid = self.GetInput()
+out = self.GetOutput()
+out.ShallowCopy(grid)
+ids = vtkIdTypeArray()
+ids.SetName("PointIds")
+ids.SetNumberOfTuples(grid.GetNumberOfPoints())
+for i in range(grid.GetNumberOfPoints()):
+    ids.SetValue(i, i)
+out.GetPointData().SetGlobalIds(ids)
+""")
+    for name, source in [("unstructured.pvtu",
+                          RedistributeDataSet(Input=numbered) if parallel else grid),
+                         ("unstructured_pieces.pvtu", grid)]:
+        u = ns["UnstructuredGridIllumination"](Input=source, ColorTransferFunction=ctf,
+                                               OpacityFunction=otf, Level0Resolution=[32, 32, 32],
+                                               ScatteringStrength=[0.2, 0.2, 0.2])
+        u.Scalars = [association, scalars]
+        u.Lights = grid_lights
+        save(u, name)
+
+
+def read_whole(path):
+    from paraview.simple import OpenDataFile
+    from paraview import servermanager
+    reader = OpenDataFile(path)
+    reader.UpdatePipeline()
+    return servermanager.Fetch(reader)
+
+
+def values_by_point(data, name):
+    """The array's tuples keyed by the coordinates of their points (exact: the pieces hold
+    the points the serial grid has)."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    values = vtk_to_numpy(data.GetPointData().GetArray(name))
+    points = [data.GetPoint(i) for i in range(data.GetNumberOfPoints())]
+    return dict(zip(points, values))
+
+
+def compare(serial, parallel, name="Illumination"):
+    """Largest difference over the largest serial value; None when points are missing."""
+    a = values_by_point(serial, name)
+    b = values_by_point(parallel, name)
+    if set(a) != set(b):
+        return None
+    largest = max(abs(float(x)) for v in a.values() for x in v)
+    difference = max(abs(float(x) - float(y)) for k in a for x, y in zip(a[k], b[k]))
+    return difference / largest
+
+
+def update_mode(data):
+    return int(data.GetFieldData().GetArray("UpdateMode").GetValue(0))
+
+
+def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    from IlluminatedVolumeTestUtilities import environment_for_mpiexec
+    failures = []
+    runs = {"serial": [pvbatch]}
+    for n in counts:
+        runs["np" + n] = [mpiexec] + flags.split() + ["-np", n, pvbatch]
+    for run, command in runs.items():
+        directory = os.path.join(out, run)
+        os.makedirs(directory, exist_ok=True)
+        result = subprocess.run(command + [os.path.abspath(__file__), "--worker", plugin, directory,
+                                           grid_file, "0" if run == "serial" else "1"],
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                                env=environment_for_mpiexec(), timeout=1200)
+        log = result.stdout
+        if result.returncode != 0 or "ERROR" in log or "Warning" in log:
+            failures.append("%s: exit %d, output:\n%s" % (run, result.returncode, log[-3000:]))
+    if failures:
+        print("\n".join(failures))
+        return 1
+    serial = {f: read_whole(os.path.join(out, "serial", f)) for f in FILES}
+    for run in runs:
+        if run == "serial":
+            continue
+        for f in FILES:
+            data = read_whole(os.path.join(out, run, f))
+            if f.endswith(".pvti") and data.GetExtent() != serial[f].GetExtent():
+                failures.append("%s/%s: extent %s, serial %s" % (run, f, data.GetExtent(),
+                                                                   serial[f].GetExtent()))
+                continue
+            error = compare(serial[f], data)
+            print("%-5s %-26s difference / largest value %s" % (run, f, error))
+            if error is None or error > TOLERANCE:
+                failures.append("%s/%s: difference %s" % (run, f, error))
+            if f.startswith("unstructured") and compare(serial[f], data, "LitColors") is None:
+                failures.append("%s/%s: LitColors missing" % (run, f))
+        selective = read_whole(os.path.join(out, run, "selective.pvti"))
+        fresh = read_whole(os.path.join(out, run, "fresh.pvti"))
+        edit_error = compare(fresh, selective)
+        print("%-5s one-light edit: UpdateMode %d, difference from a fresh filter %s"
+              % (run, update_mode(selective), edit_error))
+        if update_mode(selective) != 1 or edit_error is None or edit_error > TOLERANCE:
+            failures.append("%s: the one-light edit was not an exact selective update" % run)
+    print("\n".join(failures) if failures else "all parallel runs equal the serial run")
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    if sys.argv[1] == "--worker":
+        worker(sys.argv[2], sys.argv[3], sys.argv[4], sys.argv[5] == "1")
+    else:
+        sys.exit(driver(*sys.argv[1:7], sys.argv[7:]))
