@@ -1,6 +1,7 @@
 #include "vtkIlluminatedVolumeRepresentation.h"
 
 #include "IlluminationFilterSupport.h"
+#include "IlluminationParallel.h"
 #include "IlluminationViewLights.h"
 #include "vtkAlgorithmOutput.h"
 #include "vtkDataSetAttributes.h"
@@ -11,11 +12,13 @@
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkMultiLightIlluminationVolume.h"
+#include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
 #include "vtkPVLODVolume.h"
 #include "vtkPVRenderView.h"
 #include "vtkRayMarchedIllumination.h"
 #include "vtkRenderWindow.h"
+#include "vtkTrivialProducer.h"
 #include "vtkVolumeProperty.h"
 
 #include <array>
@@ -30,6 +33,12 @@ struct vtkIlluminatedVolumeRepresentation::vtkInternals
   vtkSmartPointer<vtkDataArray> Vectors;
   vtkSmartPointer<vtkDataArray> Reduced;
   int Component = -1;
+  // A parallel run (pvserver or pvbatch under MPI): the whole image assembled from every
+  // process's piece when the data updates (all processes update together), lit on each
+  // process without further communication when it renders its own piece.
+  volillum::DistributedInput Distributed;
+  vtkNew<vtkTrivialProducer> Whole;
+  bool Parallel = false;
 };
 
 vtkStandardNewMacro(vtkIlluminatedVolumeRepresentation);
@@ -116,6 +125,7 @@ vtkIlluminationVolumeAlgorithm* vtkIlluminatedVolumeRepresentation::GetIlluminat
         break;
     }
     volillum::ForwardProgress(filter, this);
+    filter->SetController(nullptr); // it lights what it is given (see Internals::Whole)
   }
   return filter;
 }
@@ -149,6 +159,15 @@ int vtkIlluminatedVolumeRepresentation::RequestData(
     return 0;
   }
   this->ReduceColouredVectors();
+  auto& internals = *this->Internals;
+  vtkMultiProcessController* controller =
+    volillum::ParallelRun(vtkMultiProcessController::GetGlobalController());
+  internals.Parallel = controller != nullptr;
+  if (controller)
+  {
+    internals.Whole->SetOutput(
+      internals.Distributed.Image(controller, this, vtkImageData::SafeDownCast(this->Cache)));
+  }
   return 1;
 }
 
@@ -267,7 +286,9 @@ void vtkIlluminatedVolumeRepresentation::UpdateIllumination(vtkInformation* inIn
 
   this->Internals->Lights.Update(view, this->UseLightKit);
   this->Internals->Lights.ApplyTo(filter);
-  volillum::SetVolumeInput(filter, port, coloured, this->Property);
+  volillum::SetVolumeInput(filter,
+    this->Internals->Parallel ? this->Internals->Whole->GetOutputPort() : port, coloured,
+    this->Property);
   filter->SetResolutionScale(this->ResolutionScale);
   filter->SetChromaticAttenuation(this->ChromaticAttenuation);
   if (propagation)

@@ -9,7 +9,11 @@
  * world coordinates, hands them with the colour map editor's transfer functions to an
  * illumination filter (IlluminationMethod: multi-light propagation, filtered shadows or
  * the ray-marched reference) on the piece this process renders, and draws the volume
- * with vtkIlluminatedVolumeMapper. The filters keep their state between renders, so a
+ * with vtkIlluminatedVolumeMapper. In parallel (pvserver or pvbatch under MPI) every
+ * process assembles the whole image from the pieces when the data updates (all processes
+ * update together; see IlluminationParallel.h), lights it at render time without further
+ * communication and draws its own piece with it, so the composited image is lit as a serial
+ * one. The filters keep their state between renders, so a
  * light edit re-propagates that light only; a transfer-function or data change
  * recomputes everything.
  *
