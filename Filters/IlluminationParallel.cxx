@@ -20,7 +20,6 @@
 #include <cstdint>
 #include <cstring>
 #include <map>
-#include <tuple>
 #include <unordered_map>
 
 namespace volillum
@@ -58,17 +57,17 @@ void CopyLitArrays(vtkAlgorithm* algorithm, vtkDataSet* piece, vtkDataSet* out)
   }
 }
 
-// Which point of the whole grid a point of a piece is, by its global id when the pieces have
-// point global ids, else by its coordinates.
+// Which point of the whole grid a point of a piece is: by point global id (byId) or by
+// coordinates.
 class PointMatcher
 {
 public:
-  // The point of an earlier piece that point i of grid is, or -1.
-  vtkIdType Find(vtkDataSet* grid, vtkIdType i)
+  // The point remembered for point i of grid, or -1.
+  vtkIdType Find(vtkDataSet* grid, vtkIdType i, bool byId) const
   {
-    if (vtkDataArray* ids = grid->GetPointData()->GetGlobalIds())
+    if (byId)
     {
-      const auto found = this->ById.find(static_cast<vtkIdType>(ids->GetTuple1(i)));
+      const auto found = this->ById.find(GlobalId(grid, i));
       return found == this->ById.end() ? -1 : found->second;
     }
     std::array<double, 3> x;
@@ -77,33 +76,47 @@ public:
     return found == this->ByCoordinates.end() ? -1 : found->second;
   }
 
-  // Remember point i of grid as point `id` of the whole grid (after the whole piece was
-  // matched: points of one piece are not matched with each other).
-  void Defer(vtkDataSet* grid, vtkIdType i, vtkIdType id) { this->Added.emplace_back(grid, i, id); }
+  // Remember point i of grid as point `id` of the whole grid at the next Commit (so that
+  // the points of one piece are not matched with each other); the first one at a place
+  // is kept.
+  void Defer(vtkDataSet* grid, vtkIdType i, vtkIdType id, bool byId)
+  {
+    this->Added.push_back({ grid, i, id, byId });
+  }
+
   void Commit()
   {
     for (const auto& added : this->Added)
     {
-      vtkDataSet* grid = std::get<0>(added);
-      const vtkIdType i = std::get<1>(added);
-      if (vtkDataArray* ids = grid->GetPointData()->GetGlobalIds())
+      if (added.ById)
       {
-        this->ById.emplace(static_cast<vtkIdType>(ids->GetTuple1(i)), std::get<2>(added));
+        this->ById.emplace(GlobalId(added.Grid, added.Point), added.Id);
       }
       else
       {
         std::array<double, 3> x;
-        grid->GetPoint(i, x.data());
-        this->ByCoordinates.emplace(x, std::get<2>(added));
+        added.Grid->GetPoint(added.Point, x.data());
+        this->ByCoordinates.emplace(x, added.Id);
       }
     }
     this->Added.clear();
   }
 
 private:
+  static vtkIdType GlobalId(vtkDataSet* grid, vtkIdType i)
+  {
+    return static_cast<vtkIdType>(grid->GetPointData()->GetGlobalIds()->GetTuple1(i));
+  }
+
+  struct Pending
+  {
+    vtkDataSet* Grid;
+    vtkIdType Point, Id;
+    bool ById;
+  };
   std::map<std::array<double, 3>, vtkIdType> ByCoordinates;
   std::unordered_map<vtkIdType, vtkIdType> ById;
-  std::vector<std::tuple<vtkDataSet*, vtkIdType, vtkIdType>> Added;
+  std::vector<Pending> Added;
 };
 
 // FNV-1a over bytes, continuing from hash.
@@ -227,6 +240,57 @@ void TargetPieceExtent(const int whole[6], const int target[3], const int piece[
     const double last = (piece[2 * a + 1] - whole[2 * a]) * ratio;
     out[2 * a] = std::max(0, static_cast<int>(std::floor(first + slack)));
     out[2 * a + 1] = std::min(target[a] - 1, static_cast<int>(std::ceil(last - slack)));
+  }
+}
+
+//------------------------------------------------------------------------------
+std::vector<vtkIdType> MatchPoints(vtkDataSet* whole, vtkDataSet* piece)
+{
+  PointMatcher matcher;
+  const bool byId = whole->GetPointData()->GetGlobalIds() && piece->GetPointData()->GetGlobalIds();
+  for (vtkIdType i = 0; i < whole->GetNumberOfPoints(); ++i)
+  {
+    matcher.Defer(whole, i, i, byId);
+  }
+  matcher.Commit();
+  std::vector<vtkIdType> ids(static_cast<size_t>(piece->GetNumberOfPoints()));
+  for (vtkIdType i = 0; i < piece->GetNumberOfPoints(); ++i)
+  {
+    ids[i] = matcher.Find(piece, i, byId);
+  }
+  return ids;
+}
+
+//------------------------------------------------------------------------------
+void AddPointValues(vtkDataSet* whole, const std::vector<vtkIdType>& ids,
+  const std::vector<const char*>& names, vtkDataSet* piece)
+{
+  for (const char* name : names)
+  {
+    vtkDataArray* values = whole->GetPointData()->GetArray(name);
+    if (!values)
+    {
+      continue;
+    }
+    auto out = vtk::TakeSmartPointer(values->NewInstance());
+    out->SetName(name);
+    out->SetNumberOfComponents(values->GetNumberOfComponents());
+    out->SetNumberOfTuples(static_cast<vtkIdType>(ids.size()));
+    for (size_t i = 0; i < ids.size(); ++i)
+    {
+      if (ids[i] >= 0)
+      {
+        out->SetTuple(static_cast<vtkIdType>(i), ids[i], values);
+      }
+      else
+      {
+        for (int c = 0; c < out->GetNumberOfComponents(); ++c)
+        {
+          out->SetComponent(static_cast<vtkIdType>(i), c, 0.0);
+        }
+      }
+    }
+    piece->GetPointData()->AddArray(out);
   }
 }
 
@@ -359,15 +423,16 @@ vtkUnstructuredGrid* DistributedInput::Grid(
       first = false;
     }
     const vtkIdType n = grid->GetNumberOfPoints();
+    const bool byId = grid->GetPointData()->GetGlobalIds() != nullptr;
     std::vector<vtkIdType> ids(static_cast<size_t>(n));
     for (vtkIdType i = 0; i < n; ++i)
     {
-      ids[i] = earlier.Find(grid, i);
+      ids[i] = earlier.Find(grid, i, byId);
       if (ids[i] < 0)
       {
         ids[i] = points->InsertNextPoint(grid->GetPoint(i));
         whole->GetPointData()->CopyData(grid->GetPointData(), i, ids[i]);
-        earlier.Defer(grid, i, ids[i]);
+        earlier.Defer(grid, i, ids[i], byId);
       }
     }
     earlier.Commit();

@@ -57,6 +57,19 @@ VOLILLUMFILTERS_EXPORT void TargetPieceExtent(
   const int whole[6], const int target[3], const int piece[6], int out[6]);
 
 /**
+ * For each point of `piece`, the point of `whole` at the same place: the same point global
+ * id when both have them, else the same coordinates; -1 where there is none.
+ */
+VOLILLUMFILTERS_EXPORT std::vector<vtkIdType> MatchPoints(vtkDataSet* whole, vtkDataSet* piece);
+
+/**
+ * Add to the point data of `piece` the point arrays `names` of `whole` (those it has), each
+ * point's values taken from point ids[i] of whole (zeros where ids[i] is -1).
+ */
+VOLILLUMFILTERS_EXPORT void AddPointValues(vtkDataSet* whole, const std::vector<vtkIdType>& ids,
+  const std::vector<const char*>& names, vtkDataSet* piece);
+
+/**
  * The whole input of a filter assembled from the pieces of all processes, kept until the
  * content of a piece changes (so a light edit neither moves data nor makes the
  * classification look new, even where the reader read the piece again).

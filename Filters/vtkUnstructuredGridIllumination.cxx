@@ -11,7 +11,6 @@
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
-#include "vtkIdList.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkLight.h"
@@ -262,23 +261,9 @@ int vtkUnstructuredGridIllumination::RequestData(
   {
     return 1;
   }
-  const std::vector<vtkIdType>& ids = this->Distributed->PiecePoints();
-  vtkNew<vtkIdList> points;
-  points->SetNumberOfIds(static_cast<vtkIdType>(ids.size()));
-  std::copy(ids.begin(), ids.end(), points->GetPointer(0));
   output->ShallowCopy(input);
-  for (const char* name : { "Illumination", "LitColors" })
-  {
-    if (vtkDataArray* values = illuminated->GetPointData()->GetArray(name))
-    {
-      auto piece = vtk::TakeSmartPointer(values->NewInstance());
-      piece->SetName(name);
-      piece->SetNumberOfComponents(values->GetNumberOfComponents());
-      piece->SetNumberOfTuples(points->GetNumberOfIds());
-      values->GetTuples(points, piece);
-      output->GetPointData()->AddArray(piece);
-    }
-  }
+  volillum::AddPointValues(
+    illuminated, this->Distributed->PiecePoints(), { "Illumination", "LitColors" }, output);
   vtkNew<vtkFieldData> fieldData;
   fieldData->ShallowCopy(illuminated->GetFieldData());
   output->SetFieldData(fieldData);

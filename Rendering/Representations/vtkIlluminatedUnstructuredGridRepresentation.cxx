@@ -1,9 +1,11 @@
 #include "vtkIlluminatedUnstructuredGridRepresentation.h"
 
+#include "IlluminationParallel.h"
 #include "IlluminationViewLights.h"
 #include "vtkAlgorithmOutput.h"
 #include "vtkDataArray.h"
 #include "vtkInformation.h"
+#include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
 #include "vtkPVLODVolume.h"
 #include "vtkPVRenderView.h"
@@ -11,14 +13,26 @@
 #include "vtkPointData.h"
 #include "vtkProjectedTetrahedraMapper.h"
 #include "vtkRenderWindow.h"
+#include "vtkTrivialProducer.h"
 #include "vtkUnstructuredGrid.h"
 #include "vtkUnstructuredGridIllumination.h"
 #include "vtkVolumeProperty.h"
+#include "vtkVolumeRepresentationPreprocessor.h"
 
 struct vtkIlluminatedUnstructuredGridRepresentation::vtkInternals
 {
   volillum::ViewLights Lights;
   bool Lit = false; // whether the last render drew the lit grid
+  // A parallel run (pvserver or pvbatch under MPI): the whole grid assembled from every
+  // process's piece when the data updates (all processes update together), lit at render
+  // time without further communication; the piece this process renders takes its points'
+  // values (matched once per piece and whole grid).
+  volillum::DistributedInput Distributed;
+  vtkNew<vtkTrivialProducer> Whole;
+  bool Parallel = false;
+  vtkNew<vtkUnstructuredGrid> LitPiece;
+  std::vector<vtkIdType> PiecePoints;
+  vtkMTimeType PieceTime = 0, WholeTime = 0;
 };
 
 vtkStandardNewMacro(vtkIlluminatedUnstructuredGridRepresentation);
@@ -28,9 +42,9 @@ vtkIlluminatedUnstructuredGridRepresentation::vtkIlluminatedUnstructuredGridRepr
   : Internals(new vtkInternals)
 {
   this->Illumination->SetLitColors(true);
+  this->Illumination->SetController(nullptr); // it lights what it is given (see Whole)
   volillum::ForwardProgress(this->Illumination, this);
   this->SetProgressText("Illuminating the grid");
-  this->LitMapper->SetInputConnection(this->Illumination->GetOutputPort());
   this->LitMapper->SetScalarModeToUsePointFieldData();
   this->LitMapper->SelectScalarArray("LitColors");
   // LitColors hold the colour and the opacity already: no lookup, alpha byte -> [0, 1].
@@ -91,6 +105,26 @@ double* vtkIlluminatedUnstructuredGridRepresentation::GetMeanIllumination()
 }
 
 //------------------------------------------------------------------------------
+int vtkIlluminatedUnstructuredGridRepresentation::RequestData(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  if (!this->Superclass::RequestData(request, inputVector, outputVector))
+  {
+    return 0;
+  }
+  auto& internals = *this->Internals;
+  vtkMultiProcessController* controller =
+    volillum::ParallelRun(vtkMultiProcessController::GetGlobalController());
+  internals.Parallel = controller != nullptr;
+  if (controller)
+  {
+    internals.Whole->SetOutput(internals.Distributed.Grid(controller, this,
+      vtkUnstructuredGrid::SafeDownCast(this->Preprocessor->GetOutputDataObject(0))));
+  }
+  return 1;
+}
+
+//------------------------------------------------------------------------------
 int vtkIlluminatedUnstructuredGridRepresentation::ProcessViewRequest(
   vtkInformationRequestKey* request, vtkInformation* inInfo, vtkInformation* outInfo)
 {
@@ -142,9 +176,11 @@ bool vtkIlluminatedUnstructuredGridRepresentation::UpdateIllumination(vtkInforma
   {
     return true; // keep the current lighting while the camera moves
   }
-  this->Internals->Lights.Update(view, this->UseLightKit);
-  this->Internals->Lights.ApplyTo(this->Illumination.Get());
-  volillum::SetVolumeInput(this->Illumination.Get(), port, coloured, this->Property);
+  auto& internals = *this->Internals;
+  internals.Lights.Update(view, this->UseLightKit);
+  internals.Lights.ApplyTo(this->Illumination.Get());
+  volillum::SetVolumeInput(this->Illumination.Get(),
+    internals.Parallel ? internals.Whole->GetOutputPort() : port, coloured, this->Property);
   this->Illumination->Update();
   vtkUnstructuredGrid* lit = this->Illumination->GetOutput();
   if (!lit || !lit->GetPointData()->GetArray("LitColors"))
@@ -152,6 +188,22 @@ bool vtkIlluminatedUnstructuredGridRepresentation::UpdateIllumination(vtkInforma
     return false;
   }
   volillum::ReadUpdateFieldData(lit->GetFieldData(), this->Report, this->UpdateSeconds);
+  if (!internals.Parallel)
+  {
+    this->LitMapper->SetInputConnection(this->Illumination->GetOutputPort());
+    return true;
+  }
+  // This process draws its own piece, with the values of the whole grid's lighting.
+  vtkDataObject* whole = internals.Whole->GetOutputDataObject(0);
+  if (grid->GetMTime() != internals.PieceTime || whole->GetMTime() != internals.WholeTime)
+  {
+    internals.PiecePoints = volillum::MatchPoints(vtkDataSet::SafeDownCast(whole), grid);
+    internals.PieceTime = grid->GetMTime();
+    internals.WholeTime = whole->GetMTime();
+  }
+  internals.LitPiece->ShallowCopy(grid);
+  volillum::AddPointValues(lit, internals.PiecePoints, { "LitColors" }, internals.LitPiece);
+  this->LitMapper->SetInputData(internals.LitPiece);
   return true;
 }
 

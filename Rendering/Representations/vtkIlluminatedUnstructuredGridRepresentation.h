@@ -10,7 +10,10 @@
  * illumination) and drawn with projected tetrahedra on those colours. The solver keeps
  * each light's solution, so a light edit recomputes that light only. Interactive renders
  * keep the current lighting (or draw the level-of-detail outline when ParaView asks for
- * it). UpdateMode, UpdateSeconds and PropagationPasses report the last update.
+ * it). UpdateMode, UpdateSeconds and PropagationPasses report the last update. In parallel
+ * (pvserver or pvbatch under MPI) every process assembles the whole grid from the pieces
+ * when the data updates (see IlluminationParallel.h), lights it at render time without
+ * further communication and draws its own piece with those values.
  *
  * The coloured array is a point or cell array; an array of several components is lit by
  * what the colour map shows of it (its magnitude or the chosen component). Arrays mapped
@@ -87,6 +90,7 @@ protected:
   bool RemoveFromView(vtkView* view) override;
 
   /// Light the delivered piece and draw it; false when it cannot be lit.
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   bool UpdateIllumination(vtkInformation* inInfo);
 
   int IlluminationMethod = 0;
