@@ -85,6 +85,10 @@ case "${1:-}" in
       pvpython Testing/Benchmarks/IlluminatedVolumeBenchmark.py \
         build/lib/paraview-5.11/plugins/VolumetricIllumination/VolumetricIllumination.so \
         ../shared/data --smoke --json build/representation-benchmark-smoke.json
+      pvpython Testing/Benchmarks/ParallelBenchmark.py \
+        build/lib/paraview-5.11/plugins/VolumetricIllumination/VolumetricIllumination.so \
+        ../shared/data build "$(command -v mpiexec)" "--allow-run-as-root --oversubscribe" \
+        --smoke --json build/parallel-benchmark-smoke.json
       ./setup.sh sanitize'
     ;;
   build)

@@ -1,0 +1,163 @@
+"""Benchmark of Multi-Light Illumination Volume under MPI (strong scaling), one run.
+
+The engine resampled to 256^3 (../shared/data/volumes/engine.vti; --smoke: the CT phantom
+at 64^3) is lit at scale 1 by 4 oblique directional lights with pvbatch on 1 process and
+with `MPIEXEC -np 2 pvbatch`, each process single-threaded (Sequential SMP backend) so the
+comparison is fair on a 2-core machine. Printed: full update and one-light edit times on
+1 and 2 processes and their ratios (speed-up), the bytes each process receives when the
+data changes (the gathered pieces; a light edit sends only a one-integer reduction), and
+the efficiency the planned block sweeps would reach at 8, 64 and 512 processes by the
+model of Documentation/parallel.md with this run's compute cost per voxel and light.
+Writes the figures as JSON with --json FILE.
+Usage: pvpython ParallelBenchmark.py PLUGIN DATA_DIR OUT_DIR MPIEXEC "MPI_FLAGS"
+       [--smoke] [--json FILE]
+"""
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+import time
+
+LIGHTS = 4
+
+
+def lights(bounds, count, turn=0.0):
+    centre = [(bounds[2 * a] + bounds[2 * a + 1]) / 2 for a in range(3)]
+    rows = []
+    for i in range(count):
+        a = 0.7 + 1.3 * i + turn
+        position = [centre[0] + 300 * math.cos(a), centre[1] + 300 * math.sin(a),
+                    centre[2] + 200 + 40 * i]
+        rows += [0] + position + centre + [1, 0.9, 0.8, 1.0, 90, 1, 1]
+    return rows
+
+
+def worker(plugin, volume):
+    """Times a full update and a one-light edit; prints one JSON line."""
+    from paraview.simple import (LoadPlugin, XMLImageDataReader, GetColorTransferFunction,
+                                 GetOpacityTransferFunction)
+    LoadPlugin(plugin, remote=False, ns=globals())
+    reader = XMLImageDataReader(FileName=[volume])
+    reader.UpdatePipeline()
+    array = reader.PointData.keys()[0]
+    bounds = reader.GetDataInformation().GetBounds()
+    pwf = GetOpacityTransferFunction(array)
+    pwf.Points = [0, 0, 0.5, 0, 80, 0, 0.5, 0, 255, 0.5, 0.5, 0]
+    f = globals()["MultiLightIlluminationVolume"](
+        Input=reader, ColorTransferFunction=GetColorTransferFunction(array),
+        OpacityFunction=pwf, ResolutionScale=1.0)
+    f.Scalars = ["POINTS", array]
+    f.Lights = lights(bounds, LIGHTS)
+    start = time.perf_counter()
+    f.UpdatePipeline()
+    full = time.perf_counter() - start
+    edited = lights(bounds, LIGHTS)
+    edited[1:4] = lights(bounds, 1, turn=0.4)[1:4]
+    f.Lights = edited
+    start = time.perf_counter()
+    f.UpdatePipeline()
+    edit = time.perf_counter() - start
+    from vtkmodules.vtkCommonCore import vtkDataArray
+    info = reader.GetDataInformation()
+    lit = info.GetPointDataInformation().GetArrayInformation(array)
+    value = vtkDataArray.CreateDataArray(lit.GetDataType())
+    print("RESULT " + json.dumps({"full_s": full, "edit_s": edit,
+                                  "points": info.GetNumberOfPoints(),
+                                  "bytes": info.GetNumberOfPoints() *
+                                  lit.GetNumberOfComponents() * value.GetDataTypeSize()}))
+
+
+def run(command, plugin, volume):
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Python"))
+    from IlluminatedVolumeTestUtilities import environment_for_mpiexec
+    environment = environment_for_mpiexec()
+    environment["VTK_SMP_BACKEND_IN_USE"] = "Sequential"
+    result = subprocess.run(command + [os.path.abspath(__file__), "--worker", plugin, volume],
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                            env=environment, timeout=3000)
+    for line in result.stdout.splitlines():
+        if line.startswith("RESULT "):
+            return json.loads(line[len("RESULT "):])
+    raise RuntimeError("the run failed:\n" + result.stdout[-3000:])
+
+
+def prepare(data_dir, out, smoke):
+    from paraview.simple import ResampleToImage, SaveData, XMLImageDataReader
+    engine = os.path.join(data_dir, "volumes", "engine.vti")
+    path = os.path.join(out, "parallel-benchmark-volume.vti")
+    if smoke or not os.path.exists(engine):
+        phantom = globals()["IlluminationPhantom"](Scene="CT Phantom", Dimensions=[64, 64, 64])
+        SaveData(path, proxy=phantom)
+        return path, "CT phantom 64^3 (smoke)"
+    resampled = ResampleToImage(Input=XMLImageDataReader(FileName=[engine]),
+                                SamplingDimensions=[256, 256, 256])
+    SaveData(path, proxy=resampled)
+    return path, "engine resampled to 256^3"
+
+
+def model(compute_per_voxel_light):
+    """Efficiency of one block sweep of a 1024^3 volume (Documentation/parallel.md)."""
+    rows = []
+    n, h, latency, bandwidth = 1024, 4, 2e-6, 10e9
+    for p in (2, 4, 8):
+        block = n // p
+        chunks = block // h
+        chunk = block * block * h * compute_per_voxel_light
+        message = latency + block * block * 12 / bandwidth
+        efficiency = chunks * chunk / ((chunks + p - 1) * (chunk + message))
+        rows.append({"processes": p ** 3, "efficiency": efficiency, "chunk_s": chunk,
+                     "message_s": message})
+    return rows
+
+
+def main():
+    from paraview.simple import LoadPlugin
+    plugin, data_dir, out, mpiexec, flags = sys.argv[1:6]
+    smoke = "--smoke" in sys.argv
+    json_path = sys.argv[sys.argv.index("--json") + 1] if "--json" in sys.argv else None
+    LoadPlugin(plugin, remote=False, ns=globals())
+    os.makedirs(out, exist_ok=True)
+    volume, name = prepare(data_dir, out, smoke)
+    pvbatch = shutil.which("pvbatch")
+    one = run([pvbatch], plugin, volume)
+    two = run([mpiexec] + flags.split() + ["-np", "2", pvbatch], plugin, volume)
+    # Each process receives the other pieces of the lit array: (N - 1) / N of it.
+    received = two["bytes"] / 2
+    # Directional lights travel in two groups each: light sweeps of one full update.
+    per_voxel_light = one["full_s"] / (one["points"] * 2 * LIGHTS)
+    results = {"volume": name, "lights": LIGHTS,
+               "full_update_s": {"1": one["full_s"], "2": two["full_s"]},
+               "one_light_edit_s": {"1": one["edit_s"], "2": two["edit_s"]},
+               "speedup_full": one["full_s"] / two["full_s"],
+               "speedup_edit": one["edit_s"] / two["edit_s"],
+               "bytes_received_per_process_on_data_change": received,
+               "compute_s_per_voxel_light_sweep": per_voxel_light,
+               "model_1024_cubed": model(per_voxel_light)}
+    print("Multi-Light Illumination Volume, %s, %d lights, one thread per process" % (name, LIGHTS))
+    print("%-22s %10s %10s %8s" % ("", "1 process", "2", "speed-up"))
+    print("%-22s %10.2f %10.2f %8.2f" % ("full update (s)", one["full_s"], two["full_s"],
+                                         results["speedup_full"]))
+    print("%-22s %10.2f %10.2f %8.2f" % ("one-light edit (s)", one["edit_s"], two["edit_s"],
+                                         results["speedup_edit"]))
+    print("bytes each process receives when the data changes: %.1f MB (light edits: none)"
+          % (received / 1e6))
+    print("model of the planned block sweeps, 1024^3 (%.0f ns per voxel and light sweep):"
+          % (per_voxel_light * 1e9))
+    for row in results["model_1024_cubed"]:
+        print("  %4d processes: efficiency %.0f %% (chunk %.1f ms, face message %.0f us)"
+              % (row["processes"], 100 * row["efficiency"], 1e3 * row["chunk_s"],
+                 1e6 * row["message_s"]))
+    if json_path:
+        with open(json_path, "w") as f:
+            json.dump(results, f, indent=2)
+
+
+if __name__ == "__main__":
+    if sys.argv[1] == "--worker":
+        worker(sys.argv[2], sys.argv[3])
+    else:
+        main()
+    sys.stdout.flush()
+    os._exit(0)
