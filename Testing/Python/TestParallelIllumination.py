@@ -8,8 +8,9 @@ tetrahedral grid with the unstructured reader, lights them with every filter and
 and checks, against the serial run:
 - Multi-Light Illumination Volume, Filtered Volumetric Shadows, Ray-Marched Illumination
   and Unstructured Grid Illumination (pieces from RedistributeDataSet, and the reader's
-  pieces, where all but one process hold nothing): largest difference / largest value
-  <= 1e-5 (points of the grid matched by their coordinates);
+  pieces, where all but one process hold nothing), and an image of one cell (all but one
+  process have an empty block): largest difference / largest value <= 1e-5 (points matched
+  by their coordinates);
 - a one-light change in parallel is a selective update (UpdateMode 1) and equals a fresh
   parallel filter with the new lights;
 - the files read back whole (the image pieces cover the illumination grid);
@@ -23,6 +24,7 @@ import sys
 
 TOLERANCE = 1e-5  # largest difference relative to the largest value
 FILES = ["multilight.pvti", "selective.pvti", "fresh.pvti", "filtered.pvti", "raymarched.pvti",
+         "tiny.pvti",
          "unstructured.pvtu", "unstructured_pieces.pvtu"]
 HEAD = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Data", "headsq.vti")
 
@@ -33,7 +35,7 @@ LIGHTS = [0, -200, -150, 400, 100, 100, 70, 1.0, 0.7, 0.4, 1.0, 90, 1, 1,
 EDITED = LIGHTS[:14] + [1, 330, -40, 90, 100, 100, 70, 0.4, 0.6, 1.0, 0.8, 90, 1, 1]
 
 
-def worker(plugin, out, grid_file, parallel):
+def worker(plugin, out, grid_file, tiny_file, parallel):
     from paraview.simple import (LoadPlugin, XMLImageDataReader, XMLUnstructuredGridReader,
                                  ProgrammableFilter, RedistributeDataSet, GetColorTransferFunction,
                                  GetOpacityTransferFunction, SaveData)
@@ -64,6 +66,12 @@ def worker(plugin, out, grid_file, parallel):
     save(image_filter("FilteredVolumetricShadows", ResolutionScale=0.5, FilterWidth=3),
          "filtered.pvti")
     save(image_filter("RayMarchedIllumination", ResolutionScale=0.25), "raymarched.pvti")
+    # An image of 2 x 2 x 2 points: one cell, so all but one process have an empty block.
+    tiny = ns["MultiLightIlluminationVolume"](Input=XMLImageDataReader(FileName=[tiny_file]),
+                                              ColorTransferFunction=lut, OpacityFunction=pwf)
+    tiny.Scalars = ["POINTS", "scalars"]
+    tiny.Lights = LIGHTS
+    save(tiny, "tiny.pvti")
 
     grid = XMLUnstructuredGridReader(FileName=[grid_file])
     association = "POINTS" if grid.PointData.keys() else "CELLS"
@@ -133,6 +141,25 @@ def update_mode(data):
     return int(data.GetFieldData().GetArray("UpdateMode").GetValue(0))
 
 
+def write_tiny_image(path):
+    """An image of 2 x 2 x 2 points with the head's scalar range."""
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+    from vtkmodules.vtkCommonCore import vtkShortArray
+    from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
+    image = vtkImageData()
+    image.SetDimensions(2, 2, 2)
+    image.SetSpacing(30, 30, 30)
+    values = vtkShortArray()
+    values.SetName("scalars")
+    for v in (0, 900, 1500, 3000, 2000, 1200, 2500, 600):
+        values.InsertNextValue(v)
+    image.GetPointData().SetScalars(values)
+    writer = vtkXMLImageDataWriter()
+    writer.SetInputData(image)
+    writer.SetFileName(path)
+    writer.Write()
+
+
 def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
     from IlluminatedVolumeTestUtilities import environment_for_mpiexec
@@ -140,11 +167,14 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
     runs = {"serial": [pvbatch]}
     for n in counts:
         runs["np" + n] = [mpiexec] + flags.split() + ["-np", n, pvbatch]
+    os.makedirs(out, exist_ok=True)
+    tiny_file = os.path.join(out, "tiny.vti")
+    write_tiny_image(tiny_file)
     for run, command in runs.items():
         directory = os.path.join(out, run)
         os.makedirs(directory, exist_ok=True)
         result = subprocess.run(command + [os.path.abspath(__file__), "--worker", plugin, directory,
-                                           grid_file, "0" if run == "serial" else "1"],
+                                           grid_file, tiny_file, "0" if run == "serial" else "1"],
                                 stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                                 env=environment_for_mpiexec(), timeout=1200)
         log = result.stdout
@@ -182,6 +212,6 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
 
 if __name__ == "__main__":
     if sys.argv[1] == "--worker":
-        worker(sys.argv[2], sys.argv[3], sys.argv[4], sys.argv[5] == "1")
+        worker(sys.argv[2], sys.argv[3], sys.argv[4], sys.argv[5], sys.argv[6] == "1")
     else:
         sys.exit(driver(*sys.argv[1:7], sys.argv[7:]))
