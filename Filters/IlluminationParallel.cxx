@@ -119,13 +119,22 @@ private:
   std::vector<Pending> Added;
 };
 
-// FNV-1a over bytes, continuing from hash.
+// FNV-1a over 8-byte words (then the last bytes), continuing from hash: a change detector,
+// at several GB/s.
 std::uint64_t HashBytes(const void* data, size_t size, std::uint64_t hash)
 {
+  constexpr std::uint64_t prime = 1099511628211ULL;
   const auto* bytes = static_cast<const unsigned char*>(data);
-  for (size_t i = 0; i < size; ++i)
+  size_t i = 0;
+  for (; i + 8 <= size; i += 8)
   {
-    hash = (hash ^ bytes[i]) * 1099511628211ULL;
+    std::uint64_t word;
+    std::memcpy(&word, bytes + i, 8);
+    hash = (hash ^ word) * prime;
+  }
+  for (; i < size; ++i)
+  {
+    hash = (hash ^ bytes[i]) * prime;
   }
   return hash;
 }
@@ -200,31 +209,6 @@ void CellExtent(const int points[6], int cells[6])
 vtkMultiProcessController* ParallelRun(vtkMultiProcessController* controller)
 {
   return controller && controller->GetNumberOfProcesses() > 1 ? controller : nullptr;
-}
-
-//------------------------------------------------------------------------------
-void DataPieceExtent(const int whole[6], const int target[6], const int piece[6], int out[6])
-{
-  int result[6];
-  for (int a = 0; a < 3; ++a)
-  {
-    const int points = target[2 * a + 1] - target[2 * a];
-    const double ratio =
-      points > 0 ? static_cast<double>(whole[2 * a + 1] - whole[2 * a]) / points : 0.0;
-    constexpr double slack = 1e-9;
-    const double first = (piece[2 * a] - target[2 * a]) * ratio;
-    const double last = (piece[2 * a + 1] - target[2 * a]) * ratio;
-    result[2 * a] =
-      std::max(whole[2 * a], whole[2 * a] + static_cast<int>(std::floor(first + slack)));
-    result[2 * a + 1] =
-      std::min(whole[2 * a + 1], whole[2 * a] + static_cast<int>(std::ceil(last - slack)));
-    if (piece[2 * a + 1] < piece[2 * a])
-    {
-      result[2 * a] = 0; // an empty piece asks for nothing
-      result[2 * a + 1] = -1;
-    }
-  }
-  std::copy(result, result + 6, out);
 }
 
 //------------------------------------------------------------------------------

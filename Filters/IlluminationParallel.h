@@ -39,14 +39,6 @@ VOLILLUMFILTERS_EXPORT vtkMultiProcessController* ParallelRun(
   vtkMultiProcessController* controller);
 
 /**
- * The data extent under a piece `piece` of the illumination grid (`target`: its whole
- * extent) over the whole data extent `whole` (out may be whole): the data points from the
- * last one at or before the piece's first point to the first one at or after its last.
- */
-VOLILLUMFILTERS_EXPORT void DataPieceExtent(
-  const int whole[6], const int target[6], const int piece[6], int out[6]);
-
-/**
  * The extent of the illumination grid (`target` points per axis over the whole data extent
  * `whole`) that covers the data piece `piece`: the points from the last one at or before the
  * piece's first point to the first one at or after its last point. Pieces that share a
