@@ -89,8 +89,8 @@ protected:
   /// still there to release them in.
   bool RemoveFromView(vtkView* view) override;
 
-  /// Light the delivered piece and draw it; false when it cannot be lit.
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  /// Light the delivered piece and draw it; false when it cannot be lit.
   bool UpdateIllumination(vtkInformation* inInfo);
 
   int IlluminationMethod = 0;
