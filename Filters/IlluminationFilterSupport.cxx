@@ -1,5 +1,6 @@
 #include "IlluminationFilterSupport.h"
 
+#include "IlluminationLightList.h"
 #include "vtkAlgorithm.h"
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"

@@ -7,7 +7,7 @@
 #ifndef IlluminationFilterSupport_h
 #define IlluminationFilterSupport_h
 
-#include "IlluminationLights.h"
+#include "IlluminationLightList.h"
 #include "VolIllumFiltersModule.h"
 #include "vtkDataArray.h"
 #include "vtkSmartPointer.h"
@@ -27,8 +27,13 @@ class vtkUnstructuredGrid;
 namespace volillum
 {
 
-/// Debian's ParaView defaults to the Sequential SMP backend; unless the user chose one
-/// with VTK_SMP_BACKEND_IN_USE, switch to STDThread so the filters use every core.
+/**
+ * Debian's ParaView defaults to the Sequential SMP backend; unless the user chose one with
+ * VTK_SMP_BACKEND_IN_USE, switch to STDThread so the filters use every core. Called once,
+ * when the plugin is loaded (Plugin/VolumetricIlluminationStartup.cxx); the filters never
+ * call it.
+ * @warning It changes vtkSMPTools' backend for the whole process, every VTK filter included.
+ */
 VOLILLUMFILTERS_EXPORT void UseThreadedBackend();
 
 /// The scalars a filter lights: one value per point.

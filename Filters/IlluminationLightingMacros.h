@@ -12,7 +12,7 @@
 #ifndef IlluminationLightingMacros_h
 #define IlluminationLightingMacros_h
 
-#include "IlluminationLights.h"
+#include "IlluminationLightList.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkLight.h"
 #include "vtkNew.h"

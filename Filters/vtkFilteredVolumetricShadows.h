@@ -26,6 +26,11 @@
  * top. The table's angles are those of a cube-map face when the whole volume lies in front
  * of the light, azimuth and polar angle otherwise (volillum::SphericalSAT). The Gaussian
  * kernel applies to directional lights; point and spot lights use the box.
+ *
+ * Method: M. Ament, F. Sadlo, C. Dachsbacher and D. Weiskopf, "Low-Pass Filtered Volumetric
+ * Shadows", IEEE Transactions on Visualization and Computer Graphics 20(12), 2014.
+ *
+ * @sa vtkMultiLightIlluminationVolume vtkRayMarchedIllumination vtkIlluminatedVolumeMapper
  */
 #ifndef vtkFilteredVolumetricShadows_h
 #define vtkFilteredVolumetricShadows_h

@@ -1,5 +1,6 @@
 #include "vtkIlluminationVolumeAlgorithm.h"
 
+#include "IlluminationClassify.h"
 #include "IlluminationLightingMacros.h"
 #include "IlluminationParallel.h"
 #include "RayMarchKernel.h"
@@ -42,7 +43,6 @@ bool vtkIlluminationVolumeAlgorithm::ClassificationKey::operator==(const Classif
 vtkIlluminationVolumeAlgorithm::vtkIlluminationVolumeAlgorithm()
   : Distributed(new volillum::DistributedInput)
 {
-  volillum::UseThreadedBackend();
   this->SetController(vtkMultiProcessController::GetGlobalController());
   this->SetInputArrayToProcess(
     0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);

@@ -14,13 +14,13 @@
  * sweeps the last update did), PendingPasses (passes left for a later update) and UpdateSeconds
  * (its wall time). An aborted update leaves the previous output in place.
  *
- * Lights are vtkLight objects (see IlluminationLights.h for how they are read). The same
+ * Lights are vtkLight objects (see IlluminationLightList.h for how they are read). The same
  * lights can be given as a flat list of 14 numbers per light, which is how ParaView's
  * "Lights" property sets them: [positional 0/1, position x y z, focal point x y z,
  * colour r g b, intensity, cone angle, exponent, switch 0/1].
  *
  * Optical properties come from a vtkColorTransferFunction and a vtkPiecewiseFunction with
- * the meaning they have in vtkVolumeProperty (see IlluminationClassification.h); without
+ * the meaning they have in vtkVolumeProperty (see IlluminationClassify.h); without
  * them a grey ramp over the scalar range applies.
  *
  * Bad input (no or non-numeric scalars, scalars of another length than the points, a 2D
@@ -28,13 +28,16 @@
  * origin or spacing putting the bounds beyond MaximumCoordinate, an unsupported resolution
  * scale, an absurd output size) is reported with vtkErrorMacro and gives an empty output.
  * Very distant lights are far lights (see volillum::ForBounds).
+ *
+ * @sa vtkMultiLightIlluminationVolume vtkFilteredVolumetricShadows vtkRayMarchedIllumination
+ * vtkUnstructuredGridIllumination
  */
 #ifndef vtkIlluminationVolumeAlgorithm_h
 #define vtkIlluminationVolumeAlgorithm_h
 
 #include "IlluminationClassification.h"
 #include "IlluminationFilterSupport.h"
-#include "IlluminationLights.h"
+#include "IlluminationLightList.h"
 #include "VolIllumFiltersModule.h"
 #include "vtkImageAlgorithm.h"
 #include "vtkImageData.h"

@@ -27,6 +27,11 @@
  * rest is kept (field array PendingPasses) and done by the next update (call Modified()
  * and Update() again, or press Apply). An aborted update keeps the previous output and
  * makes the next update a full one.
+ *
+ * Method: E. Sundén and T. Ropinski, "Efficient Volume Illumination with Multiple Light Sources
+ * through Selective Light Updates", IEEE Pacific Visualization Symposium (PacificVis), 2015.
+ *
+ * @sa vtkFilteredVolumetricShadows vtkRayMarchedIllumination vtkIlluminatedVolumeMapper
  */
 #ifndef vtkMultiLightIlluminationVolume_h
 #define vtkMultiLightIlluminationVolume_h

@@ -7,6 +7,11 @@
  * ground truth for the faster methods and the single-scattering baseline of the
  * benchmarks. Cost: points x lights x (path length / StepFraction) samples, all threads
  * through vtkSMPTools. PropagationPasses reports the number of lights marched.
+ *
+ * Model: N. Max, "Optical Models for Direct Volume Rendering", IEEE Transactions on Visualization
+ * and Computer Graphics 1(2), 1995 (emission-absorption, single scattering).
+ *
+ * @sa vtkMultiLightIlluminationVolume vtkFilteredVolumetricShadows
  */
 #ifndef vtkRayMarchedIllumination_h
 #define vtkRayMarchedIllumination_h

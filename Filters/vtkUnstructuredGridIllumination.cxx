@@ -1,5 +1,6 @@
 #include "vtkUnstructuredGridIllumination.h"
 
+#include "IlluminationClassify.h"
 #include "IlluminationFilterSupport.h"
 #include "IlluminationLightingMacros.h"
 #include "IlluminationParallel.h"
@@ -63,7 +64,6 @@ void AddSeconds(vtkFieldData* fieldData, const char* name, double seconds)
 vtkUnstructuredGridIllumination::vtkUnstructuredGridIllumination()
   : Distributed(new volillum::DistributedInput)
 {
-  volillum::UseThreadedBackend();
   this->SetController(vtkMultiProcessController::GetGlobalController());
   this->SetInputArrayToProcess(
     0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);

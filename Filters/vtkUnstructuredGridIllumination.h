@@ -32,12 +32,18 @@
  *
  * Bad input (no or non-numeric scalars, no 3D cells, no cell with a volume, non-finite
  * light parameters, absurd resolutions) gives a vtkErrorMacro and an empty output.
+ *
+ * Method: M. Shih, Y. Zhang and K.-L. Ma, "Advanced Lighting for Unstructured-Grid Data
+ * Visualization", IEEE Pacific Visualization Symposium (PacificVis), 2015.
+ *
+ * @sa vtkMultiLightIlluminationVolume vtkTetrahedralizeSurface vtkAdaptiveTetrahedralMesh
  */
 #ifndef vtkUnstructuredGridIllumination_h
 #define vtkUnstructuredGridIllumination_h
 
+#include "IlluminationClassify.h"
 #include "IlluminationFilterSupport.h" // for volillum::PointScalars
-#include "IlluminationLights.h"
+#include "IlluminationLightList.h"
 #include "TetrahedralLightKernel.h"
 #include "VolIllumFiltersModule.h"
 #include "vtkSmartPointer.h"

@@ -19,7 +19,9 @@
 //             Fig. 10 (1..40 lights from one direction), the speed-up over the reference at
 //             equal resolution and the memory throughput of a full update.
 // --smoke uses tiny sizes so that CI only checks that the benchmark runs.
+#include "IlluminationClassify.h"
 #include "IlluminationFidelity.h"
+#include "IlluminationLightList.h"
 #include "RayMarchKernel.h"
 #include "vtkFilteredVolumetricShadows.h"
 #include "vtkIlluminatedVolumeMapper.h"

@@ -8,7 +8,7 @@
 // 3. Two-level solver vs resampling to a regular grid + Multi-Light Illumination Volume,
 //    same data and lights: time and per-vertex RMS against a brute-force march.
 // --smoke uses tiny sizes so that CI only checks that it runs.
-#include "IlluminationLights.h"
+#include "IlluminationLightList.h"
 #include "IlluminationTestUtilities.h"
 #include "vtkMultiLightIlluminationVolume.h"
 #include "vtkUnstructuredGridIllumination.h"

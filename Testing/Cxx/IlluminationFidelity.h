@@ -4,7 +4,7 @@
 #ifndef IlluminationFidelity_h
 #define IlluminationFidelity_h
 
-#include "IlluminationClassification.h"
+#include "IlluminationClassify.h"
 #include "IlluminationLights.h"
 #include "IlluminationTestUtilities.h"
 #include "RayMarchKernel.h"

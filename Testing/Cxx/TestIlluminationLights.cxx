@@ -1,7 +1,7 @@
 // Tests of the light contract: kinds read from vtkLight, the 14-number layout, change
 // detection by parameters, and the illumination-volume geometry at resolution scales.
 #include "IlluminationClassification.h"
-#include "IlluminationLights.h"
+#include "IlluminationLightList.h"
 
 #include "vtkLight.h"
 #include "vtkNew.h"

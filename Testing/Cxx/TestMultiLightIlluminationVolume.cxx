@@ -3,6 +3,7 @@
 // propagation, continuity across propagation groups, budgets, abort and bad input (the
 // peak-memory test is TestPeakMemory.cxx, an executable of its own).
 #include "IlluminationFidelity.h"
+#include "IlluminationLightList.h"
 #include "IlluminationTestUtilities.h"
 #include "vtkIlluminationPhantomSource.h"
 #include "vtkMultiLightIlluminationVolume.h"

@@ -1,5 +1,6 @@
 // Tests of the reference filter vtkRayMarchedIllumination against analytic transmittance,
 // linearity in the lights, spot-cone geometry, resolution scales and bad input.
+#include "IlluminationClassify.h"
 #include "IlluminationTestUtilities.h"
 #include "RayMarchKernel.h"
 #include "vtkIlluminationPhantomSource.h"
@@ -13,7 +14,6 @@
 #include "vtkMath.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
-#include "vtkSMPTools.h"
 #include "vtkStringArray.h"
 
 #include <gtest/gtest.h>
@@ -547,11 +547,4 @@ TEST(RayMarchedIllumination, PointLightInsideTheVolume)
     });
   std::cout << "point light inside: max relative error " << error << std::endl;
   EXPECT_LE(error, 1e-3);
-}
-
-int main(int argc, char** argv)
-{
-  vtkSMPTools::SetBackend("STDThread");
-  ::testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
 }

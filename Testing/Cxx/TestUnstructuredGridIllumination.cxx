@@ -1,5 +1,5 @@
 // Two-level unstructured-grid illumination against analytic and brute-force references.
-#include "IlluminationLights.h"
+#include "IlluminationLightList.h"
 #include "IlluminationTestUtilities.h"
 #include "TetrahedralLightKernel.h"
 #include "vtkUnstructuredGridIllumination.h"

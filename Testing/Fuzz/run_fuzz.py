@@ -45,7 +45,8 @@ every run as JSON.
 
 Other options: --jobs N runs N things at once (the pvpython worker chain counts as one;
 default 2, 1 on a single core), --only TEXT runs the cases whose file name contains
-TEXT, --no-cli / --no-filters skip a side, --external-readers counts crashes and hangs
+TEXT, --no-cli / --no-filters skip a side, --skip-filter NAME leaves out a filter (the
+meshing filters of a build without them), --external-readers counts crashes and hangs
 inside ParaView's own readers (the pvpython "reader" step: not the plugin's code) as
 "external" (passed, listed separately), -v prints every run.
 """
@@ -486,6 +487,8 @@ def parse_arguments(argv):
     parser.add_argument("--only", help="only cases whose file name contains this")
     parser.add_argument("--no-cli", action="store_true")
     parser.add_argument("--no-filters", action="store_true")
+    parser.add_argument("--skip-filter", action="append", default=[], metavar="NAME",
+                        help="leave out a filter the plugin was built without (repeatable)")
     parser.add_argument("--external-readers", action="store_true",
                         help="count crashes/hangs in ParaView's readers as passed")
     parser.add_argument("--strict", action="store_true",
@@ -510,6 +513,8 @@ def main(argv):
         cases = json.load(f)
     if options.only:
         cases = [c for c in cases if options.only in c["file"]]
+    for case in cases:
+        case["filters"] = [f for f in case["filters"] if f not in options.skip_filter]
     if options.memory_limit and any(uses_sanitizer(p) for p in (options.cli, options.plugin)):
         print("AddressSanitizer build: no address-space limit")
         options.memory_limit = 0

@@ -14,10 +14,10 @@
 #define vtkTetrahedralizeSurface_h
 
 #include "IlluminationFilterSupport.h" // for the shared limits
-#include "VolIllumFiltersModule.h"
+#include "VolIllumMeshingModule.h"
 #include "vtkUnstructuredGridAlgorithm.h"
 
-class VOLILLUMFILTERS_EXPORT vtkTetrahedralizeSurface : public vtkUnstructuredGridAlgorithm
+class VOLILLUMMESHING_EXPORT vtkTetrahedralizeSurface : public vtkUnstructuredGridAlgorithm
 {
 public:
   static vtkTetrahedralizeSurface* New();

@@ -2,6 +2,9 @@
  * @file RayMarchKernel.h
  * @brief Brute-force single-scattering illumination: from every point march to every light.
  *
+ * The emission-absorption model of N. Max, "Optical Models for Direct Volume Rendering", IEEE
+ * Transactions on Visualization and Computer Graphics 1(2), 1995, evaluated by marching.
+ *
  * This is the reference the faster methods are tested against. From a point p the kernel
  * marches toward each light (to the volume boundary for a directional light, to the light
  * position or the boundary, whichever comes first, for point and spot lights) with the
@@ -17,7 +20,7 @@
 
 #include "IlluminationClassification.h"
 #include "IlluminationLights.h"
-#include "VolIllumFiltersModule.h"
+#include "VolIllumKernelsModule.h"
 
 #include <array>
 #include <functional>
@@ -43,7 +46,7 @@ using ProgressCallback = std::function<bool(double)>;
  * the volume: the result is the same, and empty space (most of a CT's box) costs a lookup
  * per step instead of a sample.
  */
-class VOLILLUMFILTERS_EXPORT EmptyBlocks
+class VOLILLUMKERNELS_EXPORT EmptyBlocks
 {
 public:
   explicit EmptyBlocks(const ClassifiedVolume& volume);
@@ -71,7 +74,7 @@ private:
 
 /// Per-channel transmittance from point p to the light (0 outside a spot cone); with
 /// `empty`, samples in empty blocks are skipped.
-VOLILLUMFILTERS_EXPORT std::array<double, 3> RayMarchTransmittance(const ClassifiedVolume& volume,
+VOLILLUMKERNELS_EXPORT std::array<double, 3> RayMarchTransmittance(const ClassifiedVolume& volume,
   const LightState& light, const double p[3], const RayMarchSettings& settings,
   const EmptyBlocks* empty = nullptr);
 
@@ -81,18 +84,18 @@ VOLILLUMFILTERS_EXPORT std::array<double, 3> RayMarchTransmittance(const Classif
  * classified data at full resolution: midpoint rule with steps of at most its smallest
  * spacing; with `empty`, samples in empty blocks are skipped.
  */
-VOLILLUMFILTERS_EXPORT void SegmentOpticalDepth(const ClassifiedVolume& volume, const double p[3],
+VOLILLUMKERNELS_EXPORT void SegmentOpticalDepth(const ClassifiedVolume& volume, const double p[3],
   const double d[3], double length, int channels, double depth[3],
   const EmptyBlocks* empty = nullptr);
 
 /// Summed illumination of the lights that are on at point p: radiance x transmittance.
-VOLILLUMFILTERS_EXPORT std::array<double, 3> RayMarchIlluminationAt(const ClassifiedVolume& volume,
+VOLILLUMKERNELS_EXPORT std::array<double, 3> RayMarchIlluminationAt(const ClassifiedVolume& volume,
   const std::vector<LightState>& lights, const double p[3], const RayMarchSettings& settings,
   const EmptyBlocks* empty = nullptr);
 
 /// Fill rgb (3 floats per target point, x fastest) with the summed illumination of all
 /// lights. Returns false when progress asked to stop (rgb is then incomplete).
-VOLILLUMFILTERS_EXPORT bool RayMarchIllumination(const ClassifiedVolume& volume,
+VOLILLUMKERNELS_EXPORT bool RayMarchIllumination(const ClassifiedVolume& volume,
   const std::vector<LightState>& lights, const GridGeometry& target,
   const RayMarchSettings& settings, float* rgb, const ProgressCallback& progress);
 

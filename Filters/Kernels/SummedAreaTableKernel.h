@@ -3,6 +3,11 @@
  * @brief Light-aligned Cartesian summed-area tables (CSAT) for box-filtered optical depth
  * (section 4.2.1 of the low-pass filtered volumetric shadows paper).
  *
+ * Method: M. Ament, F. Sadlo, C. Dachsbacher and D. Weiskopf, "Low-Pass Filtered Volumetric
+ * Shadows", IEEE Transactions on Visualization and Computer Graphics 20(12), 2014: filtered optical
+ * depth over a patch (eq. 12-13), Cartesian tables shared by orthodirectional lights (eq. 14-15),
+ * spherical tables for point lights (eq. 16-24) and separable kernels (eq. 25).
+ *
  * A CartesianSAT resamples the extinction of a classified volume onto a regular grid
  * whose axes are an orthonormal frame (one axis along a directional light) and which
  * covers the volume's rotated bounding box, then stores the running integral of
@@ -16,7 +21,7 @@
 #define SummedAreaTableKernel_h
 
 #include "IlluminationClassification.h"
-#include "VolIllumFiltersModule.h"
+#include "VolIllumKernelsModule.h"
 
 #include <array>
 #include <vector>
@@ -33,14 +38,14 @@ struct SatFrame
 
 /// A frame whose third axis is the given unit direction and whose other two are the data
 /// axes made orthogonal to it (canonical, so lights along data axes get the data's frame).
-VOLILLUMFILTERS_EXPORT SatFrame FrameForDirection(const double direction[3]);
+VOLILLUMKERNELS_EXPORT SatFrame FrameForDirection(const double direction[3]);
 
 /// Normalised weights of a Gaussian over `count` equal sub-intervals of [-1, 1] (standard
 /// deviation 1/2, so the patch spans two standard deviations each way).
-VOLILLUMFILTERS_EXPORT std::vector<double> GaussianWeights(int count);
+VOLILLUMKERNELS_EXPORT std::vector<double> GaussianWeights(int count);
 
 /// The axis of the frame parallel to the unit direction (sign +1 or -1), or -1.
-VOLILLUMFILTERS_EXPORT int AxisOfDirection(
+VOLILLUMKERNELS_EXPORT int AxisOfDirection(
   const SatFrame& frame, const double direction[3], int& sign);
 
 /**
@@ -49,7 +54,7 @@ VOLILLUMFILTERS_EXPORT int AxisOfDirection(
  * units) are inclusion-exclusions of eight trilinearly interpolated values, exact for
  * values constant in each cell.
  */
-class VOLILLUMFILTERS_EXPORT RunningIntegralTable
+class VOLILLUMKERNELS_EXPORT RunningIntegralTable
 {
 public:
   /// Allocate zeroed cells; set them with SetCell, then call Integrate once.
@@ -90,7 +95,7 @@ private:
   std::vector<double> Values;
 };
 
-class VOLILLUMFILTERS_EXPORT CartesianSAT
+class VOLILLUMKERNELS_EXPORT CartesianSAT
 {
 public:
   /**
@@ -146,7 +151,7 @@ private:
  * solid angle, is the optical depth averaged over the shadow rays through a patch of constant
  * base area at the sample.
  */
-class VOLILLUMFILTERS_EXPORT SphericalSAT
+class VOLILLUMKERNELS_EXPORT SphericalSAT
 {
 public:
   /// Angular cells of about cellSize at the volume's far side (finer in the face layout, which

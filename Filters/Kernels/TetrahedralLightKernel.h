@@ -2,6 +2,11 @@
  * @file TetrahedralLightKernel.h
  * @brief Two-level light transport on tetrahedral meshes (Shih, Zhang and Ma), plain C++.
  *
+ * Method: M. Shih, Y. Zhang and K.-L. Ma, "Advanced Lighting for Unstructured-Grid Data
+ * Visualization", IEEE Pacific Visualization Symposium (PacificVis), 2015: the illumination model
+ * (section 3), the two-level light propagation (section 4.1), the combination of lights and the
+ * scattering step (section 4.2, eq. 9-12) and the update procedure (Algorithm 1).
+ *
  * Light of each source is a transmittance rho (1 unoccluded) per vertex and channel
  * (one channel, or three with chromatic attenuation), the steady state of the convection
  * equation c u . grad(rho) = -sigma_a sigma rho.
@@ -39,7 +44,7 @@
 
 #include "IlluminationClassification.h"
 #include "IlluminationLights.h"
-#include "VolIllumFiltersModule.h"
+#include "VolIllumKernelsModule.h"
 
 #include <array>
 #include <string>
@@ -49,7 +54,7 @@ namespace volillum
 {
 
 /// A tetrahedral mesh prepared for light transport.
-struct VOLILLUMFILTERS_EXPORT TetrahedralMesh
+struct VOLILLUMKERNELS_EXPORT TetrahedralMesh
 {
   std::vector<double> Points; // 3 per point
   std::vector<int> Tets;      // 4 point ids per usable tetrahedron, positively oriented
@@ -73,11 +78,11 @@ struct VOLILLUMFILTERS_EXPORT TetrahedralMesh
  * boundary); inverted ones are reoriented. Returns false with a message when nothing
  * usable remains.
  */
-VOLILLUMFILTERS_EXPORT bool BuildTetrahedralMesh(std::vector<double> points,
+VOLILLUMKERNELS_EXPORT bool BuildTetrahedralMesh(std::vector<double> points,
   const std::vector<long long>& tets, TetrahedralMesh& mesh, std::string& error);
 
 /// Level-0 grid: per-channel extinction (0 where blank) on a regular grid over the mesh.
-struct VOLILLUMFILTERS_EXPORT Level0Grid
+struct VOLILLUMKERNELS_EXPORT Level0Grid
 {
   GridGeometry Geometry;
   int Channels = 1;
@@ -87,27 +92,27 @@ struct VOLILLUMFILTERS_EXPORT Level0Grid
 
 /// Resample per-vertex extinction (channels per vertex) onto a grid of the given
 /// dimensions spanning the mesh bounds.
-VOLILLUMFILTERS_EXPORT void ResampleLevel0(const TetrahedralMesh& mesh,
+VOLILLUMKERNELS_EXPORT void ResampleLevel0(const TetrahedralMesh& mesh,
   const std::vector<float>& extinction, int channels, const std::array<int, 3>& dimensions,
   Level0Grid& grid);
 
 /// Upwind solution of one light on the level-0 grid: transmittance, Channels per point.
-VOLILLUMFILTERS_EXPORT void PropagateLevel0(
+VOLILLUMKERNELS_EXPORT void PropagateLevel0(
   const Level0Grid& grid, const LightState& light, std::vector<float>& rho);
 
 /// Level-1 semi-Lagrangian solution of one light from its level-0 solution.
 /// stepLength <= 0 means the mean edge length; iterations < 0 means none (level 0 only).
-VOLILLUMFILTERS_EXPORT void PropagateLevel1(const TetrahedralMesh& mesh,
+VOLILLUMKERNELS_EXPORT void PropagateLevel1(const TetrahedralMesh& mesh,
   const std::vector<float>& extinction, const Level0Grid& grid, const std::vector<float>& level0,
   const LightState& light, double stepLength, int iterations, std::vector<float>& rho);
 
 /// Number of level-1 steps that carry light across one level-0 cell (at least 1).
-VOLILLUMFILTERS_EXPORT int AutomaticLevel1Iterations(
+VOLILLUMKERNELS_EXPORT int AutomaticLevel1Iterations(
   const TetrahedralMesh& mesh, const Level0Grid& grid);
 
 /// Eq. 9: rgb (3 per vertex) = sum over lights of radiance x cone factor x rho. rho[i]
 /// holds light i's transmittance (channels per vertex), empty for lights that are off.
-VOLILLUMFILTERS_EXPORT void CombineLights(const TetrahedralMesh& mesh,
+VOLILLUMKERNELS_EXPORT void CombineLights(const TetrahedralMesh& mesh,
   const std::vector<LightState>& lights, const std::vector<const std::vector<float>*>& rho,
   int channels, std::vector<float>& rgb);
 
@@ -119,11 +124,11 @@ struct VertexColoring
   int NumberOfColors() const { return static_cast<int>(this->Offsets.size()) - 1; }
 };
 
-VOLILLUMFILTERS_EXPORT VertexColoring ColorVertices(const TetrahedralMesh& mesh);
+VOLILLUMKERNELS_EXPORT VertexColoring ColorVertices(const TetrahedralMesh& mesh);
 
 /// Eq. 12: one implicit diffusion step of strength[c] per channel, solved by iterations
 /// of coloured Gauss-Seidel. rgb holds 3 values per vertex and is updated in place.
-VOLILLUMFILTERS_EXPORT void Scatter(const TetrahedralMesh& mesh, const VertexColoring& coloring,
+VOLILLUMKERNELS_EXPORT void Scatter(const TetrahedralMesh& mesh, const VertexColoring& coloring,
   const std::array<double, 3>& strength, int iterations, std::vector<float>& rgb);
 
 }

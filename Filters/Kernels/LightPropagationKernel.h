@@ -1,7 +1,12 @@
 /**
  * @file LightPropagationKernel.h
  * @brief Coherence-based light propagation into one fixed-point illumination volume
- * (sections 4-5 of the selective-light-updates paper).
+ * (sections 4-6 of the selective-light-updates paper).
+ *
+ * Method: E. Sundén and T. Ropinski, "Efficient Volume Illumination with Multiple Light Sources
+ * through Selective Light Updates", IEEE Pacific Visualization Symposium (PacificVis), 2015:
+ * coherence-based propagation of several lights per sweep (section 4), selective light updates
+ * (section 5) and the propagation groups' weights (section 6, eq. 5a/5b).
  *
  * Light is swept slice by slice along one of six axis directions (a propagation group).
  * Every light of a group travels in the same sweep with its own pair of 2D slice buffers.
@@ -46,7 +51,7 @@
 #include "IlluminationClassification.h"
 #include "IlluminationLights.h"
 #include "RayMarchKernel.h"
-#include "VolIllumFiltersModule.h"
+#include "VolIllumKernelsModule.h"
 
 #include <cstdint>
 #include <vector>
@@ -65,7 +70,7 @@ struct GroupWeight
 
 /// The groups a light propagates in with their weights; for a light inside the volume all
 /// six groups with weight 1 (the per-point weights are applied during the sweep).
-VOLILLUMFILTERS_EXPORT std::vector<GroupWeight> AssignPropagationGroups(
+VOLILLUMKERNELS_EXPORT std::vector<GroupWeight> AssignPropagationGroups(
   const LightState& light, const double bounds[6]);
 
 /// One light state to propagate in one group, added (Sign +1) or removed (Sign -1).
@@ -85,11 +90,11 @@ struct PropagationTask
 };
 
 /// The tasks that add (sign +1) or remove (sign -1) a light state; none when it is off.
-VOLILLUMFILTERS_EXPORT std::vector<PropagationTask> TasksForLight(
+VOLILLUMKERNELS_EXPORT std::vector<PropagationTask> TasksForLight(
   const LightState& light, int sign, const double bounds[6]);
 
 /// Number of sweeps the tasks need: distinct groups when coherent, tasks otherwise.
-VOLILLUMFILTERS_EXPORT int CountSweeps(const std::vector<PropagationTask>& tasks, bool coherent);
+VOLILLUMKERNELS_EXPORT int CountSweeps(const std::vector<PropagationTask>& tasks, bool coherent);
 
 /**
  * RGB illumination in 32-bit fixed point: Scale units (a power of two) per unit of light.
@@ -100,7 +105,7 @@ VOLILLUMFILTERS_EXPORT int CountSweeps(const std::vector<PropagationTask>& tasks
  * (ScaleFor); bounds the scale no longer suits (Holds) calls for a reset with a new scale.
  * Precision: 1 / Scale, between 2^-30 and 2^-20 of the bound.
  */
-class VOLILLUMFILTERS_EXPORT FixedPointIllumination
+class VOLILLUMKERNELS_EXPORT FixedPointIllumination
 {
 public:
   /// Largest power of two with bound x Scale <= 2^28 (1 when there is no light).
@@ -142,7 +147,7 @@ struct PropagationStatistics
  * segments at once where the illumination grid has the data's resolution (the reference
  * the row kernels are tested against; the same result up to float rounding).
  */
-VOLILLUMFILTERS_EXPORT bool PropagateTasks(const ClassifiedVolume& volume,
+VOLILLUMKERNELS_EXPORT bool PropagateTasks(const ClassifiedVolume& volume,
   const GridGeometry& target, const std::vector<PropagationTask>& tasks, bool coherent,
   int maxSweeps, FixedPointIllumination& illumination, std::vector<PropagationTask>& remaining,
   PropagationStatistics& statistics, const ProgressCallback& progress,

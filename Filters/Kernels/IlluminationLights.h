@@ -2,26 +2,20 @@
  * @file IlluminationLights.h
  * @brief Plain C++ description of the lights every illumination filter uses.
  *
- * The filters accept VTK's own vtkLight (DESIGN.md): a non-positional light is
- * directional (it shines from its position toward its focal point), a positional light
- * with a cone angle of 90 degrees or more is a point light and one with a smaller cone
- * angle a spot light. LightState is a value snapshot of one vtkLight so that a filter can
- * compare what it last applied with what the user has now, parameter by parameter,
- * instead of trusting modification times.
+ * The filters accept VTK's own vtkLight (IlluminationLightList.h converts it; see
+ * Documentation/design.md): a non-positional light is directional (it shines from its
+ * position toward its focal point), a positional light with a cone angle of 90 degrees or
+ * more is a point light and one with a smaller cone angle a spot light. LightState is a value
+ * snapshot of one light so that a filter can compare what it last applied with what the user
+ * has now, parameter by parameter, instead of trusting modification times.
  */
 #ifndef IlluminationLights_h
 #define IlluminationLights_h
 
-#include "VolIllumFiltersModule.h"
-
-#include "vtkSmartPointer.h"
-#include "vtkType.h"
+#include "VolIllumKernelsModule.h"
 
 #include <array>
-#include <string>
 #include <vector>
-
-class vtkLight;
 
 namespace volillum
 {
@@ -38,7 +32,7 @@ enum class LightKind
 /// exponent, switch.
 constexpr int LightParameterCount = 14;
 
-struct VOLILLUMFILTERS_EXPORT LightState
+struct VOLILLUMKERNELS_EXPORT LightState
 {
   LightKind Kind = LightKind::Directional;
   std::array<double, 3> Position{ { 0.0, 0.0, 1.0 } };
@@ -60,15 +54,6 @@ struct VOLILLUMFILTERS_EXPORT LightState
   bool operator!=(const LightState& other) const { return !(*this == other); }
 };
 
-/// Snapshot of a vtkLight.
-VOLILLUMFILTERS_EXPORT LightState CaptureLight(vtkLight* light);
-
-/// Set a vtkLight from the 14 numbers of the flat parameter layout.
-VOLILLUMFILTERS_EXPORT void ApplyLightParameters(vtkLight* light, const double* parameters);
-
-/// Read the 14 numbers of the flat parameter layout from a vtkLight.
-VOLILLUMFILTERS_EXPORT void GetLightParameters(vtkLight* light, double* parameters);
-
 /// Light arriving at a point before any attenuation: the unit direction toward the
 /// light, how far light has to travel to reach the point (infinite for a directional
 /// light) and the spot-cone factor (1 outside spot lights, 0 outside the cone).
@@ -79,7 +64,7 @@ struct Incidence
   double ConeFactor;
 };
 
-VOLILLUMFILTERS_EXPORT Incidence ComputeIncidence(const LightState& light, const double point[3]);
+VOLILLUMKERNELS_EXPORT Incidence ComputeIncidence(const LightState& light, const double point[3]);
 
 /// Brightest light accepted (colour x intensity per channel): keeps sums of light, and the
 /// fixed-point scales chosen from them (FixedPointIllumination), far from overflow.
@@ -97,18 +82,18 @@ constexpr double FarLightDistance = 1e4;
  * light's intensity takes its cone factor at the centre); a nearer spot light's focal
  * point becomes its position plus its unit axis.
  */
-VOLILLUMFILTERS_EXPORT std::vector<LightState> ForBounds(
+VOLILLUMKERNELS_EXPORT std::vector<LightState> ForBounds(
   const std::vector<LightState>& lights, const double bounds[6]);
 
 /// True when the light position lies inside the axis-aligned box bounds
 /// (xmin, xmax, ymin, ymax, zmin, zmax). Directional lights are never inside.
-VOLILLUMFILTERS_EXPORT bool IsLightInside(const LightState& light, const double bounds[6]);
+VOLILLUMKERNELS_EXPORT bool IsLightInside(const LightState& light, const double bounds[6]);
 
 /**
  * Remembers the light states a filter applied last and tells which lights changed
  * since then. Lights are matched by their index in the list.
  */
-class VOLILLUMFILTERS_EXPORT LightChangeTracker
+class VOLILLUMKERNELS_EXPORT LightChangeTracker
 {
 public:
   /// Indices whose state differs from the applied state, including lights that were
@@ -122,41 +107,6 @@ public:
 
 private:
   std::vector<LightState> Applied;
-};
-
-/**
- * The lights of one filter: vtkLight objects held by reference, editable one by one or
- * through the flat list of LightParameterCount numbers per light that ParaView's "Lights"
- * property sends. Every illumination filter forwards its light API to one of these.
- */
-class VOLILLUMFILTERS_EXPORT LightList
-{
-public:
-  /// Add a light; returns false for a null light.
-  bool Add(vtkLight* light);
-  /// Remove every light; returns whether there were any.
-  bool Clear();
-  int Size() const { return static_cast<int>(this->Lights.size()); }
-  vtkLight* Get(int index) const;
-
-  /// Create or remove lights so that there are count / LightParameterCount of them.
-  /// Returns false (and changes nothing) when count is not a multiple of it; changed
-  /// tells whether lights were added or removed.
-  bool SetNumberOfParameters(int count, bool& changed);
-  int GetNumberOfParameters() const { return this->Size() * LightParameterCount; }
-  /// Edit one value of the flat list; returns false when the index is out of range.
-  bool SetParameter(int index, double value);
-  double GetParameter(int index) const;
-
-  std::vector<LightState> States() const;
-  /// Latest modification time of the lights (0 without lights).
-  vtkMTimeType GetMTime() const;
-  /// Empty when every light is usable, otherwise what is wrong (non-finite parameter,
-  /// negative intensity or colour, colour x intensity above MaximumRadiance).
-  std::string Validate() const;
-
-private:
-  std::vector<vtkSmartPointer<vtkLight>> Lights;
 };
 
 }

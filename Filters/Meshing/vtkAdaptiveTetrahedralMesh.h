@@ -14,10 +14,10 @@
 #define vtkAdaptiveTetrahedralMesh_h
 
 #include "IlluminationFilterSupport.h" // for the shared limits
-#include "VolIllumFiltersModule.h"
+#include "VolIllumMeshingModule.h"
 #include "vtkUnstructuredGridAlgorithm.h"
 
-class VOLILLUMFILTERS_EXPORT vtkAdaptiveTetrahedralMesh : public vtkUnstructuredGridAlgorithm
+class VOLILLUMMESHING_EXPORT vtkAdaptiveTetrahedralMesh : public vtkUnstructuredGridAlgorithm
 {
 public:
   static vtkAdaptiveTetrahedralMesh* New();

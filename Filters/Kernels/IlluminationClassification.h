@@ -1,19 +1,22 @@
 /**
  * @file IlluminationClassification.h
- * @brief Turns scalars and transfer functions into the optical properties light
- * propagation needs, and describes the geometry of an illumination volume.
+ * @brief The optical properties light propagation needs (a classified volume) and the
+ * geometry of an illumination volume.
  *
+ * IlluminationClassify.h fills a ClassifiedVolume from VTK scalars and transfer functions.
+ * The optical model is the emission-absorption model of N. Max, "Optical Models for Direct
+ * Volume Rendering", IEEE Transactions on Visualization and Computer Graphics 1(2), 1995.
  * Classification follows vtkVolumeProperty: the scalar opacity function gives the opacity
  * of a sample one "scalar opacity unit distance" thick, so the extinction coefficient is
  * sigma = -ln(1 - opacity) / unitDistance and a step of length dt has the step-corrected
  * opacity a = 1 - exp(-sigma dt). With chromatic attenuation, light passing a step keeps
  * l_out = l_in (1 - a (1 - c)) per channel, c being the colour transfer function's colour
- * (DESIGN.md); without it l_out = l_in (1 - a).
+ * (Documentation/design.md); without it l_out = l_in (1 - a).
  */
 #ifndef IlluminationClassification_h
 #define IlluminationClassification_h
 
-#include "VolIllumFiltersModule.h"
+#include "VolIllumKernelsModule.h"
 
 #include <algorithm>
 #include <array>
@@ -21,15 +24,11 @@
 #include <string>
 #include <vector>
 
-class vtkColorTransferFunction;
-class vtkDataArray;
-class vtkPiecewiseFunction;
-
 namespace volillum
 {
 
 /// Points, origin and spacing of a regular grid.
-struct VOLILLUMFILTERS_EXPORT GridGeometry
+struct VOLILLUMKERNELS_EXPORT GridGeometry
 {
   std::array<int, 3> Dimensions{ { 0, 0, 0 } };
   std::array<double, 3> Origin{ { 0.0, 0.0, 0.0 } };
@@ -56,11 +55,11 @@ struct VOLILLUMFILTERS_EXPORT GridGeometry
 
 /// The illumination grid at a resolution scale (1, 1/2 or 1/4 per axis) covering the same
 /// bounds as the data grid: the first and last points coincide with the data's.
-VOLILLUMFILTERS_EXPORT GridGeometry ScaledGeometry(const GridGeometry& data, double scale);
+VOLILLUMKERNELS_EXPORT GridGeometry ScaledGeometry(const GridGeometry& data, double scale);
 
 /// Trilinear interpolation of a point field with `channels` floats per grid point (x
 /// fastest) at a world position; positions outside the grid are clamped onto it.
-VOLILLUMFILTERS_EXPORT void TrilinearSample(
+VOLILLUMKERNELS_EXPORT void TrilinearSample(
   const GridGeometry& geometry, const float* field, int channels, const double p[3], float* out);
 
 /// The grid cell a trilinear sample reads (the index of its first point per axis) and the
@@ -84,7 +83,7 @@ inline float Interpolate(
 /// attenuation, k_c, the fraction of the step opacity that removes light of channel c
 /// (1 - colour), interleaved as {sigma, k_r, k_g, k_b} (Channels 4). Without chromatic
 /// attenuation every k_c is 1 and only sigma is stored (Channels 1: 4 bytes a point).
-struct VOLILLUMFILTERS_EXPORT ClassifiedVolume
+struct VOLILLUMKERNELS_EXPORT ClassifiedVolume
 {
   GridGeometry Geometry;
   int Channels = 4;
@@ -107,35 +106,15 @@ struct VOLILLUMFILTERS_EXPORT ClassifiedVolume
   float MaxExtinction() const;
 };
 
-/// Settings of classification.
-struct ClassificationSettings
-{
-  vtkColorTransferFunction* Color = nullptr;
-  vtkPiecewiseFunction* Opacity = nullptr;
-  double UnitDistance = 1.0;
-  bool Chromatic = true;
-  int Component = 0;
-};
-
 /// Opacities of exactly 1 would make sigma infinite; they are clamped to this value.
 constexpr double MaximumOpacity = 1.0 - 1e-6;
-
-/**
- * Classify the scalars (any numeric type; NaN counts as empty space). Without transfer
- * functions a grey ramp over the scalar range applies: colour and opacity rise linearly
- * from 0 at the minimum to 1 at the maximum. Returns false with a message in error when
- * the input cannot be classified.
- */
-VOLILLUMFILTERS_EXPORT bool Classify(vtkDataArray* scalars, const GridGeometry& geometry,
-  const ClassificationSettings& settings, ClassifiedVolume& out, std::string& error,
-  long long* nanCount = nullptr);
 
 /// Step-corrected opacity of a step of length dt through a medium of extinction sigma.
 inline double StepOpacity(double sigma, double dt);
 
 /// Distance from p along the unit direction d to where the ray leaves the box bounds
 /// (0 when p is outside and moving away).
-VOLILLUMFILTERS_EXPORT double DistanceToBoxExit(
+VOLILLUMKERNELS_EXPORT double DistanceToBoxExit(
   const double p[3], const double d[3], const double bounds[6]);
 
 }

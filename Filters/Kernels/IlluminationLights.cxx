@@ -1,12 +1,10 @@
 #include "IlluminationLights.h"
 
-#include "vtkLight.h"
 #include "vtkMath.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <sstream>
 
 namespace volillum
 {
@@ -87,51 +85,6 @@ bool LightState::operator==(const LightState& o) const
   return this->Kind == o.Kind && this->Position == o.Position && this->FocalPoint == o.FocalPoint &&
     this->Color == o.Color && this->Intensity == o.Intensity && this->ConeAngle == o.ConeAngle &&
     this->Exponent == o.Exponent && this->On == o.On;
-}
-
-LightState CaptureLight(vtkLight* light)
-{
-  LightState s;
-  if (!light->GetPositional())
-  {
-    s.Kind = LightKind::Directional;
-  }
-  else
-  {
-    s.Kind = light->GetConeAngle() >= 90.0 ? LightKind::Point : LightKind::Spot;
-  }
-  light->GetPosition(s.Position.data());
-  light->GetFocalPoint(s.FocalPoint.data());
-  light->GetDiffuseColor(s.Color.data());
-  s.Intensity = light->GetIntensity();
-  s.ConeAngle = light->GetConeAngle();
-  s.Exponent = light->GetExponent();
-  s.On = light->GetSwitch() != 0;
-  return s;
-}
-
-void ApplyLightParameters(vtkLight* light, const double* p)
-{
-  light->SetPositional(p[0] != 0.0);
-  light->SetPosition(p[1], p[2], p[3]);
-  light->SetFocalPoint(p[4], p[5], p[6]);
-  light->SetDiffuseColor(p[7], p[8], p[9]);
-  light->SetIntensity(p[10]);
-  light->SetConeAngle(p[11]);
-  light->SetExponent(p[12]);
-  light->SetSwitch(p[13] != 0.0);
-}
-
-void GetLightParameters(vtkLight* light, double* p)
-{
-  p[0] = light->GetPositional();
-  light->GetPosition(p + 1);
-  light->GetFocalPoint(p + 4);
-  light->GetDiffuseColor(p + 7);
-  p[10] = light->GetIntensity();
-  p[11] = light->GetConeAngle();
-  p[12] = light->GetExponent();
-  p[13] = light->GetSwitch();
 }
 
 Incidence ComputeIncidence(const LightState& light, const double point[3])
@@ -244,141 +197,6 @@ std::vector<int> LightChangeTracker::ChangedLights(const std::vector<LightState>
     }
   }
   return changed;
-}
-
-//------------------------------------------------------------------------------
-bool LightList::Add(vtkLight* light)
-{
-  if (!light)
-  {
-    return false;
-  }
-  this->Lights.emplace_back(light);
-  return true;
-}
-
-//------------------------------------------------------------------------------
-bool LightList::Clear()
-{
-  const bool had = !this->Lights.empty();
-  this->Lights.clear();
-  return had;
-}
-
-//------------------------------------------------------------------------------
-vtkLight* LightList::Get(int index) const
-{
-  return index >= 0 && index < this->Size() ? this->Lights[index].Get() : nullptr;
-}
-
-//------------------------------------------------------------------------------
-bool LightList::SetNumberOfParameters(int count, bool& changed)
-{
-  changed = false;
-  if (count < 0 || count % LightParameterCount != 0)
-  {
-    return false;
-  }
-  const size_t lights = static_cast<size_t>(count / LightParameterCount);
-  changed = lights != this->Lights.size();
-  while (this->Lights.size() < lights)
-  {
-    this->Lights.push_back(vtkSmartPointer<vtkLight>::New());
-  }
-  this->Lights.resize(lights);
-  return true;
-}
-
-//------------------------------------------------------------------------------
-bool LightList::SetParameter(int index, double value)
-{
-  const int light = index / LightParameterCount;
-  if (index < 0 || light >= this->Size())
-  {
-    return false;
-  }
-  double p[LightParameterCount];
-  GetLightParameters(this->Lights[light], p);
-  p[index % LightParameterCount] = value;
-  // vtkLight marks itself modified only for values that change.
-  ApplyLightParameters(this->Lights[light], p);
-  return true;
-}
-
-//------------------------------------------------------------------------------
-double LightList::GetParameter(int index) const
-{
-  const int light = index / LightParameterCount;
-  if (index < 0 || light >= this->Size())
-  {
-    return 0.0;
-  }
-  double p[LightParameterCount];
-  GetLightParameters(this->Lights[light], p);
-  return p[index % LightParameterCount];
-}
-
-//------------------------------------------------------------------------------
-std::vector<LightState> LightList::States() const
-{
-  std::vector<LightState> states;
-  states.reserve(this->Lights.size());
-  for (const auto& light : this->Lights)
-  {
-    states.push_back(CaptureLight(light));
-  }
-  return states;
-}
-
-//------------------------------------------------------------------------------
-vtkMTimeType LightList::GetMTime() const
-{
-  vtkMTimeType t = 0;
-  for (const auto& light : this->Lights)
-  {
-    t = std::max(t, light->GetMTime());
-  }
-  return t;
-}
-
-//------------------------------------------------------------------------------
-std::string LightList::Validate() const
-{
-  std::ostringstream message;
-  for (int i = 0; i < this->Size(); ++i)
-  {
-    double p[LightParameterCount];
-    GetLightParameters(this->Lights[i], p);
-    for (double v : p)
-    {
-      if (!std::isfinite(v))
-      {
-        message << "Light " << i << " has a parameter that is not a finite number.";
-        return message.str();
-      }
-    }
-    const LightState state = CaptureLight(this->Lights[i]);
-    if (state.Intensity < 0.0)
-    {
-      message << "Light " << i << " has a negative intensity.";
-      return message.str();
-    }
-    for (double c : state.Color)
-    {
-      if (c < 0.0)
-      {
-        message << "Light " << i << " has a negative colour component.";
-        return message.str();
-      }
-      if (c * state.Intensity > MaximumRadiance)
-      {
-        message << "Light " << i << " is too bright: colour x intensity " << c * state.Intensity
-                << " exceeds the limit " << MaximumRadiance << ".";
-        return message.str();
-      }
-    }
-  }
-  return std::string();
 }
 
 }

@@ -1,0 +1,72 @@
+/**
+ * @file IlluminationLightList.h
+ * @brief The filters' lights as VTK objects: vtkLight snapshots and the flat parameter list.
+ *
+ * The pipeline side of the lights (the kernels see only LightState, IlluminationLights.h):
+ * LightList holds a filter's vtkLight objects and edits them through the flat list of
+ * LightParameterCount numbers per light that ParaView's "Lights" property sends.
+ */
+#ifndef IlluminationLightList_h
+#define IlluminationLightList_h
+
+#include "IlluminationLights.h"
+#include "VolIllumFiltersModule.h"
+
+#include "vtkSmartPointer.h"
+#include "vtkType.h"
+
+#include <string>
+#include <vector>
+
+class vtkLight;
+
+namespace volillum
+{
+
+/// Snapshot of a vtkLight.
+VOLILLUMFILTERS_EXPORT LightState CaptureLight(vtkLight* light);
+
+/// Set a vtkLight from the 14 numbers of the flat parameter layout.
+VOLILLUMFILTERS_EXPORT void ApplyLightParameters(vtkLight* light, const double* parameters);
+
+/// Read the 14 numbers of the flat parameter layout from a vtkLight.
+VOLILLUMFILTERS_EXPORT void GetLightParameters(vtkLight* light, double* parameters);
+
+/**
+ * The lights of one filter: vtkLight objects held by reference, editable one by one or
+ * through the flat list of LightParameterCount numbers per light that ParaView's "Lights"
+ * property sends. Every illumination filter forwards its light API to one of these.
+ */
+class VOLILLUMFILTERS_EXPORT LightList
+{
+public:
+  /// Add a light; returns false for a null light.
+  bool Add(vtkLight* light);
+  /// Remove every light; returns whether there were any.
+  bool Clear();
+  int Size() const { return static_cast<int>(this->Lights.size()); }
+  vtkLight* Get(int index) const;
+
+  /// Create or remove lights so that there are count / LightParameterCount of them.
+  /// Returns false (and changes nothing) when count is not a multiple of it; changed
+  /// tells whether lights were added or removed.
+  bool SetNumberOfParameters(int count, bool& changed);
+  int GetNumberOfParameters() const { return this->Size() * LightParameterCount; }
+  /// Edit one value of the flat list; returns false when the index is out of range.
+  bool SetParameter(int index, double value);
+  double GetParameter(int index) const;
+
+  std::vector<LightState> States() const;
+  /// Latest modification time of the lights (0 without lights).
+  vtkMTimeType GetMTime() const;
+  /// Empty when every light is usable, otherwise what is wrong (non-finite parameter,
+  /// negative intensity or colour, colour x intensity above MaximumRadiance).
+  std::string Validate() const;
+
+private:
+  std::vector<vtkSmartPointer<vtkLight>> Lights;
+};
+
+}
+
+#endif
