@@ -51,6 +51,65 @@ bool ValidDimensions(const int dims[3])
   }
   return true;
 }
+
+// The scenes at a point p (grid coordinates) of a grid spanning size, as values in [0, 1] of
+// the scene's full scale.
+double ThreeSpheresValue(const double p[3], const double size[3])
+{
+  static const double centres[3][3] = { { 0.32, 0.50, 0.50 }, { 0.62, 0.32, 0.46 },
+    { 0.62, 0.68, 0.56 } };
+  double v = 0.0;
+  for (const auto& c : centres)
+  {
+    const double cc[3] = { c[0] * size[0], c[1] * size[1], c[2] * size[2] };
+    const double rr = 0.16 * std::min(size[0], std::min(size[1], size[2]));
+    const double r[3] = { rr, rr, rr };
+    v = std::max(v, Inside(EllipsoidDistance(p, cc, r)));
+  }
+  return v;
+}
+
+double ChirpValue(const double p[3], const double size[3])
+{
+  if (p[2] <= 2.0)
+  {
+    return 1.0;
+  }
+  if (p[2] < 0.6 * size[2] || p[2] > 0.75 * size[2])
+  {
+    return 0.0;
+  }
+  // Frequency f(x) = f0 + (f1 - f0) x / L, phase = 2 pi (f0 x + (f1 - f0) x^2 / 2L).
+  const double f0 = 1.0 / 40.0, f1 = 0.25, length = std::max(size[0], 1.0);
+  const double phase = 2.0 * vtkMath::Pi() * (f0 * p[0] + 0.5 * (f1 - f0) * p[0] * p[0] / length);
+  return 0.5 * (1.0 + std::cos(phase));
+}
+
+double CTPhantomValue(const double p[3], const double size[3])
+{
+  const double c[3] = { 0.5 * size[0], 0.5 * size[1], 0.5 * size[2] };
+  const double head[3] = { 0.42 * size[0], 0.46 * size[1], 0.44 * size[2] };
+  const double brain[3] = { 0.37 * size[0], 0.41 * size[1], 0.39 * size[2] };
+  const double skin = Inside(EllipsoidDistance(p, c, head));
+  const double inner = Inside(EllipsoidDistance(p, c, brain));
+  // Skull between the brain and the skin, soft tissue inside.
+  double v = 0.6 * (skin - inner) + 0.3 * inner;
+  const double ventricle[3] = { 0.06 * size[0], 0.14 * size[1], 0.08 * size[2] };
+  for (double side : { -1.0, 1.0 })
+  {
+    const double vc[3] = { c[0] + side * 0.09 * size[0], c[1] + 0.02 * size[1], c[2] };
+    v -= 0.2 * Inside(EllipsoidDistance(p, vc, ventricle));
+  }
+  const double blobs[3][4] = { { 0.40, 0.30, 0.62, 0.05 }, { 0.62, 0.66, 0.40, 0.04 },
+    { 0.52, 0.42, 0.30, 0.035 } };
+  for (const auto& b : blobs)
+  {
+    const double bc[3] = { b[0] * size[0], b[1] * size[1], b[2] * size[2] };
+    const double br[3] = { b[3] * size[0], b[3] * size[1], b[3] * size[2] };
+    v = std::max(v, Inside(EllipsoidDistance(p, bc, br)));
+  }
+  return std::min(1.0, std::max(0.0, v));
+}
 }
 
 //------------------------------------------------------------------------------
@@ -100,62 +159,13 @@ int vtkIlluminationPhantomSource::RequestData(
     switch (this->Scene)
     {
       case ThreeSpheres:
-      {
-        static const double centres[3][3] = { { 0.32, 0.50, 0.50 }, { 0.62, 0.32, 0.46 },
-          { 0.62, 0.68, 0.56 } };
-        double v = 0.0;
-        for (const auto& c : centres)
-        {
-          const double cc[3] = { c[0] * size[0], c[1] * size[1], c[2] * size[2] };
-          const double rr = 0.16 * std::min(size[0], std::min(size[1], size[2]));
-          const double r[3] = { rr, rr, rr };
-          v = std::max(v, Inside(EllipsoidDistance(p, cc, r)));
-        }
-        return v;
-      }
+        return ThreeSpheresValue(p, size);
       case Slab:
         return (p[2] >= this->SlabBegin && p[2] <= this->SlabEnd) ? 1.0 : 0.0;
       case Chirp:
-      {
-        if (p[2] <= 2.0)
-        {
-          return 1.0;
-        }
-        if (p[2] < 0.6 * size[2] || p[2] > 0.75 * size[2])
-        {
-          return 0.0;
-        }
-        // Frequency f(x) = f0 + (f1 - f0) x / L, phase = 2 pi (f0 x + (f1 - f0) x^2 / 2L).
-        const double f0 = 1.0 / 40.0, f1 = 0.25, length = std::max(size[0], 1.0);
-        const double phase =
-          2.0 * vtkMath::Pi() * (f0 * p[0] + 0.5 * (f1 - f0) * p[0] * p[0] / length);
-        return 0.5 * (1.0 + std::cos(phase));
-      }
+        return ChirpValue(p, size);
       default:
-      {
-        const double c[3] = { 0.5 * size[0], 0.5 * size[1], 0.5 * size[2] };
-        const double head[3] = { 0.42 * size[0], 0.46 * size[1], 0.44 * size[2] };
-        const double brain[3] = { 0.37 * size[0], 0.41 * size[1], 0.39 * size[2] };
-        const double skin = Inside(EllipsoidDistance(p, c, head));
-        const double inner = Inside(EllipsoidDistance(p, c, brain));
-        // Skull between the brain and the skin, soft tissue inside.
-        double v = 0.6 * (skin - inner) + 0.3 * inner;
-        const double ventricle[3] = { 0.06 * size[0], 0.14 * size[1], 0.08 * size[2] };
-        for (double side : { -1.0, 1.0 })
-        {
-          const double vc[3] = { c[0] + side * 0.09 * size[0], c[1] + 0.02 * size[1], c[2] };
-          v -= 0.2 * Inside(EllipsoidDistance(p, vc, ventricle));
-        }
-        const double blobs[3][4] = { { 0.40, 0.30, 0.62, 0.05 }, { 0.62, 0.66, 0.40, 0.04 },
-          { 0.52, 0.42, 0.30, 0.035 } };
-        for (const auto& b : blobs)
-        {
-          const double bc[3] = { b[0] * size[0], b[1] * size[1], b[2] * size[2] };
-          const double br[3] = { b[3] * size[0], b[3] * size[1], b[3] * size[2] };
-          v = std::max(v, Inside(EllipsoidDistance(p, bc, br)));
-        }
-        return std::min(1.0, std::max(0.0, v));
-      }
+        return CTPhantomValue(p, size);
     }
   };
 

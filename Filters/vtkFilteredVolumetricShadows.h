@@ -107,6 +107,15 @@ protected:
 
 private:
   vtkFilteredVolumetricShadows(const vtkFilteredVolumetricShadows&) = delete;
+  // Tables for the frames and point-light positions, reusing those of the last update whose
+  // frame or light, resolution and classification hold; built counts the new ones.
+  bool UpdateTables(const volillum::ClassifiedVolume& volume,
+    const std::vector<volillum::SatFrame>& frames,
+    const std::vector<std::array<double, 3>>& positions, double cellSize, int channels,
+    bool inputModified, int& built);
+  // The per-light transmittance arrays (PerLightTransmittance), null for the others.
+  std::vector<float*> AllocateTransmittances(
+    const std::vector<volillum::LightState>& lights, int channels, long long points);
   void operator=(const vtkFilteredVolumetricShadows&) = delete;
 
   // Tables of the last update, reused while the classification and their frames hold.

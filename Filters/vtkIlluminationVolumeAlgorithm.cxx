@@ -251,29 +251,11 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
 }
 
 //------------------------------------------------------------------------------
-void vtkIlluminationVolumeAlgorithm::Illuminate(vtkImageData* input, vtkImageData* output)
+bool vtkIlluminationVolumeAlgorithm::UpdateClassification(
+  const volillum::GridGeometry& data, bool& inputModified)
 {
-  const auto start = std::chrono::steady_clock::now();
-  volillum::GridGeometry data, target;
-  if (!this->ValidGeometry(input, data, target))
-  {
-    return;
-  }
-  std::string error;
-  this->Scalars = volillum::CheckScalarsAndLights(
-    this, input, this->ScalarComponent, this->Scalars, this->Lights, error);
   vtkDataArray* scalars = this->Scalars.Array;
-  if (!scalars)
-  {
-    vtkErrorMacro(<< error);
-    return;
-  }
-  double bounds[6];
-  data.GetBounds(bounds);
-  vtkMatrix3x3* direction = input->GetDirectionMatrix();
-  const std::vector<volillum::LightState> lights = volillum::ForBounds(
-    volillum::InImageFrame(this->GetLightStates(), direction, input->GetOrigin()), bounds);
-
+  std::string error;
   ClassificationKey key;
   key.Scalars = this->Scalars.Time;
   key.Component = this->ScalarComponent;
@@ -282,7 +264,7 @@ void vtkIlluminationVolumeAlgorithm::Illuminate(vtkImageData* input, vtkImageDat
   key.Scale = this->ResolutionScale;
   key.UnitDistance = this->ScalarOpacityUnitDistance;
   key.Chromatic = this->ChromaticAttenuation;
-  const bool inputModified = !this->HasClassification || !(key == this->ClassifiedKey) ||
+  inputModified = !this->HasClassification || !(key == this->ClassifiedKey) ||
     this->Classified.Geometry.Dimensions != data.Dimensions ||
     this->Classified.Geometry.Spacing != data.Spacing ||
     this->Classified.Geometry.Origin != data.Origin;
@@ -299,7 +281,7 @@ void vtkIlluminationVolumeAlgorithm::Illuminate(vtkImageData* input, vtkImageDat
     if (!volillum::Classify(scalars, data, settings, this->Classified, error, &nans))
     {
       vtkErrorMacro("Cannot classify the input: " << error << ".");
-      return;
+      return false;
     }
     if (nans > 0)
     {
@@ -307,6 +289,37 @@ void vtkIlluminationVolumeAlgorithm::Illuminate(vtkImageData* input, vtkImageDat
     }
     this->ClassifiedKey = key;
     this->HasClassification = true;
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkIlluminationVolumeAlgorithm::Illuminate(vtkImageData* input, vtkImageData* output)
+{
+  const auto start = std::chrono::steady_clock::now();
+  volillum::GridGeometry data, target;
+  if (!this->ValidGeometry(input, data, target))
+  {
+    return;
+  }
+  std::string error;
+  this->Scalars = volillum::CheckScalarsAndLights(
+    this, input, this->ScalarComponent, this->Scalars, this->Lights, error);
+  if (!this->Scalars.Array)
+  {
+    vtkErrorMacro(<< error);
+    return;
+  }
+  double bounds[6];
+  data.GetBounds(bounds);
+  vtkMatrix3x3* direction = input->GetDirectionMatrix();
+  const std::vector<volillum::LightState> lights = volillum::ForBounds(
+    volillum::InImageFrame(this->GetLightStates(), direction, input->GetOrigin()), bounds);
+
+  bool inputModified = false;
+  if (!this->UpdateClassification(data, inputModified))
+  {
+    return;
   }
 
   vtkNew<vtkFloatArray> illumination;

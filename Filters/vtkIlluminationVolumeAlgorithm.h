@@ -211,6 +211,9 @@ private:
 
   // Light the whole image input into output (the serial update).
   void Illuminate(vtkImageData* input, vtkImageData* output);
+  // Classify the scalars (Scalars) on the data grid unless the cached classification was made
+  // from the same input and settings (inputModified tells which); false after an error.
+  bool UpdateClassification(const volillum::GridGeometry& data, bool& inputModified);
 
   // What the last successful classification was made from; equal keys mean the cached
   // classification is still valid.

@@ -275,46 +275,97 @@ void vtkUnstructuredGridIllumination::Illuminate(
   vtkUnstructuredGrid* input, vtkUnstructuredGrid* output)
 {
   const auto start = Clock::now();
-  if (!input || input->GetNumberOfPoints() == 0 || input->GetNumberOfCells() == 0)
+  if (!this->CheckInput(input))
   {
-    vtkErrorMacro("The input grid has no "
-      << (input && input->GetNumberOfPoints() > 0 ? "cells" : "points") << ".");
     return;
   }
-  std::string error;
-  this->Scalars = volillum::CheckScalarsAndLights(
-    this, input, this->ScalarComponent, this->Scalars, this->Lights, error);
-  vtkDataArray* scalars = this->Scalars.Array;
-  if (!scalars)
-  {
-    vtkErrorMacro(<< error);
-    return;
-  }
-  if (!std::isfinite(this->Absorption) || !std::isfinite(this->ScatteringStrength[0]) ||
-    !std::isfinite(this->ScatteringStrength[1]) || !std::isfinite(this->ScatteringStrength[2]))
-  {
-    vtkErrorMacro("Absorption and ScatteringStrength must be finite numbers.");
-    return;
-  }
-  // Each axis is checked before the product (three huge axes would overflow it).
-  const int* r = this->Level0Resolution;
-  const auto axisOk = [](int n) { return n >= 2 && n <= 1024; };
-  if (!axisOk(r[0]) || !axisOk(r[1]) || !axisOk(r[2]) ||
-    static_cast<long long>(r[0]) * r[1] * r[2] > MaximumLevel0Points)
-  {
-    vtkErrorMacro("Level0Resolution must be 2 to 1024 points per axis and at most "
-      << MaximumLevel0Points << " points in all; it is " << r[0] << " x " << r[1] << " x " << r[2]
-      << ".");
-    return;
-  }
+  PhaseSeconds seconds;
   const auto meshStart = Clock::now();
   if (!this->PrepareMesh(input))
   {
     return;
   }
-  const double meshSeconds = SecondsSince(meshStart);
+  seconds.Mesh = SecondsSince(meshStart);
   this->UpdateProgress(0.1);
+  volillum::UpdateReport report;
+  report.Mode = 1;
+  const auto resampleStart = Clock::now();
+  if (!this->UpdateLevel0Grid(report))
+  {
+    return;
+  }
+  seconds.Resample = SecondsSince(resampleStart);
 
+  const std::vector<volillum::LightState> lights =
+    volillum::ForBounds(this->Lights.States(), input->GetBounds());
+  if (!this->PropagateChangedLights(lights, report, seconds))
+  {
+    if (this->LastOutput)
+    {
+      output->ShallowCopy(this->LastOutput);
+    }
+    return;
+  }
+  std::vector<const std::vector<float>*> rho(lights.size(), nullptr);
+  for (size_t l = 0; l < lights.size(); ++l)
+  {
+    if (lights[l].On)
+    {
+      rho[l] = &this->Cache[l].Rho;
+    }
+  }
+  std::vector<float> rgb;
+  volillum::CombineLights(this->Mesh, lights, rho, this->Channels, rgb);
+  const auto scatterStart = Clock::now();
+  volillum::Scatter(this->Mesh, this->Coloring,
+    { { this->ScatteringStrength[0], this->ScatteringStrength[1], this->ScatteringStrength[2] } },
+    this->ScatteringIterations, rgb);
+  seconds.Scattering = SecondsSince(scatterStart);
+  seconds.Update = SecondsSince(start);
+  this->FillOutput(input, rgb, report, seconds, output);
+  this->UpdateProgress(1.0);
+}
+
+//------------------------------------------------------------------------------
+bool vtkUnstructuredGridIllumination::CheckInput(vtkUnstructuredGrid* input)
+{
+  if (!input || input->GetNumberOfPoints() == 0 || input->GetNumberOfCells() == 0)
+  {
+    vtkErrorMacro("The input grid has no "
+      << (input && input->GetNumberOfPoints() > 0 ? "cells" : "points") << ".");
+    return false;
+  }
+  std::string error;
+  this->Scalars = volillum::CheckScalarsAndLights(
+    this, input, this->ScalarComponent, this->Scalars, this->Lights, error);
+  if (!this->Scalars.Array)
+  {
+    vtkErrorMacro(<< error);
+    return false;
+  }
+  if (!std::isfinite(this->Absorption) || !std::isfinite(this->ScatteringStrength[0]) ||
+    !std::isfinite(this->ScatteringStrength[1]) || !std::isfinite(this->ScatteringStrength[2]))
+  {
+    vtkErrorMacro("Absorption and ScatteringStrength must be finite numbers.");
+    return false;
+  }
+  // Each axis is checked before the product (three huge axes would overflow it).
+  const int* r = this->Level0Resolution;
+  const auto axisOk = [](int n) { return n >= 2 && n <= MaximumLevel0Axis; };
+  if (!axisOk(r[0]) || !axisOk(r[1]) || !axisOk(r[2]) ||
+    static_cast<long long>(r[0]) * r[1] * r[2] > MaximumLevel0Points)
+  {
+    vtkErrorMacro("Level0Resolution must be 2 to "
+      << MaximumLevel0Axis << " points per axis and at most " << MaximumLevel0Points
+      << " points in all; it is " << r[0] << " x " << r[1] << " x " << r[2] << ".");
+    return false;
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkUnstructuredGridIllumination::UpdateLevel0Grid(volillum::UpdateReport& report)
+{
   const std::vector<double> solutionKey = { static_cast<double>(this->MeshKey),
     static_cast<double>(this->Scalars.Time), static_cast<double>(this->ScalarComponent),
     static_cast<double>(this->ColorTransferFunction ? this->ColorTransferFunction->GetMTime() : 0),
@@ -322,28 +373,29 @@ void vtkUnstructuredGridIllumination::Illuminate(
     this->ScalarOpacityUnitDistance, this->ChromaticAttenuation ? 1.0 : 0.0, this->Absorption,
     static_cast<double>(this->Level0Resolution[0]), static_cast<double>(this->Level0Resolution[1]),
     static_cast<double>(this->Level0Resolution[2]), static_cast<double>(this->Level1Iterations) };
-  volillum::UpdateReport report;
-  report.Mode = 1;
-  const auto resampleStart = Clock::now();
   if (solutionKey != this->SolutionKey)
   {
     this->SolutionKey.clear();
     this->Cache.clear();
     report.Mode = 0;
-    if (!this->Classify(scalars))
+    if (!this->Classify(this->Scalars.Array))
     {
-      return;
+      return false;
     }
     const std::array<int, 3> dims = { { this->Level0Resolution[0], this->Level0Resolution[1],
       this->Level0Resolution[2] } };
     volillum::ResampleLevel0(this->Mesh, this->Extinction, this->Channels, dims, this->Level0);
     this->SolutionKey = solutionKey;
   }
-  const double resampleSeconds = SecondsSince(resampleStart);
+  return true;
+}
 
+//------------------------------------------------------------------------------
+bool vtkUnstructuredGridIllumination::PropagateChangedLights(
+  const std::vector<volillum::LightState>& lights, volillum::UpdateReport& report,
+  PhaseSeconds& seconds)
+{
   // Lights whose transmittance is missing or was computed for another geometry.
-  const std::vector<volillum::LightState> lights =
-    volillum::ForBounds(this->Lights.States(), input->GetBounds());
   this->Cache.resize(lights.size());
   std::vector<int> stale;
   for (size_t l = 0; l < lights.size(); ++l)
@@ -367,7 +419,6 @@ void vtkUnstructuredGridIllumination::Illuminate(
     ? this->Level1Iterations
     : volillum::AutomaticLevel1Iterations(this->Mesh, this->Level0);
   const size_t batch = static_cast<size_t>(std::max(1, vtkSMPTools::GetEstimatedNumberOfThreads()));
-  double level0Seconds = 0.0, level1Seconds = 0.0;
   std::vector<std::vector<float>> level0(batch);
   for (size_t first = 0; first < stale.size(); first += batch)
   {
@@ -381,18 +432,14 @@ void vtkUnstructuredGridIllumination::Illuminate(
           volillum::PropagateLevel0(this->Level0, lights[stale[first + b]], level0[b]);
         }
       });
-    level0Seconds += SecondsSince(level0Start);
+    seconds.Level0 += SecondsSince(level0Start);
     const auto level1Start = Clock::now();
     for (int b = 0; b < count; ++b)
     {
       this->UpdateProgress(0.1 + 0.8 * (first + b) / stale.size());
       if (this->GetAbortExecute())
       {
-        if (this->LastOutput)
-        {
-          output->ShallowCopy(this->LastOutput);
-        }
-        return;
+        return false;
       }
       LightCache& cache = this->Cache[stale[first + b]];
       cache.Valid = false;
@@ -401,25 +448,16 @@ void vtkUnstructuredGridIllumination::Illuminate(
       cache.State = lights[stale[first + b]];
       cache.Valid = true;
     }
-    level1Seconds += SecondsSince(level1Start);
+    seconds.Level1 += SecondsSince(level1Start);
   }
+  return true;
+}
 
-  std::vector<const std::vector<float>*> rho(lights.size(), nullptr);
-  for (size_t l = 0; l < lights.size(); ++l)
-  {
-    if (lights[l].On)
-    {
-      rho[l] = &this->Cache[l].Rho;
-    }
-  }
-  std::vector<float> rgb;
-  volillum::CombineLights(this->Mesh, lights, rho, this->Channels, rgb);
-  const auto scatterStart = Clock::now();
-  volillum::Scatter(this->Mesh, this->Coloring,
-    { { this->ScatteringStrength[0], this->ScatteringStrength[1], this->ScatteringStrength[2] } },
-    this->ScatteringIterations, rgb);
-  const double scatterSeconds = SecondsSince(scatterStart);
-
+//------------------------------------------------------------------------------
+void vtkUnstructuredGridIllumination::FillOutput(vtkUnstructuredGrid* input,
+  const std::vector<float>& rgb, const volillum::UpdateReport& report, const PhaseSeconds& seconds,
+  vtkUnstructuredGrid* output)
+{
   vtkNew<vtkFloatArray> illumination;
   illumination->SetName("Illumination");
   illumination->SetNumberOfComponents(3);
@@ -429,21 +467,20 @@ void vtkUnstructuredGridIllumination::Illuminate(
   output->GetPointData()->AddArray(illumination);
   if (this->LitColors)
   {
-    output->GetPointData()->AddArray(this->ShadeVertices(scalars, rgb));
+    output->GetPointData()->AddArray(this->ShadeVertices(this->Scalars.Array, rgb));
   }
   vtkFieldData* fieldData = vtkFieldData::New();
   fieldData->ShallowCopy(input->GetFieldData());
   output->SetFieldData(fieldData);
   fieldData->Delete();
-  volillum::AddUpdateFieldData(output->GetFieldData(), report, SecondsSince(start));
-  AddSeconds(output->GetFieldData(), "MeshSeconds", meshSeconds);
-  AddSeconds(output->GetFieldData(), "ResampleSeconds", resampleSeconds);
-  AddSeconds(output->GetFieldData(), "Level0Seconds", level0Seconds);
-  AddSeconds(output->GetFieldData(), "Level1Seconds", level1Seconds);
-  AddSeconds(output->GetFieldData(), "ScatteringSeconds", scatterSeconds);
+  volillum::AddUpdateFieldData(output->GetFieldData(), report, seconds.Update);
+  AddSeconds(output->GetFieldData(), "MeshSeconds", seconds.Mesh);
+  AddSeconds(output->GetFieldData(), "ResampleSeconds", seconds.Resample);
+  AddSeconds(output->GetFieldData(), "Level0Seconds", seconds.Level0);
+  AddSeconds(output->GetFieldData(), "Level1Seconds", seconds.Level1);
+  AddSeconds(output->GetFieldData(), "ScatteringSeconds", seconds.Scattering);
   this->LastOutput = vtkSmartPointer<vtkUnstructuredGrid>::New();
   this->LastOutput->ShallowCopy(output);
-  this->UpdateProgress(1.0);
 }
 
 //------------------------------------------------------------------------------

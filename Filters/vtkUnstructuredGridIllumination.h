@@ -116,7 +116,7 @@ public:
 
   ///@{
   /**
-   * Points of the level-0 grid along x, y and z (2 to 1024 each, at most
+   * Points of the level-0 grid along x, y and z (2 to MaximumLevel0Axis each, at most
    * MaximumLevel0Points in all). Default 128^3.
    */
   vtkSetVector3Macro(Level0Resolution, int);
@@ -187,8 +187,9 @@ public:
 
   vtkMTimeType GetMTime() override;
 
-  /// Largest level-0 grid (512^3 points).
+  /// Largest level-0 grid (512^3 points), and most points along one of its axes.
   static constexpr long long MaximumLevel0Points = 1LL << 27;
+  static constexpr int MaximumLevel0Axis = 1024;
 
 protected:
   vtkUnstructuredGridIllumination();
@@ -200,8 +201,28 @@ private:
   vtkUnstructuredGridIllumination(const vtkUnstructuredGridIllumination&) = delete;
   void operator=(const vtkUnstructuredGridIllumination&) = delete;
 
+  // Wall time of the phases of an update, reported in the output's field data.
+  struct PhaseSeconds
+  {
+    double Mesh = 0.0, Resample = 0.0, Level0 = 0.0, Level1 = 0.0, Scattering = 0.0;
+    double Update = 0.0; // all of it
+  };
+
   // Light the whole grid input into output (the serial update).
   void Illuminate(vtkUnstructuredGrid* input, vtkUnstructuredGrid* output);
+  // Check the input, the scalars (kept in Scalars), the lights and the settings; false
+  // after an error.
+  bool CheckInput(vtkUnstructuredGrid* input);
+  // Classify and resample onto the level-0 grid when anything but the lights changed (a
+  // full update: report.Mode 0); false after an error.
+  bool UpdateLevel0Grid(volillum::UpdateReport& report);
+  // Propagate the lights whose transmittance is missing or was computed for another light
+  // geometry; false when aborted.
+  bool PropagateChangedLights(const std::vector<volillum::LightState>& lights,
+    volillum::UpdateReport& report, PhaseSeconds& seconds);
+  // The input with the illumination rgb (3 per point), the lit colours and the field data.
+  void FillOutput(vtkUnstructuredGrid* input, const std::vector<float>& rgb,
+    const volillum::UpdateReport& report, const PhaseSeconds& seconds, vtkUnstructuredGrid* output);
   bool PrepareMesh(vtkUnstructuredGrid* input);
   bool Classify(vtkDataArray* scalars);
   vtkSmartPointer<vtkUnsignedCharArray> ShadeVertices(

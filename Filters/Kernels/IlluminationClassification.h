@@ -106,6 +106,11 @@ struct VOLILLUMKERNELS_EXPORT ClassifiedVolume
   float MaxExtinction() const;
 };
 
+/// Relative tolerance of the kernels' geometric comparisons: coordinates, lengths and step
+/// counts within this fraction of their scale are taken as equal (the rounding of a few
+/// double operations stays far below it, a real difference far above).
+constexpr double GeometricTolerance = 1e-9;
+
 /// Opacities of exactly 1 would make sigma infinite; they are clamped to this value.
 constexpr double MaximumOpacity = 1.0 - 1e-6;
 

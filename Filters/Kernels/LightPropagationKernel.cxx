@@ -261,7 +261,7 @@ bool ClipToBox(const double bounds[6], const double p[3], const double d[3], dou
   for (int a = 0; a < 3; ++a)
   {
     // Points on a face (the grid's outer points) count as inside, whatever the rounding.
-    const double tolerance = 1e-9 * (bounds[2 * a + 1] - bounds[2 * a] + 1.0);
+    const double tolerance = GeometricTolerance * (bounds[2 * a + 1] - bounds[2 * a] + 1.0);
     const double low = bounds[2 * a] - tolerance;
     const double high = bounds[2 * a + 1] + tolerance;
     if (d[a] == 0.0)
@@ -324,7 +324,7 @@ inline void ApplyDepth(float depth, float out[3])
 // Number of midpoint steps of a segment of the given length.
 inline int SegmentSteps(const SweepContext& s, double length)
 {
-  return std::max(1, static_cast<int>(std::ceil(length / s.SegmentStep - 1e-9)));
+  return std::max(1, static_cast<int>(std::ceil(length / s.SegmentStep - GeometricTolerance)));
 }
 
 // Chromatic transmittance (multiplied into out) of the segment from p back along -d over
@@ -379,7 +379,7 @@ void RowSegments(const SweepContext& s, const double p[3], double spacing, int c
   const int shift = static_cast<int>(std::lround(ratio));
   const int n = SegmentSteps(s, length);
   int first = 0, last = -1; // the rays wholly inside
-  if (s.RowKernels && count > 1 && shift >= 1 && std::abs(ratio - shift) < 1e-9 &&
+  if (s.RowKernels && count > 1 && shift >= 1 && std::abs(ratio - shift) < GeometricTolerance &&
     n <= MaximumRowSteps)
   {
     // Grid coordinates of both ends of ray 0's segment: rays inside the volume's grid (short
@@ -552,7 +552,7 @@ bool AdvanceAnchoredRays(const SweepContext& s, SweepSource& sweep, int k, float
   const int a = s.Axis;
   const double* light = sweep.Source.Position;
   const double from = s.Sign * (SliceCoordinate(s, k) - light[a]);
-  if (from <= 1e-9 * s.Spacing[a])
+  if (from <= GeometricTolerance * s.Spacing[a])
   {
     return false; // the slice is not in front of the light
   }
@@ -706,11 +706,9 @@ void RowFromLattice(const SweepContext& s, const SweepSource& sweep, const Latti
   RowSegments(s, p, s.Spacing[s.B], nb, d, sweep.Step, out);
 }
 
-// One sweep of the tasks (all in the same group) through the grid.
-bool Sweep(const ClassifiedVolume& volume, const EmptyBlocks* empty, bool rowKernels,
-  const GridGeometry& g, int group, const std::vector<PropagationTask>& tasks,
-  FixedPointIllumination& illumination, PropagationStatistics& statistics,
-  const std::function<bool(double)>& progress)
+// The geometry of a sweep of the grid g in a group, and whether row kernels apply.
+SweepContext MakeSweepContext(const ClassifiedVolume& volume, const EmptyBlocks* empty,
+  bool rowKernels, const GridGeometry& g, int group)
 {
   const auto& sp = volume.Geometry.Spacing;
   SweepContext s{ volume, empty, std::min(sp[0], std::min(sp[1], sp[2])), group / 2,
@@ -727,17 +725,19 @@ bool Sweep(const ClassifiedVolume& volume, const EmptyBlocks* empty, bool rowKer
   s.RowKernels = rowKernels;
   for (int a = 0; a < 3; ++a)
   {
-    const double tolerance = 1e-9 * (s.Bounds[2 * a + 1] - s.Bounds[2 * a] + 1.0);
+    const double tolerance = GeometricTolerance * (s.Bounds[2 * a + 1] - s.Bounds[2 * a] + 1.0);
     s.RowKernels = s.RowKernels && std::abs(volumeBounds[2 * a] - s.Bounds[2 * a]) <= tolerance &&
       std::abs(volumeBounds[2 * a + 1] - s.Bounds[2 * a + 1]) <= tolerance;
   }
-  const int na = s.N[s.Axis];
-  const int nb = s.N[s.B];
-  const int nc = s.N[s.C];
+  return s;
+}
 
+// The distinct ray sources of the tasks (prepared for the sweep) and each task's deposit,
+// its radiance in fixed-point units.
+void PrepareDeposits(const SweepContext& s, const std::vector<PropagationTask>& tasks, double scale,
+  std::vector<SweepSource>& prepared, std::vector<Deposit>& deposits)
+{
   std::vector<RaySource> sources;
-  std::vector<SweepSource> prepared;
-  std::vector<Deposit> deposits;
   for (const auto& task : tasks)
   {
     const RaySource source = SourceOf(task);
@@ -764,16 +764,22 @@ bool Sweep(const ClassifiedVolume& volume, const EmptyBlocks* empty, bool rowKer
     const auto r = l.Radiance();
     for (int ch = 0; ch < 3; ++ch)
     {
-      deposit.Scaled[ch] = r[ch] * task.Weight * task.Sign * illumination.Scale;
+      deposit.Scaled[ch] = r[ch] * task.Weight * task.Sign * scale;
     }
     deposits.push_back(deposit);
   }
-  const size_t count = sources.size();
+}
+
+// The read and write slice buffers of each source; returns the bytes of every buffer of
+// the sweep, the threads' row buffers included.
+size_t AllocateSliceBuffers(std::vector<SweepSource>& prepared, int nb, int nc,
+  std::vector<std::vector<float>>& read, std::vector<std::vector<float>>& write)
+{
+  const size_t count = prepared.size();
   // Slice buffers: a ray lattice (one ray more than points along each slice axis) for a
   // directional source; the rays from the anchor and those of the next anchor for a point
   // or spot source.
   const size_t latticeValues = 3 * static_cast<size_t>(nb + 1) * (nc + 1);
-  std::vector<std::vector<float>> read, write;
   size_t bufferBytes = 0;
   for (SweepSource& sweep : prepared)
   {
@@ -792,7 +798,78 @@ bool Sweep(const ClassifiedVolume& volume, const EmptyBlocks* empty, bool rowKer
   // Each thread's row buffers: light, direction and group factor per pixel and source.
   bufferBytes += static_cast<size_t>(vtkSMPTools::GetEstimatedNumberOfThreads()) * nb * count *
     (3 * sizeof(float) + 4 * sizeof(double));
-  statistics.PeakBufferBytes = std::max(statistics.PeakBufferBytes, bufferBytes);
+  return bufferBytes;
+}
+
+// Adds the deposits of row ic of slice k to the fixed-point illumination: per pixel, the sum
+// over deposits of radiance x group factor x spot factor x light (rounded per deposit).
+void DepositRow(const SweepContext& s, const std::vector<Deposit>& deposits, const float* light,
+  const double* direction, const double* groupFactor, int nb, int k, int ic, std::uint32_t* values)
+{
+  for (int ib = 0; ib < nb; ++ib)
+  {
+    std::int64_t sum[3] = { 0, 0, 0 };
+    for (const Deposit& deposit : deposits)
+    {
+      const size_t j = deposit.Source;
+      const double* d = direction + 3 * (nb * j + ib);
+      double factor = groupFactor[nb * j + ib];
+      if (deposit.OtherAxis >= 0)
+      {
+        // Two groups: where the other cannot carry the ray, this one (the sweep's)
+        // takes it all; where this one cannot, the other does.
+        if (s.Sign * d[s.Axis] <= MinimumAlong)
+        {
+          continue;
+        }
+        if (deposit.OtherSign * d[deposit.OtherAxis] <= MinimumAlong)
+        {
+          factor *= deposit.Whole;
+        }
+      }
+      if (deposit.Spot && factor != 0.0)
+      {
+        const double cosine =
+          d[0] * deposit.Axis[0] + d[1] * deposit.Axis[1] + d[2] * deposit.Axis[2];
+        factor *=
+          cosine < deposit.CosCone ? 0.0 : std::pow(std::max(cosine, 0.0), deposit.Exponent);
+      }
+      if (factor == 0.0)
+      {
+        continue;
+      }
+      const float* tj = light + 3 * (nb * j + ib);
+      for (int ch = 0; ch < 3; ++ch)
+      {
+        sum[ch] += RoundToFixed(deposit.Scaled[ch] * factor * tj[ch]);
+      }
+    }
+    const long long index = k * s.Stride[s.Axis] + ib * s.Stride[s.B] + ic * s.Stride[s.C];
+    for (int ch = 0; ch < 3; ++ch)
+    {
+      // Modulo 2^32 (see FixedPointIllumination).
+      values[3 * index + ch] += static_cast<std::uint32_t>(sum[ch]);
+    }
+  }
+}
+
+// One sweep of the tasks (all in the same group) through the grid.
+bool Sweep(const ClassifiedVolume& volume, const EmptyBlocks* empty, bool rowKernels,
+  const GridGeometry& g, int group, const std::vector<PropagationTask>& tasks,
+  FixedPointIllumination& illumination, PropagationStatistics& statistics,
+  const std::function<bool(double)>& progress)
+{
+  const SweepContext s = MakeSweepContext(volume, empty, rowKernels, g, group);
+  const int na = s.N[s.Axis];
+  const int nb = s.N[s.B];
+  const int nc = s.N[s.C];
+  std::vector<SweepSource> prepared;
+  std::vector<Deposit> deposits;
+  PrepareDeposits(s, tasks, illumination.Scale, prepared, deposits);
+  const size_t count = prepared.size();
+  std::vector<std::vector<float>> read, write;
+  statistics.PeakBufferBytes =
+    std::max(statistics.PeakBufferBytes, AllocateSliceBuffers(prepared, nb, nc, read, write));
   std::uint32_t* values = illumination.Values.data();
   const int progressEvery = std::max(1, na / 16);
 
@@ -840,52 +917,8 @@ bool Sweep(const ClassifiedVolume& volume, const EmptyBlocks* empty, bool rowKer
                 direction.data() + 3 * nb * j, groupFactor.data() + nb * j);
             }
           }
-          for (int ib = 0; ib < nb; ++ib)
-          {
-            std::int64_t sum[3] = { 0, 0, 0 };
-            for (const Deposit& deposit : deposits)
-            {
-              const size_t j = deposit.Source;
-              const double* d = direction.data() + 3 * (nb * j + ib);
-              double factor = groupFactor[nb * j + ib];
-              if (deposit.OtherAxis >= 0)
-              {
-                // Two groups: where the other cannot carry the ray, this one (the sweep's)
-                // takes it all; where this one cannot, the other does.
-                if (s.Sign * d[s.Axis] <= MinimumAlong)
-                {
-                  continue;
-                }
-                if (deposit.OtherSign * d[deposit.OtherAxis] <= MinimumAlong)
-                {
-                  factor *= deposit.Whole;
-                }
-              }
-              if (deposit.Spot && factor != 0.0)
-              {
-                const double cosine =
-                  d[0] * deposit.Axis[0] + d[1] * deposit.Axis[1] + d[2] * deposit.Axis[2];
-                factor *= cosine < deposit.CosCone
-                  ? 0.0
-                  : std::pow(std::max(cosine, 0.0), deposit.Exponent);
-              }
-              if (factor == 0.0)
-              {
-                continue;
-              }
-              const float* tj = light.data() + 3 * (nb * j + ib);
-              for (int ch = 0; ch < 3; ++ch)
-              {
-                sum[ch] += RoundToFixed(deposit.Scaled[ch] * factor * tj[ch]);
-              }
-            }
-            const long long index = k * s.Stride[s.Axis] + ib * s.Stride[s.B] + ic * s.Stride[s.C];
-            for (int ch = 0; ch < 3; ++ch)
-            {
-              // Modulo 2^32 (see FixedPointIllumination).
-              values[3 * index + ch] += static_cast<std::uint32_t>(sum[ch]);
-            }
-          }
+          DepositRow(
+            s, deposits, light.data(), direction.data(), groupFactor.data(), nb, k, ic, values);
         }
       });
     for (size_t j = 0; j < count; ++j)

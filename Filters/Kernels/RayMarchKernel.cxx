@@ -99,7 +99,8 @@ void SegmentOpticalDepth(const ClassifiedVolume& volume, const double p[3], cons
     return;
   }
   const auto& g = volume.Geometry;
-  const int n = std::max(1, static_cast<int>(std::ceil(length / g.MinimumSpacing() - 1e-9)));
+  const int n =
+    std::max(1, static_cast<int>(std::ceil(length / g.MinimumSpacing() - GeometricTolerance)));
   const double h = length / n;
   // Steps in grid coordinates; only the channels asked for are interpolated.
   double first[3], step[3];

@@ -83,7 +83,7 @@ int AxisOfDirection(const SatFrame& frame, const double direction[3], int& sign)
   for (int a = 0; a < 3; ++a)
   {
     const double c = vtkMath::Dot(frame.Axes[a].data(), direction);
-    if (std::abs(std::abs(c) - 1.0) < 1e-9)
+    if (std::abs(std::abs(c) - 1.0) < GeometricTolerance)
     {
       sign = c > 0.0 ? 1 : -1;
       return a;
@@ -127,13 +127,14 @@ void CartesianSAT::Build(
     // One cell more than the box holds, centred on it: in a frame of the data's axes the
     // cell centres are the data points (every one, or every second or fourth), so a hard
     // shadow (a box one cell wide) at a point reads exactly the column through it.
-    n[a] = 1 + std::max(0, static_cast<int>(std::ceil((hi[a] - lo[a]) / cellSize - 1e-9)));
+    n[a] =
+      1 + std::max(0, static_cast<int>(std::ceil((hi[a] - lo[a]) / cellSize - GeometricTolerance)));
     this->Origin[a] = 0.5 * (lo[a] + hi[a]) - 0.5 * n[a] * cellSize;
   }
   this->Table.Allocate(n, channels);
 
   // Cell integrals: extinction at the cell centre (zero outside the data) times volume.
-  const double eps = 1e-9 * std::max(bounds[1] - bounds[0], 1.0);
+  const double eps = GeometricTolerance * std::max(bounds[1] - bounds[0], 1.0);
   const double volume = cellSize * cellSize * cellSize;
   vtkSMPTools::For(0, static_cast<long long>(n[2]),
     [&](long long k0, long long k1)
@@ -411,7 +412,7 @@ double PlaneRectangleSolidAngle(double x, double y)
 constexpr double RadialCellLength = 2.0;
 
 // Cube-map face angles stay this far inside +-pi/2 (their tangents stay finite).
-constexpr double FaceAngleLimit = 0.5 * 3.14159265358979323846 * (1.0 - 1e-9);
+constexpr double FaceAngleLimit = 0.5 * 3.14159265358979323846 * (1.0 - GeometricTolerance);
 }
 
 void SphericalSAT::ToSpherical(const double p[3], double s[3]) const
@@ -480,7 +481,34 @@ void SphericalSAT::Build(const ClassifiedVolume& data, const double light[3], do
   }
   vtkMath::Normalize(toCentre);
   this->Frame = FrameForDirection(toCentre);
+  double rMax = 0.0, polar[2], square[2];
+  this->ChooseLayout(bounds, rMax, polar, square);
+  // The face layout spends the cells the polar one would need, on finer cells.
+  const double* angles = this->Polar ? polar : square;
+  const double h =
+    this->Polar ? cellSize : cellSize * std::cbrt(square[0] * square[1] / (polar[0] * polar[1]));
+  double counts[3] = { angles[0] * rMax / h, angles[1] * rMax / h,
+    (rMax - this->RMin) / (RadialCellLength * h) };
+  const double total =
+    std::max(counts[0], 1.0) * std::max(counts[1], 1.0) * std::max(counts[2], 1.0);
+  const double shrink = total > maxCells ? std::cbrt(maxCells / total) : 1.0;
+  std::array<int, 3> n;
+  for (int a = 0; a < 3; ++a)
+  {
+    n[a] = std::max(1, static_cast<int>(std::ceil(counts[a] * shrink)));
+  }
+  this->H = h / shrink;
+  this->DU = (this->U1 - this->U0) / n[0];
+  this->DV = (this->V1 - this->V0) / n[1];
+  this->DR = (rMax - this->RMin) / n[2];
+  this->Table.Allocate(n, channels);
+  this->FillCells(data, n);
+}
 
+void SphericalSAT::ChooseLayout(
+  const double bounds[6], double& rMax, double polar[2], double square[2])
+{
+  const double* light = this->Light.data();
   // Radii and angles that hold the whole box. Outside the box, the cone about the axis that
   // holds its eight corners holds all of it (a cone narrower than a half-space is convex),
   // and so does the rectangle of face angles that holds them when all lie in front (x / z
@@ -493,7 +521,7 @@ void SphericalSAT::Build(const ClassifiedVolume& data, const double light[3], do
     inside = inside && light[a] >= bounds[2 * a] && light[a] <= bounds[2 * a + 1];
     nearest[a] = std::min(std::max(light[a], bounds[2 * a]), bounds[2 * a + 1]);
   }
-  double rMax = 0.0, thetaMax = 0.0;
+  double thetaMax = 0.0;
   double face[4] = { FaceAngleLimit, -FaceAngleLimit, FaceAngleLimit, -FaceAngleLimit };
   bool inFront = !inside;
   for (int corner = 0; corner < 8; ++corner)
@@ -517,8 +545,10 @@ void SphericalSAT::Build(const ClassifiedVolume& data, const double light[3], do
   // Angular extents at the far side, in cells: the polar layout spends 2 pi sin(theta) cells
   // on every ring of theta, the face layout about one per cell of solid angle.
   const double spread = thetaMax >= 0.5 * vtkMath::Pi() ? 1.0 : std::sin(thetaMax);
-  const double polar[2] = { 2.0 * vtkMath::Pi() * spread, thetaMax };
-  const double square[2] = { face[1] - face[0], face[3] - face[2] };
+  polar[0] = 2.0 * vtkMath::Pi() * spread;
+  polar[1] = thetaMax;
+  square[0] = face[1] - face[0];
+  square[1] = face[3] - face[2];
   this->Polar = !inFront || square[0] * square[1] >= polar[0] * polar[1];
   if (this->Polar)
   {
@@ -534,31 +564,19 @@ void SphericalSAT::Build(const ClassifiedVolume& data, const double light[3], do
     this->V0 = face[2];
     this->V1 = face[3];
   }
-  // The face layout spends the cells the polar one would need, on finer cells.
-  const double* angles = this->Polar ? polar : square;
-  const double h =
-    this->Polar ? cellSize : cellSize * std::cbrt(square[0] * square[1] / (polar[0] * polar[1]));
-  double counts[3] = { angles[0] * rMax / h, angles[1] * rMax / h,
-    (rMax - this->RMin) / (RadialCellLength * h) };
-  const double total =
-    std::max(counts[0], 1.0) * std::max(counts[1], 1.0) * std::max(counts[2], 1.0);
-  const double shrink = total > maxCells ? std::cbrt(maxCells / total) : 1.0;
-  std::array<int, 3> n;
-  for (int a = 0; a < 3; ++a)
-  {
-    n[a] = std::max(1, static_cast<int>(std::ceil(counts[a] * shrink)));
-  }
-  this->H = h / shrink;
-  this->DU = (this->U1 - this->U0) / n[0];
-  this->DV = (this->V1 - this->V0) / n[1];
-  this->DR = (rMax - this->RMin) / n[2];
-  this->Table.Allocate(n, channels);
+}
 
+void SphericalSAT::FillCells(const ClassifiedVolume& data, const std::array<int, 3>& n)
+{
+  const double* light = this->Light.data();
+  const int channels = this->Table.GetNumberOfChannels();
+  double bounds[6];
+  data.Geometry.GetBounds(bounds);
   // Cell integrals along r with the midpoint rule at most one data spacing apart (cells grow
   // coarser than the data when the table is capped: a thin layer still casts its shadow).
-  const int samples =
-    std::max(1, static_cast<int>(std::ceil(this->DR / data.Geometry.MinimumSpacing() - 1e-9)));
-  const double eps = 1e-9 * std::max(bounds[1] - bounds[0], 1.0);
+  const int samples = std::max(
+    1, static_cast<int>(std::ceil(this->DR / data.Geometry.MinimumSpacing() - GeometricTolerance)));
+  const double eps = GeometricTolerance * std::max(bounds[1] - bounds[0], 1.0);
   // Each ray's direction and solid angle, shared by its cells along r.
   const long long rays = static_cast<long long>(n[0]) * n[1];
   std::vector<std::array<double, 4>> ray(static_cast<size_t>(rays));

@@ -174,6 +174,12 @@ public:
   double GetCellSize() const { return this->H; }
 
 private:
+  /// The frame, the layout (polar or face) and the range of angles and radii that hold the
+  /// box: rMax, and the angular extents at the far side of both layouts (polar: 2 pi sin theta
+  /// and theta; face: the rectangle of face angles).
+  void ChooseLayout(const double bounds[6], double& rMax, double polar[2], double square[2]);
+  /// Integrate the cells (n per axis) along r with the midpoint rule, then the table.
+  void FillCells(const ClassifiedVolume& data, const std::array<int, 3>& n);
   /// World direction of the angles (u, v).
   void Direction(double u, double v, double direction[3]) const;
   /// Solid angle of the angle rectangle [u0, u1] x [v0, v1].

@@ -106,31 +106,12 @@ double EnclosedVolume(vtkPolyData* surface, const std::vector<std::array<vtkIdTy
   }
   return volume;
 }
-}
 
-//------------------------------------------------------------------------------
-int vtkTetrahedralizeSurface::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+// Why TetGen cannot take the closed surface (TetGen aborts the process on non-finite or flat
+// input), or nothing; volume is set to the volume it encloses.
+std::string CheckSurface(
+  vtkPolyData* input, const std::vector<std::array<vtkIdType, 3>>& triangles, double& volume)
 {
-  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
-  vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector);
-  output->Initialize();
-  std::vector<std::array<vtkIdType, 3>> triangles;
-  std::string error;
-  if (!input || input->GetNumberOfPoints() < 4 || !Triangles(input, triangles, error))
-  {
-    vtkErrorMacro("Cannot tetrahedralize: "
-      << (error.empty() ? "the input needs a closed surface with at least 4 points" : error)
-      << ".");
-    return 1;
-  }
-  if (!Closed(triangles))
-  {
-    vtkErrorMacro("Cannot tetrahedralize: the surface is open (an edge is not shared by "
-                  "exactly two polygons). Close it first, for example with Fill Holes.");
-    return 1;
-  }
-  // TetGen aborts the process on non-finite or flat input: refuse it here.
   double bounds[6];
   input->GetBounds(bounds);
   double diagonal = 0.0;
@@ -141,24 +122,20 @@ int vtkTetrahedralizeSurface::RequestData(
   diagonal = std::sqrt(diagonal);
   if (!std::isfinite(diagonal) || !Finite(input))
   {
-    vtkErrorMacro("Cannot tetrahedralize: the surface has points that are not finite numbers.");
-    return 1;
+    return "the surface has points that are not finite numbers";
   }
-  const double volume = std::abs(EnclosedVolume(input, triangles));
+  volume = std::abs(EnclosedVolume(input, triangles));
   if (!(volume > 1e-9 * diagonal * diagonal * diagonal))
   {
-    vtkErrorMacro("Cannot tetrahedralize: the surface encloses no volume (it is flat).");
-    return 1;
+    return "the surface encloses no volume (it is flat)";
   }
-  if (this->MaximumVolume > 0.0 && volume / this->MaximumVolume > MaximumTetrahedra)
-  {
-    vtkErrorMacro("Cannot tetrahedralize: a Maximum Volume of "
-      << this->MaximumVolume << " would make about " << volume / this->MaximumVolume
-      << " tetrahedra, more than the limit of " << MaximumTetrahedra << "; raise Maximum Volume.");
-    return 1;
-  }
+  return std::string();
+}
 
-  tetgenio in, out;
+// The surface as TetGen's piecewise-linear complex: its points and one triangle per facet.
+void ToTetGen(
+  vtkPolyData* input, const std::vector<std::array<vtkIdType, 3>>& triangles, tetgenio& in)
+{
   in.firstnumber = 0;
   in.numberofpoints = static_cast<int>(input->GetNumberOfPoints());
   in.pointlist = new REAL[3 * in.numberofpoints];
@@ -183,29 +160,100 @@ int vtkTetrahedralizeSurface::RequestData(
       facet.polygonlist[0].vertexlist[k] = static_cast<int>(triangles[f][k]);
     }
   }
+}
 
-  // TetGen cannot recover from a self-intersecting surface: look for intersections first
-  // (d: detect intersecting facets only, Q: quiet).
+// The number of triangles of the complex that intersect others (d: detect intersecting facets
+// only, Q: quiet), or -1 when TetGen rejects it.
+long long IntersectingTriangles(tetgenio& in)
+{
+  tetgenio check;
+  char detect[] = "dQ";
+  try
   {
-    tetgenio check;
-    char detect[] = "dQ";
-    try
-    {
-      tetrahedralize(detect, &in, &check);
-    }
-    catch (int)
-    {
-      vtkErrorMacro("Cannot tetrahedralize: TetGen rejected the surface.");
-      return 1;
-    }
-    if (check.numberoftrifaces > 0)
-    {
-      vtkErrorMacro("Cannot tetrahedralize: the surface intersects itself ("
-        << check.numberoftrifaces << " intersecting triangles).");
-      return 1;
-    }
+    tetrahedralize(detect, &in, &check);
+  }
+  catch (int)
+  {
+    return -1;
+  }
+  return check.numberoftrifaces;
+}
+
+// TetGen's tetrahedra as the grid's points and cells.
+void ToGrid(const tetgenio& out, vtkUnstructuredGrid* output)
+{
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(out.numberofpoints);
+  for (int i = 0; i < out.numberofpoints; ++i)
+  {
+    points->SetPoint(i, out.pointlist + 3 * i);
+  }
+  vtkNew<vtkCellArray> cells;
+  cells->AllocateExact(out.numberoftetrahedra, 4 * out.numberoftetrahedra);
+  for (int t = 0; t < out.numberoftetrahedra; ++t)
+  {
+    const int* tet = out.tetrahedronlist + t * out.numberofcorners;
+    const vtkIdType ids[4] = { tet[0], tet[1], tet[2], tet[3] };
+    cells->InsertNextCell(4, ids);
+  }
+  output->SetPoints(points);
+  output->SetCells(VTK_TETRA, cells);
+}
+}
+
+//------------------------------------------------------------------------------
+int vtkTetrahedralizeSurface::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
+  vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector);
+  output->Initialize();
+  std::vector<std::array<vtkIdType, 3>> triangles;
+  std::string error;
+  if (!input || input->GetNumberOfPoints() < 4 || !Triangles(input, triangles, error))
+  {
+    vtkErrorMacro("Cannot tetrahedralize: "
+      << (error.empty() ? "the input needs a closed surface with at least 4 points" : error)
+      << ".");
+    return 1;
+  }
+  if (!Closed(triangles))
+  {
+    vtkErrorMacro("Cannot tetrahedralize: the surface is open (an edge is not shared by "
+                  "exactly two polygons). Close it first, for example with Fill Holes.");
+    return 1;
+  }
+  double volume = 0.0;
+  const std::string problem = CheckSurface(input, triangles, volume);
+  if (!problem.empty())
+  {
+    vtkErrorMacro("Cannot tetrahedralize: " << problem << ".");
+    return 1;
+  }
+  if (this->MaximumVolume > 0.0 && volume / this->MaximumVolume > MaximumTetrahedra)
+  {
+    vtkErrorMacro("Cannot tetrahedralize: a Maximum Volume of "
+      << this->MaximumVolume << " would make about " << volume / this->MaximumVolume
+      << " tetrahedra, more than the limit of " << MaximumTetrahedra << "; raise Maximum Volume.");
+    return 1;
   }
 
+  tetgenio in, out;
+  ToTetGen(input, triangles, in);
+  // TetGen cannot recover from a self-intersecting surface: look for intersections first.
+  const long long intersecting = IntersectingTriangles(in);
+  if (intersecting < 0)
+  {
+    vtkErrorMacro("Cannot tetrahedralize: TetGen rejected the surface.");
+    return 1;
+  }
+  if (intersecting > 0)
+  {
+    vtkErrorMacro("Cannot tetrahedralize: the surface intersects itself ("
+      << intersecting << " intersecting triangles).");
+    return 1;
+  }
   // p: the input is a piecewise-linear complex; q: radius-edge bound; a: volume bound;
   // Q: quiet.
   std::ostringstream switches;
@@ -232,23 +280,7 @@ int vtkTetrahedralizeSurface::RequestData(
     return 1;
   }
 
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToDouble();
-  points->SetNumberOfPoints(out.numberofpoints);
-  for (int i = 0; i < out.numberofpoints; ++i)
-  {
-    points->SetPoint(i, out.pointlist + 3 * i);
-  }
-  vtkNew<vtkCellArray> cells;
-  cells->AllocateExact(out.numberoftetrahedra, 4 * out.numberoftetrahedra);
-  for (int t = 0; t < out.numberoftetrahedra; ++t)
-  {
-    const int* tet = out.tetrahedronlist + t * out.numberofcorners;
-    const vtkIdType ids[4] = { tet[0], tet[1], tet[2], tet[3] };
-    cells->InsertNextCell(4, ids);
-  }
-  output->SetPoints(points);
-  output->SetCells(VTK_TETRA, cells);
+  ToGrid(out, output);
   return 1;
 }
 
