@@ -54,9 +54,11 @@ sanitize() {
     -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
     -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=address,undefined" \
     -DCMAKE_MODULE_LINKER_FLAGS="-fsanitize=address,undefined"
-  cmake --build build-asan -j"$(nproc)" --target VolIllumFilterTests volillum-render
-  ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS="suppressions=$PWD/Testing/Sanitizers/lsan.supp" \
-    UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 build-asan/bin/VolIllumFilterTests
+  cmake --build build-asan -j"$(nproc)" --target VolIllumKernelTests VolIllumFilterTests volillum-render
+  for tests in VolIllumKernelTests VolIllumFilterTests; do
+    ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS="suppressions=$PWD/Testing/Sanitizers/lsan.supp" \
+      UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 "build-asan/bin/$tests"
+  done
   VOLILLUM_SANITIZED_CLI="$PWD/build-asan/bin/volillum-render" python3 Testing/Fuzz/run_fuzz.py \
     --cli Testing/Sanitizers/sanitized-cli.sh --pvpython pvpython --no-filters --memory-limit 0 \
     --plugin build/lib/paraview-5.11/plugins/VolumetricIllumination/VolumetricIllumination.so \

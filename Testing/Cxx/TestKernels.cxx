@@ -1,0 +1,242 @@
+// The kernels without a pipeline: this program links VolIllum::Kernels alone (no VTK filter,
+// data set or reader) and checks each kernel against an analytic result on volumes and meshes
+// built here.
+#include "IlluminationClassification.h"
+#include "IlluminationLights.h"
+#include "LightPropagationKernel.h"
+#include "RayMarchKernel.h"
+#include "TetrahedralLightKernel.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <string>
+#include <vector>
+
+using namespace volillum;
+
+namespace
+{
+// Extinction per unit length inside the slab, and its planes (grid indices along z).
+constexpr double SlabSigma = 0.05;
+constexpr int SlabBegin = 10, SlabEnd = 20;
+
+// A 9 x 9 x 33 grid of unit spacing with extinction SlabSigma at the points with
+// SlabBegin <= k <= SlabEnd and 0 elsewhere (one channel: no chromatic attenuation).
+ClassifiedVolume Slab()
+{
+  ClassifiedVolume v;
+  v.Geometry.Dimensions = { { 9, 9, 33 } };
+  v.Geometry.Spacing = { { 1.0, 1.0, 1.0 } };
+  v.Geometry.Origin = { { 0.0, 0.0, 0.0 } };
+  v.Channels = 1;
+  v.Properties.assign(static_cast<size_t>(v.Geometry.NumberOfPoints()), 0.0f);
+  for (int k = SlabBegin; k <= SlabEnd; ++k)
+  {
+    for (int j = 0; j < 9; ++j)
+    {
+      for (int i = 0; i < 9; ++i)
+      {
+        v.Properties[i + 9 * (j + 9 * k)] = static_cast<float>(SlabSigma);
+      }
+    }
+  }
+  return v;
+}
+
+// Optical depth across the whole slab along z: the extinction is linear between grid points,
+// so it ramps up over the cell before SlabBegin and down over the cell after SlabEnd.
+double SlabDepth()
+{
+  return SlabSigma * (SlabEnd - SlabBegin + 1);
+}
+
+// A white directional light shining down the z axis (from +z toward -z).
+LightState Downward()
+{
+  LightState light;
+  light.Kind = LightKind::Directional;
+  light.Position = { { 4.0, 4.0, 40.0 } };
+  light.FocalPoint = { { 4.0, 4.0, 0.0 } };
+  return light;
+}
+}
+
+TEST(Kernels, RayMarchThroughASlabIsItsAnalyticTransmittance)
+{
+  const ClassifiedVolume slab = Slab();
+  // From the floor, with half-spacing steps that fall inside the linear pieces of the field.
+  const double p[3] = { 4.0, 4.0, 2.0 };
+  const auto t = RayMarchIlluminationAt(slab, { Downward() }, p, RayMarchSettings());
+  std::cout << "ray march below the slab " << t[0] << ", analytic " << std::exp(-SlabDepth())
+            << std::endl;
+  EXPECT_NEAR(t[0], std::exp(-SlabDepth()), 1e-7); // the extinction is stored as float
+  const double above[3] = { 4.0, 4.0, 25.0 };
+  EXPECT_NEAR(
+    RayMarchIlluminationAt(slab, { Downward() }, above, RayMarchSettings())[0], 1.0, 1e-12);
+}
+
+TEST(Kernels, PropagationThroughASlabAndSelectiveRemovalIsExact)
+{
+  const ClassifiedVolume slab = Slab();
+  double bounds[6];
+  slab.Geometry.GetBounds(bounds);
+  const auto added = TasksForLight(Downward(), +1, bounds);
+  ASSERT_FALSE(added.empty());
+  FixedPointIllumination illumination;
+  illumination.Reset(slab.Geometry.NumberOfPoints(), FixedPointIllumination::ScaleFor(1.0));
+  std::vector<PropagationTask> remaining;
+  PropagationStatistics statistics;
+  ASSERT_TRUE(PropagateTasks(
+    slab, slab.Geometry, added, true, 0, illumination, remaining, statistics, nullptr));
+  EXPECT_TRUE(remaining.empty());
+  std::vector<float> rgb(3 * static_cast<size_t>(slab.Geometry.NumberOfPoints()));
+  illumination.ToFloat(rgb.data());
+  double worstBelow = 0.0, worstAbove = 0.0;
+  for (int k = 0; k < 33; ++k)
+  {
+    const double expected = k < SlabBegin ? std::exp(-SlabDepth()) : 1.0;
+    const float got = rgb[3 * (4 + 9 * (4 + 9 * k))];
+    if (k < SlabBegin)
+    {
+      worstBelow = std::max(worstBelow, std::abs(got - expected));
+    }
+    else if (k > SlabEnd)
+    {
+      worstAbove = std::max(worstAbove, std::abs(got - expected));
+    }
+  }
+  std::cout << "propagation below the slab: largest error " << worstBelow << " (analytic "
+            << std::exp(-SlabDepth()) << "), above: " << worstAbove << std::endl;
+  EXPECT_LE(worstBelow, 1e-5);
+  EXPECT_LE(worstAbove, 1e-5);
+
+  // Removing the light state (the same tasks with sign -1) leaves exactly nothing.
+  const auto removed = TasksForLight(Downward(), -1, bounds);
+  ASSERT_TRUE(PropagateTasks(
+    slab, slab.Geometry, removed, true, 0, illumination, remaining, statistics, nullptr));
+  EXPECT_TRUE(std::all_of(illumination.Values.begin(), illumination.Values.end(),
+    [](std::uint32_t v) { return v == 0; }));
+}
+
+namespace
+{
+// The unit cube cut into n^3 cells of six tetrahedra each (around the main diagonal).
+void CubeMesh(int n, std::vector<double>& points, std::vector<long long>& tets)
+{
+  const int m = n + 1;
+  points.clear();
+  tets.clear();
+  for (int k = 0; k < m; ++k)
+  {
+    for (int j = 0; j < m; ++j)
+    {
+      for (int i = 0; i < m; ++i)
+      {
+        points.insert(points.end(), { double(i) / n, double(j) / n, double(k) / n });
+      }
+    }
+  }
+  const auto id = [m](int i, int j, int k) { return static_cast<long long>(i + m * (j + m * k)); };
+  for (int k = 0; k < n; ++k)
+  {
+    for (int j = 0; j < n; ++j)
+    {
+      for (int i = 0; i < n; ++i)
+      {
+        const long long c[8] = { id(i, j, k), id(i + 1, j, k), id(i, j + 1, k), id(i + 1, j + 1, k),
+          id(i, j, k + 1), id(i + 1, j, k + 1), id(i, j + 1, k + 1), id(i + 1, j + 1, k + 1) };
+        // Paths from corner 0 to corner 7 along the cube's edges.
+        const int paths[6][2] = { { 1, 3 }, { 1, 5 }, { 2, 3 }, { 2, 6 }, { 4, 5 }, { 4, 6 } };
+        for (const auto& p : paths)
+        {
+          tets.insert(tets.end(), { c[0], c[p[0]], c[p[1]], c[7] });
+        }
+      }
+    }
+  }
+}
+}
+
+TEST(Kernels, TetrahedralMeshPreparation)
+{
+  std::vector<double> points;
+  std::vector<long long> tets;
+  CubeMesh(4, points, tets);
+  // One tetrahedron of zero volume (four points of one face) is dropped.
+  tets.insert(tets.end(), { 0, 1, 5, 6 });
+  TetrahedralMesh mesh;
+  std::string error;
+  ASSERT_TRUE(BuildTetrahedralMesh(points, tets, mesh, error)) << error;
+  EXPECT_EQ(mesh.NumberOfTets(), 6 * 64);
+  EXPECT_EQ(mesh.Degenerate, 1);
+  // Half of the tetrahedra are given with a negative orientation by the paths above.
+  EXPECT_EQ(mesh.Inverted, 3 * 64);
+  // Face neighbours are mutual.
+  for (int t = 0; t < mesh.NumberOfTets(); ++t)
+  {
+    for (int f = 0; f < 4; ++f)
+    {
+      const int u = mesh.Neighbors[4 * t + f];
+      if (u >= 0)
+      {
+        const int* n = &mesh.Neighbors[4 * u];
+        EXPECT_TRUE(n[0] == t || n[1] == t || n[2] == t || n[3] == t);
+      }
+    }
+  }
+  // Interior points: those not on the cube's faces, 3^3 of the 5^3.
+  EXPECT_EQ(std::count(mesh.Interior.begin(), mesh.Interior.end(), 1), 27);
+  // No two mesh neighbours share a colour.
+  const VertexColoring coloring = ColorVertices(mesh);
+  std::vector<int> color(mesh.NumberOfPoints(), -1);
+  for (int c = 0; c < coloring.NumberOfColors(); ++c)
+  {
+    for (int i = coloring.Offsets[c]; i < coloring.Offsets[c + 1]; ++i)
+    {
+      color[coloring.Order[i]] = c;
+    }
+  }
+  for (int p = 0; p < mesh.NumberOfPoints(); ++p)
+  {
+    ASSERT_GE(color[p], 0);
+    for (int k = mesh.EdgeOffsets[p]; k < mesh.EdgeOffsets[p + 1]; ++k)
+    {
+      EXPECT_NE(color[p], color[mesh.EdgeNeighbors[k]]);
+    }
+  }
+}
+
+TEST(Kernels, TetrahedralLightThroughAHomogeneousCube)
+{
+  std::vector<double> points;
+  std::vector<long long> tets;
+  CubeMesh(6, points, tets);
+  TetrahedralMesh mesh;
+  std::string error;
+  ASSERT_TRUE(BuildTetrahedralMesh(points, tets, mesh, error)) << error;
+  const double sigma = 2.0;
+  const std::vector<float> extinction(mesh.NumberOfPoints(), static_cast<float>(sigma));
+  Level0Grid grid;
+  ResampleLevel0(mesh, extinction, 1, { { 13, 13, 13 } }, grid);
+  LightState light = Downward();
+  light.Position = { { 0.5, 0.5, 10.0 } };
+  light.FocalPoint = { { 0.5, 0.5, 0.0 } };
+  std::vector<float> level0, rho;
+  PropagateLevel0(grid, light, level0);
+  PropagateLevel1(
+    mesh, extinction, grid, level0, light, 0.0, AutomaticLevel1Iterations(mesh, grid), rho);
+  // Light enters through the top face: transmittance exp(-sigma (1 - z)) at height z, up to
+  // the linear interpolation between vertices h = 1/6 apart that the semi-Lagrangian steps
+  // make (at most sigma^2 h^2 / 8 = 0.014).
+  double worst = 0.0;
+  for (int p = 0; p < mesh.NumberOfPoints(); ++p)
+  {
+    const double z = mesh.Points[3 * p + 2];
+    worst = std::max(worst, std::abs(rho[p] - std::exp(-sigma * (1.0 - z))));
+  }
+  std::cout << "two-level light in a homogeneous cube: largest error " << worst << std::endl;
+  EXPECT_LE(worst, 0.01);
+}
