@@ -4,11 +4,8 @@
 #include "IlluminationFilterSupport.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
-#include "vtkSMPTools.h"
 
 #include <algorithm>
-#include <cmath>
-#include <memory>
 #include <string>
 
 vtkStandardNewMacro(vtkFilteredVolumetricShadows);
@@ -39,14 +36,9 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
   std::vector<volillum::ShadowLookup> lookups;
   std::vector<volillum::SphericalLookup> sphericalLookups;
   volillum::GroupShadowLights(lights, frames, lookups, sphericalLookups);
-  std::vector<std::array<double, 3>> positions;
-  for (const auto& l : sphericalLookups)
-  {
-    positions.push_back(l.Light.Position);
-  }
   report.Passes = 0;
-  if (!this->UpdateTables(
-        volume, frames, positions, minSpacing / scale, channels, inputModified, report.Passes))
+  if (!this->UpdateTables(volume, frames, sphericalLookups, minSpacing / scale, channels,
+        inputModified, report.Passes))
   {
     return false;
   }
@@ -88,7 +80,7 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
 //------------------------------------------------------------------------------
 bool vtkFilteredVolumetricShadows::UpdateTables(const volillum::ClassifiedVolume& volume,
   const std::vector<volillum::SatFrame>& frames,
-  const std::vector<std::array<double, 3>>& positions, double cellSize, int channels,
+  const std::vector<volillum::SphericalLookup>& sphericalLookups, double cellSize, int channels,
   bool inputModified, int& built)
 {
   const double scale = this->SATResolutionScale;
@@ -113,18 +105,19 @@ bool vtkFilteredVolumetricShadows::UpdateTables(const volillum::ClassifiedVolume
     }
   }
   // One spherical table per point or spot light, kept while the light does not move.
-  std::vector<volillum::SphericalSAT> spherical(positions.size());
-  for (size_t i = 0; i < positions.size(); ++i)
+  std::vector<volillum::SphericalSAT> spherical(sphericalLookups.size());
+  for (size_t i = 0; i < sphericalLookups.size(); ++i)
   {
+    const auto& position = sphericalLookups[i].Light.Position;
     auto reuse = std::find_if(this->SphericalTables.begin(), this->SphericalTables.end(),
-      [&](const volillum::SphericalSAT& t) { return t.GetLight() == positions[i]; });
+      [&](const volillum::SphericalSAT& t) { return t.GetLight() == position; });
     if (!inputModified && this->TablesScale == scale && reuse != this->SphericalTables.end() &&
       reuse->GetTable().GetNumberOfChannels() == channels)
     {
       spherical[i] = std::move(*reuse);
       continue;
     }
-    spherical[i].Build(volume, positions[i].data(), cellSize, channels);
+    spherical[i].Build(volume, position.data(), cellSize, channels);
     ++built;
     if (!this->ReportProgress(0.5))
     {

@@ -35,7 +35,7 @@
 #ifndef vtkFilteredVolumetricShadows_h
 #define vtkFilteredVolumetricShadows_h
 
-#include "SummedAreaTableKernel.h"
+#include "FilteredShadowsKernel.h" // for the table lookups
 #include "vtkIlluminationVolumeAlgorithm.h"
 
 #include "vtkFloatArray.h"
@@ -107,11 +107,12 @@ protected:
 
 private:
   vtkFilteredVolumetricShadows(const vtkFilteredVolumetricShadows&) = delete;
-  // Tables for the frames and point-light positions, reusing those of the last update whose
-  // frame or light, resolution and classification hold; built counts the new ones.
+  // Tables for the frames and the point and spot lights, reusing those of the last update
+  // whose frame or light position, resolution and classification hold; built counts the new
+  // ones.
   bool UpdateTables(const volillum::ClassifiedVolume& volume,
     const std::vector<volillum::SatFrame>& frames,
-    const std::vector<std::array<double, 3>>& positions, double cellSize, int channels,
+    const std::vector<volillum::SphericalLookup>& sphericalLookups, double cellSize, int channels,
     bool inputModified, int& built);
   // The per-light transmittance arrays (PerLightTransmittance), null for the others.
   std::vector<float*> AllocateTransmittances(

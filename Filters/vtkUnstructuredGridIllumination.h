@@ -41,7 +41,6 @@
 #ifndef vtkUnstructuredGridIllumination_h
 #define vtkUnstructuredGridIllumination_h
 
-#include "IlluminationClassify.h"
 #include "IlluminationFilterSupport.h" // for volillum::PointScalars
 #include "IlluminationLightList.h"
 #include "TetrahedralLightKernel.h"

@@ -5,15 +5,14 @@
 // threshold RegressionThreshold). The same frame drawn without the illumination must differ
 // from it by more than LitDifference, so an illumination the mapper ignored would fail.
 // Writes OUTPUT_DIR/IlluminatedVolumeMapper.png.
+#include "IlluminationTestUtilities.h"
 #include "vtkIlluminatedVolumeMapper.h"
-#include "vtkIlluminationPhantomSource.h"
 #include "vtkMultiLightIlluminationVolume.h"
 
 #include "vtkCamera.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkImageData.h"
 #include "vtkImageDifference.h"
-#include "vtkLight.h"
 #include "vtkNew.h"
 #include "vtkPNGReader.h"
 #include "vtkPNGWriter.h"
@@ -61,24 +60,13 @@ double Difference(vtkImageData* a, vtkImageData* b)
 vtkSmartPointer<vtkImageData> Illuminate(
   vtkImageData* image, vtkColorTransferFunction* ctf, vtkPiecewiseFunction* otf)
 {
-  vtkNew<vtkLight> yellow;
-  yellow->SetPositional(true);
-  yellow->SetConeAngle(180);
-  yellow->SetPosition(-30, 24, 70);
-  yellow->SetFocalPoint(24, 24, 24);
-  yellow->SetDiffuseColor(1.0, 0.85, 0.3);
-  vtkNew<vtkLight> blue;
-  blue->SetPositional(false);
-  blue->SetPosition(60, -40, 30);
-  blue->SetFocalPoint(24, 24, 24);
-  blue->SetDiffuseColor(0.3, 0.5, 1.0);
   vtkNew<vtkMultiLightIlluminationVolume> illumination;
   illumination->SetInputData(image);
   illumination->SetColorTransferFunction(ctf);
   illumination->SetOpacityFunction(otf);
   illumination->SetResolutionScale(0.5);
-  illumination->AddLight(yellow);
-  illumination->AddLight(blue);
+  illumination->AddLight(volillumtest::PointLight(-30, 24, 70, 1.0, 0.85, 0.3));
+  illumination->AddLight(volillumtest::DirectionalLight(-36, 64, -6, 0.3, 0.5, 1.0));
   illumination->Update();
   return illumination->GetOutput();
 }
@@ -91,11 +79,8 @@ int main(int argc, char* argv[])
     std::cerr << "usage: TestIlluminatedVolumeMapper BASELINE.png OUTPUT_DIR\n";
     return 2;
   }
-  vtkNew<vtkIlluminationPhantomSource> phantom;
-  phantom->SetScene(vtkIlluminationPhantomSource::ThreeSpheres);
-  phantom->SetDimensions(48, 48, 48);
-  phantom->Update();
-  vtkImageData* image = phantom->GetOutput();
+  vtkSmartPointer<vtkImageData> image =
+    volillumtest::PhantomScene(vtkIlluminationPhantomSource::ThreeSpheres, 48);
 
   vtkNew<vtkColorTransferFunction> ctf;
   ctf->AddRGBPoint(0, 0.0, 0.0, 0.0);
