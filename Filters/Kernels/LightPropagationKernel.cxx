@@ -105,12 +105,11 @@ inline bool Locate(double u, double v, int nb, int nc, SlicePoint& at)
 }
 
 // Bilinear interpolation of interleaved channels; strides in values (0 along a flat axis).
-template <int Channels>
-inline void Bilinear(
-  const float* base, long long strideU, long long strideV, const SlicePoint& at, float* out)
+inline void Bilinear(const float* base, int channels, long long strideU, long long strideV,
+  const SlicePoint& at, float* out)
 {
   const float* q = base + at.U * strideU + at.V * strideV;
-  for (int ch = 0; ch < Channels; ++ch)
+  for (int ch = 0; ch < channels; ++ch)
   {
     const float a = q[ch] + at.FU * (q[strideU + ch] - q[ch]);
     const float b = q[strideV + ch] + at.FU * (q[strideV + strideU + ch] - q[strideV + ch]);
@@ -129,13 +128,15 @@ inline void CubicWeights(float f, float w[4])
   w[3] = 0.5f * (f3 - f2);
 }
 
-// Bicubic (Catmull-Rom) interpolation of a 3-channel slice buffer (nb x nc pixels) at `at`,
-// limited to the range of the four surrounding pixels so that it adds no new extremes.
-inline void MonotoneBicubic(const float* base, int nb, int nc, const SlicePoint& at, float* out)
+// Bicubic (Catmull-Rom) interpolation of a slice buffer (nb x nc pixels, `channels` values
+// each) at `at`, limited to the range of the four surrounding pixels so that it adds no new
+// extremes.
+inline void MonotoneBicubic(
+  const float* base, int channels, int nb, int nc, const SlicePoint& at, float* out)
 {
   if (nb < 4 || nc < 4)
   {
-    Bilinear<3>(base, nb > 1 ? 3 : 0, nc > 1 ? 3LL * nb : 0, at, out);
+    Bilinear(base, channels, nb > 1 ? channels : 0, nc > 1 ? 1LL * channels * nb : 0, at, out);
     return;
   }
   float wu[4], wv[4];
@@ -147,21 +148,57 @@ inline void MonotoneBicubic(const float* base, int nb, int nc, const SlicePoint&
     iu[m] = std::min(std::max(at.U - 1 + m, 0), nb - 1);
     iv[m] = std::min(std::max(at.V - 1 + m, 0), nc - 1);
   }
-  for (int ch = 0; ch < 3; ++ch)
+  const long long rowValues = 1LL * channels * nb;
+  for (int ch = 0; ch < channels; ++ch)
   {
     float sum = 0.0f;
     for (int mv = 0; mv < 4; ++mv)
     {
-      const float* row = base + 3LL * nb * iv[mv] + ch;
+      const float* row = base + rowValues * iv[mv] + ch;
       sum += wv[mv] *
-        (wu[0] * row[3 * iu[0]] + wu[1] * row[3 * iu[1]] + wu[2] * row[3 * iu[2]] +
-          wu[3] * row[3 * iu[3]]);
+        (wu[0] * row[channels * iu[0]] + wu[1] * row[channels * iu[1]] +
+          wu[2] * row[channels * iu[2]] + wu[3] * row[channels * iu[3]]);
     }
-    const float a = base[3LL * nb * iv[1] + 3 * iu[1] + ch];
-    const float b = base[3LL * nb * iv[1] + 3 * iu[2] + ch];
-    const float c = base[3LL * nb * iv[2] + 3 * iu[1] + ch];
-    const float d = base[3LL * nb * iv[2] + 3 * iu[2] + ch];
+    const float a = base[rowValues * iv[1] + channels * iu[1] + ch];
+    const float b = base[rowValues * iv[1] + channels * iu[2] + ch];
+    const float c = base[rowValues * iv[2] + channels * iu[1] + ch];
+    const float d = base[rowValues * iv[2] + channels * iu[2] + ch];
     out[ch] = std::min(std::max(sum, std::min(std::min(a, b), std::min(c, d))),
+      std::max(std::max(a, b), std::max(c, d)));
+  }
+}
+
+// MonotoneBicubic for the pixels [first, last] of a row whose positions in the slice buffer
+// (width x height pixels, `channels` values each) share their fractions (fu, fv): pixel i
+// lies in cell (i + shiftU, v) and all its taps inside the buffer (1 <= first + shiftU,
+// last + shiftU + 2 < width, 1 <= v, v + 2 < height). The weights are computed once, and the
+// row is one flat loop the compiler vectorises; the same values as MonotoneBicubic.
+template <int Channels>
+void MonotoneBicubicRow(const float* base, int width, int shiftU, int v, float fu, float fv,
+  int first, int last, float* out)
+{
+  float wu[4], wv[4];
+  CubicWeights(fu, wu);
+  CubicWeights(fv, wv);
+  const float u0 = wu[0], u1 = wu[1], u2 = wu[2], u3 = wu[3];
+  const float v0 = wv[0], v1 = wv[1], v2 = wv[2], v3 = wv[3];
+  const long long rowValues = 1LL * Channels * width;
+  // Tap (mu, mv) of value x of the row (x = Channels x pixel + channel) is r_mv[x + mu C].
+  const float* r0 = base + rowValues * (v - 1) + Channels * (shiftU - 1);
+  const float* r1 = r0 + rowValues;
+  const float* r2 = r1 + rowValues;
+  const float* r3 = r2 + rowValues;
+  constexpr int C = Channels;
+  for (int x = C * first; x < C * (last + 1); ++x)
+  {
+    float sum = 0.0f;
+    sum += v0 * (u0 * r0[x] + u1 * r0[x + C] + u2 * r0[x + 2 * C] + u3 * r0[x + 3 * C]);
+    sum += v1 * (u0 * r1[x] + u1 * r1[x + C] + u2 * r1[x + 2 * C] + u3 * r1[x + 3 * C]);
+    sum += v2 * (u0 * r2[x] + u1 * r2[x + C] + u2 * r2[x + 2 * C] + u3 * r2[x + 3 * C]);
+    sum += v3 * (u0 * r3[x] + u1 * r3[x + C] + u2 * r3[x + 2 * C] + u3 * r3[x + 3 * C]);
+    const float a = r1[x + C], b = r1[x + 2 * C];
+    const float c = r2[x + C], d = r2[x + 2 * C];
+    out[x] = std::min(std::max(sum, std::min(std::min(a, b), std::min(c, d))),
       std::max(std::max(a, b), std::max(c, d)));
   }
 }
@@ -182,6 +219,9 @@ struct SweepContext
   // Whether rows of parallel segments may share their samples' cells (RowSegments); false
   // integrates every segment on its own.
   bool RowKernels;
+  // Values of light per ray or pixel: 3 (RGB) with chromatic attenuation; else 1, as every
+  // channel keeps the same transmittance.
+  int Channels;
 };
 
 // A ray source as one sweep uses it; for a directional light everything that does not
@@ -309,12 +349,12 @@ inline void AttenuateBySample(
   }
 }
 
-inline void ApplyDepth(float depth, float out[3])
+inline void ApplyDepth(int channels, float depth, float* out)
 {
   if (depth > 0.0f)
   {
     const float t = std::exp(-depth);
-    for (int ch = 0; ch < 3; ++ch)
+    for (int ch = 0; ch < channels; ++ch)
     {
       out[ch] *= t;
     }
@@ -334,7 +374,7 @@ inline int SegmentSteps(const SweepContext& s, double length)
 // inside the box attenuates. Halving the step changes the material error of the fidelity
 // tests by less than 0.1 %: the error left is the interpolation of the light.
 void SegmentTransmittance(
-  const SweepContext& s, const double p[3], const double d[3], double length, float out[3])
+  const SweepContext& s, const double p[3], const double d[3], double length, float* out)
 {
   double from, to;
   if (!ClipToBox(s.Bounds, p, d, length, from, to))
@@ -358,33 +398,146 @@ void SegmentTransmittance(
     const double u[3] = { first[0] + m * step[0], first[1] + m * step[1], first[2] + m * step[2] };
     AttenuateBySample(s, CellAt(g, u), hf, depth, out);
   }
-  ApplyDepth(depth, out);
+  ApplyDepth(s.Channels, depth, out);
 }
 
 // Most steps of a segment that RowSegments integrates as part of a row.
 constexpr int MaximumRowSteps = 64;
 
+// Adds h x sigma (sigma interpolated at the fractions fx, fy, fz of the cells whose first
+// points are q + i step, corner offsets dx, dy, dz) to depth[i] for the `count` rays of a
+// row: AttenuateBySample's sum without its branches (the extinction is 0 in an empty block
+// and never negative, so the sums are the same), a loop the compiler vectorises.
+inline void AddRowDepths(const float* q, long long step, long long dx, long long dy, long long dz,
+  float fx, float fy, float fz, float h, int count, float* depth)
+{
+  for (int i = 0; i < count; ++i)
+  {
+    const float* r = q + i * step;
+    const float c00 = r[0] + fx * (r[dx] - r[0]);
+    const float c10 = r[dy] + fx * (r[dy + dx] - r[dy]);
+    const float c01 = r[dz] + fx * (r[dz + dx] - r[dz]);
+    const float c11 = r[dz + dy] + fx * (r[dz + dy + dx] - r[dz + dy]);
+    const float c0 = c00 + fy * (c10 - c00);
+    const float c1 = c01 + fy * (c11 - c01);
+    const float sigma = c0 + fz * (c1 - c0);
+    depth[i] += (sigma > 0.0f ? sigma : 0.0f) * h;
+  }
+}
+
+// AddRowDepths for rays a fractional number of cells apart along axis B: ray i samples the
+// cell `cell` except along B, where it lies at grid coordinate u0 + i ratio (never below 0
+// nor at the last point). q: the cell's first point with index 0 along B.
+template <int B>
+void AddFractionalRowDepths(const float* q, long long strideB, long long dx, long long dy,
+  long long dz, const TrilinearCell& cell, double u0, double ratio, float h, int count,
+  float* depth)
+{
+  for (int i = 0; i < count; ++i)
+  {
+    const double u = u0 + i * ratio;
+    const int index = static_cast<int>(u);
+    const float f = static_cast<float>(u - index);
+    const float fx = B == 0 ? f : cell.Fraction[0];
+    const float fy = B == 1 ? f : cell.Fraction[1];
+    const float fz = B == 2 ? f : cell.Fraction[2];
+    const float* r = q + index * strideB;
+    const float c00 = r[0] + fx * (r[dx] - r[0]);
+    const float c10 = r[dy] + fx * (r[dy + dx] - r[dy]);
+    const float c01 = r[dz] + fx * (r[dz + dx] - r[dz]);
+    const float c11 = r[dz + dy] + fx * (r[dz + dy + dx] - r[dz + dy]);
+    const float c0 = c00 + fy * (c10 - c00);
+    const float c1 = c01 + fy * (c11 - c01);
+    const float sigma = c0 + fz * (c1 - c0);
+    depth[i] += (sigma > 0.0f ? sigma : 0.0f) * h;
+  }
+}
+
+// The row kernel without chromatic attenuation (one value a ray): the transmittance of
+// `count` rays multiplied into out[i]. Ray i samples cells[m] with its position along B
+// moved by i x ratio cells (alongB[m] on ray 0); shift is ratio when that is whole. The
+// rays are summed sample by sample, a whole row at once.
+void GreyRowTransmittance(const SweepContext& s, const TrilinearCell* cells, const double* alongB,
+  int n, float h, double ratio, int shift, bool whole, int count, float* out)
+{
+  const GridGeometry& g = s.Volume.Geometry;
+  const long long stride[3] = { 1, g.Dimensions[0],
+    static_cast<long long>(g.Dimensions[0]) * g.Dimensions[1] };
+  const long long dx = g.Dimensions[0] > 1 ? stride[0] : 0;
+  const long long dy = g.Dimensions[1] > 1 ? stride[1] : 0;
+  const long long dz = g.Dimensions[2] > 1 ? stride[2] : 0;
+  const long long step = shift * stride[s.B];
+  constexpr int Chunk = 256;
+  float depth[Chunk];
+  for (int begin = 0; begin < count; begin += Chunk)
+  {
+    const int size = std::min(Chunk, count - begin);
+    std::fill_n(depth, size, 0.0f);
+    for (int m = 0; m < n; ++m)
+    {
+      const TrilinearCell& c = cells[m];
+      if (!whole)
+      {
+        const float* q = s.Volume.Properties.data() + c.Index[0] * stride[0] +
+          c.Index[1] * stride[1] + c.Index[2] * stride[2] - c.Index[s.B] * stride[s.B];
+        const double u0 = alongB[m] + begin * ratio;
+        const long long sB = stride[s.B];
+        if (s.B == 0)
+        {
+          AddFractionalRowDepths<0>(q, sB, dx, dy, dz, c, u0, ratio, h, size, depth);
+        }
+        else if (s.B == 1)
+        {
+          AddFractionalRowDepths<1>(q, sB, dx, dy, dz, c, u0, ratio, h, size, depth);
+        }
+        else
+        {
+          AddFractionalRowDepths<2>(q, sB, dx, dy, dz, c, u0, ratio, h, size, depth);
+        }
+        continue;
+      }
+      const float* q = s.Volume.Properties.data() + c.Index[0] * stride[0] +
+        c.Index[1] * stride[1] + c.Index[2] * stride[2] + begin * step;
+      const float fx = c.Fraction[0], fy = c.Fraction[1], fz = c.Fraction[2];
+      if (step == 1)
+      {
+        AddRowDepths(q, 1, dx, dy, dz, fx, fy, fz, h, size, depth);
+      }
+      else
+      {
+        AddRowDepths(q, step, dx, dy, dz, fx, fy, fz, h, size, depth);
+      }
+    }
+    for (int i = 0; i < size; ++i)
+    {
+      ApplyDepth(1, depth[i], out + begin + i);
+    }
+  }
+}
+
 // SegmentTransmittance for `count` parallel segments (direction d, length) whose near ends
-// lie `spacing` apart along the slice axis B, ray i at p + i spacing e_B (out: 3 floats a
-// ray). When the rays lie a whole number of the volume's cells apart along B (the
-// illumination grid at the data's resolution), the samples of every ray wholly inside the
-// volume fall at the same fractions of cells a whole number of cells apart: the cells are
-// found once for the row and moved per ray (the row kernel). Other rays are integrated one
-// by one. Both give the same cells up to the rounding of the positions.
+// lie `spacing` apart along the slice axis B, ray i at p + i spacing e_B (out: Channels
+// values a ray). The samples of the rays wholly inside the volume share their cells and
+// fractions along the two other axes: the cells are found once for the row and only the
+// position along B moves from ray to ray (the row kernel). When the rays lie a whole number
+// of the volume's cells apart along B (the illumination grid at the data's resolution), the
+// fractions along B are shared too, and without chromatic attenuation the whole row is
+// summed at once (GreyRowTransmittance). Other rays are integrated one by one. All give the
+// same cells up to the rounding of the positions.
 void RowSegments(const SweepContext& s, const double p[3], double spacing, int count,
   const double d[3], double length, float* out)
 {
   const GridGeometry& g = s.Volume.Geometry;
-  const double ratio = spacing / g.Spacing[s.B];
+  const double ratio = spacing / g.Spacing[s.B]; // the volume's cells from one ray to the next
   const int shift = static_cast<int>(std::lround(ratio));
+  const bool whole = shift >= 1 && std::abs(ratio - shift) < GeometricTolerance;
   const int n = SegmentSteps(s, length);
   int first = 0, last = -1; // the rays wholly inside
-  if (s.RowKernels && count > 1 && shift >= 1 && std::abs(ratio - shift) < GeometricTolerance &&
-    n <= MaximumRowSteps)
+  if (s.RowKernels && count > 1 && ratio > 0.0 && n <= MaximumRowSteps)
   {
     // Grid coordinates of both ends of ray 0's segment: rays inside the volume's grid (short
-    // of its last point along B, so that a cell moved by whole cells stays a cell) are inside
-    // the box, whose bounds are the volume's.
+    // of its last point along B, so that every sample has a cell without clamping) are
+    // inside the box, whose bounds are the volume's.
     bool inside = true;
     double low = 0.0, high = 0.0;
     for (int a = 0; a < 3; ++a)
@@ -404,12 +557,22 @@ void RowSegments(const SweepContext& s, const double p[3], double spacing, int c
     }
     if (inside)
     {
-      first = std::max(0, static_cast<int>(std::ceil(-low / shift)));
-      last = std::min(
-        count - 1, static_cast<int>(std::ceil((g.Dimensions[s.B] - 1 - high) / shift)) - 1);
+      const double end = g.Dimensions[s.B] - 1;
+      first = std::max(0, static_cast<int>(std::ceil(-low / ratio)));
+      last = std::min(count - 1, static_cast<int>(std::ceil((end - high) / ratio)) - 1);
+      // The divisions' rounding must not let a ray out.
+      while (first <= last && low + first * ratio < 0.0)
+      {
+        ++first;
+      }
+      while (last >= first && high + last * ratio >= end)
+      {
+        --last;
+      }
     }
   }
   TrilinearCell cells[MaximumRowSteps];
+  double alongB[MaximumRowSteps]; // sample m's grid coordinate along B on ray `first`
   const double h = length / n;
   if (first <= last)
   {
@@ -422,27 +585,48 @@ void RowSegments(const SweepContext& s, const double p[3], double spacing, int c
         u[a] = (p[a] + along - (m + 0.5) * h * d[a] - g.Origin[a]) / g.Spacing[a];
       }
       cells[m] = CellAt(g, u);
+      alongB[m] = u[s.B];
     }
   }
   const float hf = static_cast<float>(h);
+  const bool grey = !s.Volume.IsChromatic();
+  if (grey && first <= last)
+  {
+    GreyRowTransmittance(
+      s, cells, alongB, n, hf, ratio, shift, whole, last - first + 1, out + first);
+  }
   double q[3] = { p[0], p[1], p[2] };
   for (int i = 0; i < count; ++i)
   {
-    float* o = out + 3 * i;
+    float* o = out + s.Channels * i;
     if (i < first || i > last)
     {
       q[s.B] = p[s.B] + i * spacing;
       SegmentTransmittance(s, q, d, length, o);
       continue;
     }
+    if (grey)
+    {
+      continue;
+    }
     float depth = 0.0f;
     for (int m = 0; m < n; ++m)
     {
       TrilinearCell cell = cells[m];
-      cell.Index[s.B] += (i - first) * shift;
+      if (whole)
+      {
+        cell.Index[s.B] += (i - first) * shift;
+      }
+      else
+      {
+        // Only the position along B moves from ray to ray.
+        const double u = alongB[m] + (i - first) * ratio;
+        cell.Index[s.B] = static_cast<int>(u);
+        cell.Fraction[s.B] = static_cast<float>(u - cell.Index[s.B]);
+      }
       AttenuateBySample(s, cell, hf, depth, o);
     }
-    ApplyDepth(depth, o);
+    ApplyDepth(s.Channels, depth, o);
   }
 }
 
@@ -471,10 +655,10 @@ inline double SliceCoordinate(const SweepContext& s, int k)
 // the light travels there (d) and the factor an inside light's group gives the point; rays
 // holds the light along the anchored rays at the previous slice.
 void TransmittanceAtPoint(const SweepContext& s, const SweepSource& sweep, const float* rays,
-  const double p[3], float out[3], double d[3], double& groupFactor)
+  const double p[3], float* out, double d[3], double& groupFactor)
 {
   const RaySource& source = sweep.Source;
-  out[0] = out[1] = out[2] = 1.0f;
+  std::fill_n(out, s.Channels, 1.0f);
   groupFactor = 1.0;
   const int a = s.Axis;
   for (int i = 0; i < 3; ++i)
@@ -531,7 +715,7 @@ void TransmittanceAtPoint(const SweepContext& s, const SweepSource& sweep, const
     SegmentTransmittance(s, p, d, (1.0 - ratio) * distance, out);
     return;
   }
-  MonotoneBicubic(rays, sweep.RaysB, sweep.RaysC, at, out);
+  MonotoneBicubic(rays, s.Channels, sweep.RaysB, sweep.RaysC, at, out);
   SegmentTransmittance(s, p, d, s.Spacing[a] / along, out);
 }
 
@@ -569,7 +753,8 @@ bool AdvanceAnchoredRays(const SweepContext& s, SweepSource& sweep, int k, float
       {
         for (int i = 0; i < sweep.RaysB; ++i)
         {
-          float* o = (anchor ? next : rays) + 3 * (static_cast<long long>(j) * sweep.RaysB + i);
+          float* o =
+            (anchor ? next : rays) + s.Channels * (static_cast<long long>(j) * sweep.RaysB + i);
           if (anchor)
           {
             // The ray leaves slice k: its light is read from the rays at slice k - 1.
@@ -610,7 +795,7 @@ void RowTransmittance(const SweepContext& s, const SweepSource& sweep, const flo
   if (sweep.Source.Directional)
   {
     // A directional light that makes no progress along the axis enters at every point.
-    std::fill(out, out + 3 * nb, 1.0f);
+    std::fill(out, out + s.Channels * nb, 1.0f);
     std::fill(groupFactor, groupFactor + nb, 1.0);
     for (int ib = 0; ib < nb; ++ib)
     {
@@ -624,7 +809,8 @@ void RowTransmittance(const SweepContext& s, const SweepSource& sweep, const flo
   for (int ib = 0; ib < nb; ++ib)
   {
     p[s.B] = s.Origin[s.B] + ib * s.Spacing[s.B];
-    TransmittanceAtPoint(s, sweep, rays, p, out + 3 * ib, direction + 3 * ib, groupFactor[ib]);
+    TransmittanceAtPoint(
+      s, sweep, rays, p, out + s.Channels * ib, direction + 3 * ib, groupFactor[ib]);
   }
 }
 
@@ -635,25 +821,26 @@ void LatticeRow(const SweepContext& s, const SweepSource& sweep, const LatticePh
 {
   const int width = s.N[s.B] + 1;
   const int height = s.N[s.C] + 1;
+  const int channels = s.Channels;
   if (t == 0)
   {
-    std::fill(out, out + 3 * width, 1.0f);
+    std::fill(out, out + channels * width, 1.0f);
     return;
   }
   const int from = j - phase.ShiftV;
   for (int i = 0; i < width; ++i)
   {
-    float* o = out + 3 * i;
+    float* o = out + channels * i;
     const int fromU = i - phase.ShiftU;
     if (from < 0 || from >= height || fromU < 0 || fromU >= width)
     {
       // Entered through a side face after the previous slice.
-      std::fill(o, o + 3, 1.0f);
+      std::fill(o, o + channels, 1.0f);
       continue;
     }
     // Rays beside the box carry light unattenuated (SegmentTransmittance integrates inside
     // the box only); points on its faces interpolate between them and the rays inside.
-    std::copy_n(previous + 3 * (static_cast<long long>(from) * width + fromU), 3, o);
+    std::copy_n(previous + channels * (static_cast<long long>(from) * width + fromU), channels, o);
   }
   // Every ray is attenuated over its step back to the previous slice.
   double p[3];
@@ -678,25 +865,61 @@ void RowFromLattice(const SweepContext& s, const SweepSource& sweep, const Latti
     std::copy_n(d, 3, direction + 3 * ib);
     groupFactor[ib] = 1.0;
   }
-  std::fill(out, out + 3 * nb, 1.0f);
+  const int channels = s.Channels;
+  std::fill(out, out + channels * nb, 1.0f);
   if (t == 0)
   {
     return;
   }
+  // The pixels [first, last] of the row whose ray crossed the previous slice inside it;
+  // the others entered through a side face after it.
   const double v = ic - sweep.OffsetV;
-  SlicePoint at;
-  for (int ib = 0; ib < nb; ++ib)
+  int first = 0, last = nb - 1;
+  if (v < 0.0 || v > nc - 1)
   {
-    const double u = ib - sweep.OffsetU;
-    if (u < 0.0 || u > nb - 1 || v < 0.0 || v > nc - 1)
+    first = nb;
+  }
+  while (first < nb && first - sweep.OffsetU < 0.0)
+  {
+    ++first;
+  }
+  while (last >= first && last - sweep.OffsetU > nb - 1)
+  {
+    --last;
+  }
+  // In the lattice of slice t - 1, ray (i, j) lies at (i - 1 + f, j - 1 + g) where
+  // f + OffsetU = FractionU + ShiftU (and so for v): pixel ib at (ib + shiftU, V) with the
+  // same fractions all along the row. Where all of a pixel's taps lie inside the lattice
+  // ([inner, outer]) the row is interpolated at once.
+  const double latticeU = 1 - phase.FractionU - phase.ShiftU;
+  const double latticeV = ic + 1 - phase.FractionV - phase.ShiftV;
+  SlicePoint at;
+  int inner = last + 1, outer = last;
+  if (first <= last && nb >= 3 && nc >= 3 &&
+    Locate(first + latticeU, latticeV, nb + 1, nc + 1, at) && at.V >= 1 && at.V + 2 <= nc)
+  {
+    const int shiftU = at.U - first;
+    inner = std::max(first, 1 - shiftU);
+    outer = std::min(last, nb - 2 - shiftU);
+    if (inner <= outer)
     {
-      continue; // entered through a side face after the previous slice
+      if (channels == 1)
+      {
+        MonotoneBicubicRow<1>(previous, nb + 1, shiftU, at.V, at.FU, at.FV, inner, outer, out);
+      }
+      else
+      {
+        MonotoneBicubicRow<3>(previous, nb + 1, shiftU, at.V, at.FU, at.FV, inner, outer, out);
+      }
     }
-    // In the lattice of slice t - 1, ray (i, j) lies at (i - 1 + f, j - 1 + g) where
-    // f + OffsetU = FractionU + ShiftU (and so for v).
-    Locate(ib + 1 - phase.FractionU - phase.ShiftU, ic + 1 - phase.FractionV - phase.ShiftV, nb + 1,
-      nc + 1, at);
-    MonotoneBicubic(previous, nb + 1, nc + 1, at, out + 3 * ib);
+  }
+  for (int ib = first; ib <= last; ++ib)
+  {
+    if (ib < inner || ib > outer)
+    {
+      Locate(ib + latticeU, latticeV, nb + 1, nc + 1, at);
+      MonotoneBicubic(previous, channels, nb + 1, nc + 1, at, out + channels * ib);
+    }
   }
   // Each point's own last step: material just before it shades it exactly.
   double p[3];
@@ -712,11 +935,11 @@ SweepContext MakeSweepContext(const ClassifiedVolume& volume, const EmptyBlocks*
 {
   const auto& sp = volume.Geometry.Spacing;
   SweepContext s{ volume, empty, std::min(sp[0], std::min(sp[1], sp[2])), group / 2,
-    group % 2 == 0 ? 1 : -1, (group / 2 + 1) % 3, (group / 2 + 2) % 3,
+    group % 2 == 0 ? 1 : -1, group / 2 == 0 ? 1 : 0, group / 2 == 2 ? 1 : 2,
     { g.Dimensions[0], g.Dimensions[1], g.Dimensions[2] },
     { 1, g.Dimensions[0], static_cast<long long>(g.Dimensions[0]) * g.Dimensions[1] },
     { g.Origin[0], g.Origin[1], g.Origin[2] }, { g.Spacing[0], g.Spacing[1], g.Spacing[2] }, {},
-    false };
+    false, volume.IsChromatic() ? 3 : 1 };
   g.GetBounds(s.Bounds);
   // Row kernels take a ray inside the volume's grid to be inside the box: they need the two
   // to coincide.
@@ -772,14 +995,14 @@ void PrepareDeposits(const SweepContext& s, const std::vector<PropagationTask>& 
 
 // The read and write slice buffers of each source; returns the bytes of every buffer of
 // the sweep, the threads' row buffers included.
-size_t AllocateSliceBuffers(std::vector<SweepSource>& prepared, int nb, int nc,
+size_t AllocateSliceBuffers(std::vector<SweepSource>& prepared, int channels, int nb, int nc,
   std::vector<std::vector<float>>& read, std::vector<std::vector<float>>& write)
 {
   const size_t count = prepared.size();
   // Slice buffers: a ray lattice (one ray more than points along each slice axis) for a
   // directional source; the rays from the anchor and those of the next anchor for a point
   // or spot source.
-  const size_t latticeValues = 3 * static_cast<size_t>(nb + 1) * (nc + 1);
+  const size_t latticeValues = channels * static_cast<size_t>(nb + 1) * (nc + 1);
   size_t bufferBytes = 0;
   for (SweepSource& sweep : prepared)
   {
@@ -789,7 +1012,7 @@ size_t AllocateSliceBuffers(std::vector<SweepSource>& prepared, int nb, int nc,
       // The rays leaving an anchor, AnchorSpread times denser than its points.
       sweep.RaysB = static_cast<int>(std::ceil((nb - 1) * AnchorSpread)) + 1;
       sweep.RaysC = static_cast<int>(std::ceil((nc - 1) * AnchorSpread)) + 1;
-      size = 3 * static_cast<size_t>(sweep.RaysB) * sweep.RaysC;
+      size = channels * static_cast<size_t>(sweep.RaysB) * sweep.RaysC;
     }
     read.emplace_back(size, 1.0f);
     write.emplace_back(size, 1.0f);
@@ -797,8 +1020,25 @@ size_t AllocateSliceBuffers(std::vector<SweepSource>& prepared, int nb, int nc,
   }
   // Each thread's row buffers: light, direction and group factor per pixel and source.
   bufferBytes += static_cast<size_t>(vtkSMPTools::GetEstimatedNumberOfThreads()) * nb * count *
-    (3 * sizeof(float) + 4 * sizeof(double));
+    (channels * sizeof(float) + 4 * sizeof(double));
   return bufferBytes;
+}
+
+// Asks for the illumination values of row ic of slice k ahead of DepositRow: computing the
+// row's light hides the misses of rows whose points lie far apart in memory (a sweep along x).
+inline void PrefetchRow(const SweepContext& s, int nb, int k, int ic, const std::uint32_t* values)
+{
+  const long long start = k * s.Stride[s.Axis] + ic * s.Stride[s.C];
+#if defined(__GNUC__)
+  for (int ib = 0; ib < nb; ++ib)
+  {
+    __builtin_prefetch(values + 3 * (start + ib * s.Stride[s.B]), 1, 1);
+  }
+#else
+  (void)nb;
+  (void)start;
+  (void)values;
+#endif
 }
 
 // Adds the deposits of row ic of slice k to the fixed-point illumination: per pixel, the sum
@@ -838,10 +1078,10 @@ void DepositRow(const SweepContext& s, const std::vector<Deposit>& deposits, con
       {
         continue;
       }
-      const float* tj = light + 3 * (nb * j + ib);
+      const float* tj = light + s.Channels * (nb * j + ib);
       for (int ch = 0; ch < 3; ++ch)
       {
-        sum[ch] += RoundToFixed(deposit.Scaled[ch] * factor * tj[ch]);
+        sum[ch] += RoundToFixed(deposit.Scaled[ch] * factor * tj[s.Channels == 3 ? ch : 0]);
       }
     }
     const long long index = k * s.Stride[s.Axis] + ib * s.Stride[s.B] + ic * s.Stride[s.C];
@@ -868,8 +1108,8 @@ bool Sweep(const ClassifiedVolume& volume, const EmptyBlocks* empty, bool rowKer
   PrepareDeposits(s, tasks, illumination.Scale, prepared, deposits);
   const size_t count = prepared.size();
   std::vector<std::vector<float>> read, write;
-  statistics.PeakBufferBytes =
-    std::max(statistics.PeakBufferBytes, AllocateSliceBuffers(prepared, nb, nc, read, write));
+  statistics.PeakBufferBytes = std::max(
+    statistics.PeakBufferBytes, AllocateSliceBuffers(prepared, s.Channels, nb, nc, read, write));
   std::uint32_t* values = illumination.Values.data();
   const int progressEvery = std::max(1, na / 16);
 
@@ -888,7 +1128,7 @@ bool Sweep(const ClassifiedVolume& volume, const EmptyBlocks* empty, bool rowKer
             for (int row = begin; row < end; ++row)
             {
               LatticeRow(s, prepared[j], phases[j], read[j].data(), t, k, row,
-                write[j].data() + 3 * static_cast<size_t>(row) * (nb + 1));
+                write[j].data() + s.Channels * static_cast<size_t>(row) * (nb + 1));
             }
           });
       }
@@ -898,14 +1138,15 @@ bool Sweep(const ClassifiedVolume& volume, const EmptyBlocks* empty, bool rowKer
       {
         // Per row and source: the light reaching each pixel, its direction and group factor
         // (only point and spot sources vary along the row).
-        std::vector<float> light(3 * static_cast<size_t>(nb) * count);
+        std::vector<float> light(s.Channels * static_cast<size_t>(nb) * count);
         std::vector<double> direction(3 * static_cast<size_t>(nb) * count);
         std::vector<double> groupFactor(static_cast<size_t>(nb) * count, 1.0);
         for (int ic = begin; ic < end; ++ic)
         {
+          PrefetchRow(s, nb, k, ic, values);
           for (size_t j = 0; j < count; ++j)
           {
-            float* row = light.data() + 3 * nb * j;
+            float* row = light.data() + s.Channels * nb * j;
             if (prepared[j].FollowsRays())
             {
               RowFromLattice(s, prepared[j], phases[j], read[j].data(), t, k, ic, row,

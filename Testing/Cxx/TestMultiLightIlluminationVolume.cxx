@@ -21,6 +21,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <utility>
 
 using volillumtest::DirectionalLight;
 using volillumtest::ErrorCounter;
@@ -183,22 +184,26 @@ TEST(MultiLightIlluminationVolume, BrightenedLightsKeepTheFixedPointExact)
 }
 
 // The row kernels (a directional light's segments along a row of the illumination grid,
-// at the data's resolution, sampled in cells found once per row) against every segment
-// integrated on its own: the same illumination to 1e-6 of its largest value, with and
-// without chromatic attenuation.
+// sampled in cells found once per row; at the data's resolution a whole row summed at once)
+// against every segment integrated on its own: the same illumination to 1e-6 of its
+// largest value, with and without chromatic attenuation, at the data's resolution and at
+// half of it (the rays 39 / 19 = 2.05 data cells apart).
 TEST(MultiLightIlluminationVolume, RowKernelsEqualSegmentBySegment)
 {
   auto image = PhantomScene(vtkIlluminationPhantomSource::ThreeSpheres, 40);
   auto otf = RampOpacity(image, 0.4);
-  for (bool chromatic : { false, true })
+  const std::pair<double, bool> cases[] = { { 1.0, false }, { 1.0, true }, { 0.5, false },
+    { 0.5, true } };
+  for (const auto& [scale, chromatic] : cases)
   {
     auto filter = ImageFilter<vtkMultiLightIlluminationVolume>(image, otf);
     filter->SetChromaticAttenuation(chromatic);
+    filter->SetResolutionScale(scale);
     filter->Update();
     volillum::ClassifiedVolume classified;
     volillum::GridGeometry target;
     ASSERT_TRUE(volillumfidelity::ClassifiedInput(filter, classified, target));
-    ASSERT_EQ(target.NumberOfPoints(), classified.Geometry.NumberOfPoints());
+    ASSERT_EQ(scale == 1.0, target.NumberOfPoints() == classified.Geometry.NumberOfPoints());
     double bounds[6];
     target.GetBounds(bounds);
     std::vector<volillum::PropagationTask> tasks;
@@ -229,7 +234,8 @@ TEST(MultiLightIlluminationVolume, RowKernelsEqualSegmentBySegment)
       largest = std::max(largest, std::abs(double(single[i])));
       darkest = std::min(darkest, double(single[i]));
     }
-    std::cout << (chromatic ? "chromatic" : "grey") << ": row kernels vs segment by segment, max "
+    std::cout << "scale " << scale << (chromatic ? ", chromatic" : ", grey")
+              << ": row kernels vs segment by segment, max "
               << "difference " << worst << " of " << largest << " (darkest " << darkest << ")"
               << std::endl;
     EXPECT_GT(largest - darkest, 0.5); // shadows to compare
