@@ -75,6 +75,12 @@ struct TrilinearCell
 /// in grid coordinates.
 inline TrilinearCell CellAt(const GridGeometry& geometry, const double u[3]);
 
+/// Trilinear interpolation in one cell of a float field: q is the cell's first value, dx, dy
+/// and dz the offsets of the next value along each axis (0 along a flat axis), f* the
+/// fractions.
+inline float TrilinearInCell(
+  const float* q, long long dx, long long dy, long long dz, float fx, float fy, float fz);
+
 /// Channel c of a field with `channels` floats per grid point, interpolated in a cell.
 inline float Interpolate(
   const GridGeometry& geometry, const float* field, int channels, const TrilinearCell& cell, int c);
@@ -150,7 +156,12 @@ inline float volillum::Interpolate(
   const long long dy = geometry.Dimensions[1] > 1 ? sy : 0;
   const long long dz = geometry.Dimensions[2] > 1 ? sz : 0;
   const float* q = field + cell.Index[0] * sx + cell.Index[1] * sy + cell.Index[2] * sz + c;
-  const float fx = cell.Fraction[0], fy = cell.Fraction[1], fz = cell.Fraction[2];
+  return TrilinearInCell(q, dx, dy, dz, cell.Fraction[0], cell.Fraction[1], cell.Fraction[2]);
+}
+
+inline float volillum::TrilinearInCell(
+  const float* q, long long dx, long long dy, long long dz, float fx, float fy, float fz)
+{
   const float c00 = q[0] + fx * (q[dx] - q[0]);
   const float c10 = q[dy] + fx * (q[dy + dx] - q[dy]);
   const float c01 = q[dz] + fx * (q[dz + dx] - q[dz]);

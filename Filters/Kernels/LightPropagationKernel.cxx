@@ -413,14 +413,7 @@ inline void AddRowDepths(const float* q, long long step, long long dx, long long
 {
   for (int i = 0; i < count; ++i)
   {
-    const float* r = q + i * step;
-    const float c00 = r[0] + fx * (r[dx] - r[0]);
-    const float c10 = r[dy] + fx * (r[dy + dx] - r[dy]);
-    const float c01 = r[dz] + fx * (r[dz + dx] - r[dz]);
-    const float c11 = r[dz + dy] + fx * (r[dz + dy + dx] - r[dz + dy]);
-    const float c0 = c00 + fy * (c10 - c00);
-    const float c1 = c01 + fy * (c11 - c01);
-    const float sigma = c0 + fz * (c1 - c0);
+    const float sigma = TrilinearInCell(q + i * step, dx, dy, dz, fx, fy, fz);
     depth[i] += (sigma > 0.0f ? sigma : 0.0f) * h;
   }
 }
@@ -441,14 +434,7 @@ void AddFractionalRowDepths(const float* q, long long strideB, long long dx, lon
     const float fx = B == 0 ? f : cell.Fraction[0];
     const float fy = B == 1 ? f : cell.Fraction[1];
     const float fz = B == 2 ? f : cell.Fraction[2];
-    const float* r = q + index * strideB;
-    const float c00 = r[0] + fx * (r[dx] - r[0]);
-    const float c10 = r[dy] + fx * (r[dy + dx] - r[dy]);
-    const float c01 = r[dz] + fx * (r[dz + dx] - r[dz]);
-    const float c11 = r[dz + dy] + fx * (r[dz + dy + dx] - r[dz + dy]);
-    const float c0 = c00 + fy * (c10 - c00);
-    const float c1 = c01 + fy * (c11 - c01);
-    const float sigma = c0 + fz * (c1 - c0);
+    const float sigma = TrilinearInCell(q + index * strideB, dx, dy, dz, fx, fy, fz);
     depth[i] += (sigma > 0.0f ? sigma : 0.0f) * h;
   }
 }
