@@ -78,13 +78,12 @@ struct VOLILLUMKERNELS_EXPORT PointShading
   std::vector<double> SphericalNear;  // near segment per spherical table
   std::vector<double> Gaussian;       // kernel weights, empty for the box
   std::vector<float*> Transmittances; // per light, or null
-
-  /// Light reaching point id at p from every light that is on, in rgb (3 floats a point).
-  void Shade(long long id, const double p[3], float* rgb) const;
 };
 
-/// Shade every point of the grid target into rgb, in 20 chunks with progress (the fraction
-/// done) after each; false when progress asked to stop.
+/// Shade every point of the grid target into rgb (3 floats a point: the light reaching it
+/// from every light that is on), row by row along x, in 20 chunks with progress (the fraction
+/// done) after each; false when progress asked to stop. The near segments of a row toward a
+/// directional light share their samples' cells along y and z (RowSegmentOpticalDepths).
 VOLILLUMKERNELS_EXPORT bool ShadePoints(const PointShading& shading, const GridGeometry& target,
   float* rgb, const ProgressCallback& progress);
 

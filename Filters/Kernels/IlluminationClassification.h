@@ -75,6 +75,9 @@ struct TrilinearCell
 /// in grid coordinates.
 inline TrilinearCell CellAt(const GridGeometry& geometry, const double u[3]);
 
+/// CellAt along one axis of n points: the cell's first point and the sample's fraction in it.
+inline void AxisCell(int n, double u, int& index, float& fraction);
+
 /// Trilinear interpolation in one cell of a float field: q is the cell's first value, dx, dy
 /// and dz the offsets of the next value along each axis (0 along a flat axis), f* the
 /// fractions.
@@ -137,13 +140,16 @@ inline volillum::TrilinearCell volillum::CellAt(const GridGeometry& geometry, co
   TrilinearCell cell;
   for (int a = 0; a < 3; ++a)
   {
-    const int n = geometry.Dimensions[a];
-    const double c = std::min(std::max(u[a], 0.0), static_cast<double>(n - 1));
-    const int i = std::min(static_cast<int>(c), std::max(n - 2, 0));
-    cell.Index[a] = i;
-    cell.Fraction[a] = n > 1 ? static_cast<float>(c - i) : 0.0f;
+    AxisCell(geometry.Dimensions[a], u[a], cell.Index[a], cell.Fraction[a]);
   }
   return cell;
+}
+
+inline void volillum::AxisCell(int n, double u, int& index, float& fraction)
+{
+  const double c = std::min(std::max(u, 0.0), static_cast<double>(n - 1));
+  index = std::min(static_cast<int>(c), std::max(n - 2, 0));
+  fraction = n > 1 ? static_cast<float>(c - index) : 0.0f;
 }
 
 inline float volillum::Interpolate(

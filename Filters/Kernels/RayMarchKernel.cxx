@@ -93,7 +93,13 @@ std::array<double, 3> RayMarchTransmittance(const ClassifiedVolume& volume, cons
 void SegmentOpticalDepth(const ClassifiedVolume& volume, const double p[3], const double d[3],
   double length, int channels, double depth[3], const EmptyBlocks* empty)
 {
-  depth[0] = depth[1] = depth[2] = 0.0;
+  RowSegmentOpticalDepths(volume, p, 1, p[1], p[2], d, length, channels, depth, empty);
+}
+
+void RowSegmentOpticalDepths(const ClassifiedVolume& volume, const double* x, int count, double y,
+  double z, const double d[3], double length, int channels, double* depth, const EmptyBlocks* empty)
+{
+  std::fill(depth, depth + 3 * count, 0.0);
   if (length <= 0.0)
   {
     return;
@@ -103,35 +109,73 @@ void SegmentOpticalDepth(const ClassifiedVolume& volume, const double p[3], cons
     std::max(1, static_cast<int>(std::ceil(length / g.MinimumSpacing() - GeometricTolerance)));
   const double h = length / n;
   // Steps in grid coordinates; only the channels asked for are interpolated.
-  double first[3], step[3];
+  double step[3];
   for (int a = 0; a < 3; ++a)
   {
-    first[a] = (p[a] + 0.5 * h * d[a] - g.Origin[a]) / g.Spacing[a];
     step[a] = h * d[a] / g.Spacing[a];
   }
-  const float* field = volume.Properties.data();
-  for (int m = 0; m < n; ++m)
+  const double firstY = (y + 0.5 * h * d[1] - g.Origin[1]) / g.Spacing[1];
+  const double firstZ = (z + 0.5 * h * d[2] - g.Origin[2]) / g.Spacing[2];
+  const bool chromatic = channels == 3 && volume.IsChromatic();
+  const long long sx = volume.Channels;
+  const long long sy = sx * g.Dimensions[0];
+  const long long sz = sy * g.Dimensions[1];
+  const long long dx = g.Dimensions[0] > 1 ? sx : 0;
+  const long long dy = g.Dimensions[1] > 1 ? sy : 0;
+  const long long dz = g.Dimensions[2] > 1 ? sz : 0;
+  // The samples' cells along y and z, the same for every point, in batches of Batch steps;
+  // each point then sums its steps in order, as SegmentOpticalDepth does.
+  constexpr int Batch = 32;
+  struct Step
   {
-    const double u[3] = { first[0] + m * step[0], first[1] + m * step[1], first[2] + m * step[2] };
-    const TrilinearCell cell = CellAt(g, u);
-    if (empty && empty->ContainsCell(cell.Index))
+    const float* Row; // the cell row's first value
+    long long Blocks; // its empty blocks (EmptyBlocks::Row)
+    float FY, FZ;
+  } steps[Batch];
+  for (int m0 = 0; m0 < n; m0 += Batch)
+  {
+    const int batch = std::min(Batch, n - m0);
+    for (int b = 0; b < batch; ++b)
     {
-      continue;
+      int iy, iz;
+      AxisCell(g.Dimensions[1], firstY + (m0 + b) * step[1], iy, steps[b].FY);
+      AxisCell(g.Dimensions[2], firstZ + (m0 + b) * step[2], iz, steps[b].FZ);
+      steps[b].Row = volume.Properties.data() + iy * sy + iz * sz;
+      steps[b].Blocks = empty ? empty->Row(iy, iz) : 0;
     }
-    const double sigma = Interpolate(g, field, volume.Channels, cell, 0) * h;
-    if (channels != 3 || !volume.IsChromatic())
+    for (int i = 0; i < count; ++i)
     {
-      depth[0] += sigma;
-      continue;
-    }
-    for (int c = 0; c < 3; ++c)
-    {
-      depth[c] += sigma * Interpolate(g, field, 4, cell, 1 + c);
+      const double first = (x[i] + 0.5 * h * d[0] - g.Origin[0]) / g.Spacing[0];
+      double* out = depth + 3 * i;
+      for (int b = 0; b < batch; ++b)
+      {
+        int ix;
+        float fx;
+        AxisCell(g.Dimensions[0], first + (m0 + b) * step[0], ix, fx);
+        if (empty && empty->RowContains(steps[b].Blocks, ix))
+        {
+          continue;
+        }
+        const float* q = steps[b].Row + ix * sx;
+        const double sigma = TrilinearInCell(q, dx, dy, dz, fx, steps[b].FY, steps[b].FZ) * h;
+        if (!chromatic)
+        {
+          out[0] += sigma;
+          continue;
+        }
+        for (int c = 0; c < 3; ++c)
+        {
+          out[c] += sigma * TrilinearInCell(q + 1 + c, dx, dy, dz, fx, steps[b].FY, steps[b].FZ);
+        }
+      }
     }
   }
   if (channels == 3 && !volume.IsChromatic())
   {
-    depth[1] = depth[2] = depth[0];
+    for (int i = 0; i < count; ++i)
+    {
+      depth[3 * i + 1] = depth[3 * i + 2] = depth[3 * i];
+    }
   }
 }
 

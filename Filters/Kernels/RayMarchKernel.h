@@ -55,13 +55,20 @@ public:
   /// Whether samples in a grid cell (TrilinearCell::Index) are certainly 0.
   bool ContainsCell(const int cell[3]) const
   {
-    long long block[3];
-    for (int a = 0; a < 3; ++a)
-    {
-      block[a] = std::min(cell[a] / Cells, this->Blocks[a] - 1);
-    }
-    return this->Empty[static_cast<size_t>(
-             block[0] + this->Blocks[0] * (block[1] + this->Blocks[1] * block[2]))] != 0;
+    return this->RowContains(this->Row(cell[1], cell[2]), cell[0]);
+  }
+  /// ContainsCell in two steps for the cells of a row along x: the row's blocks (cell indices
+  /// along y and z), then whether cell x of the row is in an empty block.
+  long long Row(int cellY, int cellZ) const
+  {
+    return this->Blocks[0] *
+      (std::min(cellY / Cells, this->Blocks[1] - 1) +
+        this->Blocks[1] * static_cast<long long>(std::min(cellZ / Cells, this->Blocks[2] - 1)));
+  }
+  bool RowContains(long long row, int cellX) const
+  {
+    return this->Empty[static_cast<size_t>(row + std::min(cellX / Cells, this->Blocks[0] - 1))] !=
+      0;
   }
 
 private:
@@ -86,6 +93,16 @@ VOLILLUMKERNELS_EXPORT std::array<double, 3> RayMarchTransmittance(const Classif
  */
 VOLILLUMKERNELS_EXPORT void SegmentOpticalDepth(const ClassifiedVolume& volume, const double p[3],
   const double d[3], double length, int channels, double depth[3],
+  const EmptyBlocks* empty = nullptr);
+
+/**
+ * SegmentOpticalDepth for a row of `count` points (x[i], y, z) along the grid's x axis, all
+ * with the same direction and length: the samples of the row share their cells and fractions
+ * along y and z, so only the position along x is found per point. depth receives three values
+ * per point (the channels asked for), each the same as SegmentOpticalDepth gives.
+ */
+VOLILLUMKERNELS_EXPORT void RowSegmentOpticalDepths(const ClassifiedVolume& volume, const double* x,
+  int count, double y, double z, const double d[3], double length, int channels, double* depth,
   const EmptyBlocks* empty = nullptr);
 
 /// Summed illumination of the lights that are on at point p: radiance x transmittance.

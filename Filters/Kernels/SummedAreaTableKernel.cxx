@@ -196,59 +196,53 @@ double RunningIntegralTable::Cumulative(int channel, double x, double y, double 
   return result;
 }
 
-namespace
+void RunningIntegralTable::AxisTaps::Add(long long index, double weight)
 {
-// The grid planes and weights through which Cumulative(b) - Cumulative(a) depends on one
-// axis: the running integral at a real coordinate is linear between its two neighbouring
-// planes. A plane both ends share is read once (a box inside one or two cells).
-struct AxisTaps
-{
-  long long Index[4];
-  double Weight[4];
-  int Count = 0;
-
-  void Add(long long index, double weight)
+  if (weight != 0.0 && index != 0)
   {
-    if (weight == 0.0)
-    {
-      return;
-    }
-    for (int m = 0; m < this->Count; ++m)
-    {
-      if (this->Index[m] == index)
-      {
-        this->Weight[m] += weight;
-        return;
-      }
-    }
     this->Index[this->Count] = index;
     this->Weight[this->Count++] = weight;
   }
-};
+}
 
-AxisTaps Taps(double a, double b, int n)
+void RunningIntegralTable::AxisTaps::Set(double a, double b, int n)
 {
-  AxisTaps taps;
+  if (a == this->A && b == this->B)
+  {
+    return;
+  }
+  this->A = a;
+  this->B = b;
+  this->Count = 0;
   for (int end = 0; end < 2; ++end)
   {
     const double c = std::min(std::max(end ? b : a, 0.0), static_cast<double>(n));
     const long long i0 = std::min(static_cast<long long>(c), static_cast<long long>(n - 1));
     const double f = c - i0;
     const double sign = end ? 1.0 : -1.0;
-    taps.Add(i0, sign * (1.0 - f));
-    taps.Add(i0 + 1, sign * f);
+    this->Add(i0, sign * (1.0 - f));
+    this->Add(i0 + 1, sign * f);
   }
-  return taps;
-}
 }
 
 double RunningIntegralTable::Box(int channel, const double a[3], const double b[3]) const
 {
+  BoxTaps taps;
+  return this->Box(channel, a, b, taps);
+}
+
+double RunningIntegralTable::Box(
+  int channel, const double a[3], const double b[3], BoxTaps& taps) const
+{
   // The inclusion-exclusion of the eight corners' trilinear interpolations, gathered per
-  // axis: at most 4 x 4 x 4 table values, fewer where the box is thin or at the grid's end.
-  const AxisTaps x = Taps(a[0], b[0], this->N[0]);
-  const AxisTaps y = Taps(a[1], b[1], this->N[1]);
-  const AxisTaps z = Taps(a[2], b[2], this->N[2]);
+  // axis: at most 4 x 4 x 4 table values, fewer at the grid's ends.
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    taps[axis].Set(a[axis], b[axis], this->N[axis]);
+  }
+  const AxisTaps& x = taps[0];
+  const AxisTaps& y = taps[1];
+  const AxisTaps& z = taps[2];
   double sum = 0.0;
   for (int k = 0; k < z.Count; ++k)
   {
@@ -317,18 +311,36 @@ double CartesianSAT::BoxIntegral(int channel, const double lo[3], const double h
 double CartesianSAT::FilteredOpticalDepth(
   int channel, const double p[3], int axis, int sign, double halfWidth) const
 {
-  double q[3];
-  this->ToFrame(p, q);
-  double lo[3], hi[3];
-  for (int a = 0; a < 3; ++a)
-  {
-    lo[a] = q[a] - halfWidth;
-    hi[a] = q[a] + halfWidth;
-  }
+  double depth;
+  this->FilteredOpticalDepths(channel, p, 1, axis, sign, halfWidth, &depth);
+  return depth;
+}
+
+void CartesianSAT::FilteredOpticalDepths(int channel, const double* points, int count, int axis,
+  int sign, double halfWidth, double* depth) const
+{
   const double end = this->Table.GetDimensions()[axis] * this->H;
-  lo[axis] = sign > 0 ? q[axis] : 0.0;
-  hi[axis] = sign > 0 ? end : q[axis];
-  return this->BoxIntegral(channel, lo, hi) / (4.0 * halfWidth * halfWidth);
+  const double area = 4.0 * halfWidth * halfWidth;
+  RunningIntegralTable::BoxTaps taps;
+  for (int i = 0; i < count; ++i)
+  {
+    double q[3];
+    this->ToFrame(points + 3 * i, q);
+    double lo[3], hi[3];
+    for (int a = 0; a < 3; ++a)
+    {
+      lo[a] = q[a] - halfWidth;
+      hi[a] = q[a] + halfWidth;
+    }
+    lo[axis] = sign > 0 ? q[axis] : 0.0;
+    hi[axis] = sign > 0 ? end : q[axis];
+    for (int a = 0; a < 3; ++a)
+    {
+      lo[a] /= this->H;
+      hi[a] /= this->H;
+    }
+    depth[i] = this->Table.Box(channel, lo, hi, taps) / area;
+  }
 }
 
 double CartesianSAT::KernelFilteredOpticalDepth(int channel, const double p[3], int axis, int sign,

@@ -24,6 +24,7 @@
 #include "VolIllumKernelsModule.h"
 
 #include <array>
+#include <limits>
 #include <vector>
 
 namespace volillum
@@ -65,8 +66,31 @@ public:
   }
   void Integrate();
 
+  /// The grid planes and weights through which a box integral depends on one axis: the
+  /// running integral at a real coordinate is linear between its two neighbouring planes.
+  /// Planes of weight 0 (an end on a plane) and the zero plane are left out.
+  struct AxisTaps
+  {
+    long long Index[4];
+    double Weight[4];
+    int Count = 0;
+    double A = std::numeric_limits<double>::quiet_NaN(); // the ends they are for (none yet)
+    double B = std::numeric_limits<double>::quiet_NaN();
+
+    /// The taps of the ends a and b on an axis of n cells, unless they are already set.
+    void Set(double a, double b, int n);
+
+  private:
+    void Add(long long index, double weight);
+  };
+  using BoxTaps = std::array<AxisTaps, 3>;
+
   /// Integral over the box [lo, hi] in cell units, clamped to the grid.
   double Box(int channel, const double lo[3], const double hi[3]) const;
+
+  /// The same, keeping each axis's taps in taps: the next box with the same ends on an axis
+  /// (boxes around a row of points along another axis) reuses them.
+  double Box(int channel, const double lo[3], const double hi[3], BoxTaps& taps) const;
 
   /// Running integral from the grid's first corner to (x, y, z) in cell units (clamped).
   double Cumulative(int channel, double x, double y, double z) const;
@@ -115,6 +139,11 @@ public:
   /// reaching to the table's end toward the light, divided by the patch area (eq. 13).
   double FilteredOpticalDepth(
     int channel, const double p[3], int axis, int sign, double halfWidth) const;
+
+  /// FilteredOpticalDepth at `count` world points (3 values a point) into depth; points
+  /// along a row of the table's frame share the taps of the two other axes.
+  void FilteredOpticalDepths(int channel, const double* points, int count, int axis, int sign,
+    double halfWidth, double* depth) const;
 
   /// The same with a separable kernel: the patch is cut into weights.size()^2 equal
   /// squares, square (i, j) weighted by weights[i] x weights[j] (weights summing to 1),

@@ -6,6 +6,7 @@
 #include "vtkIlluminationPhantomSource.h"
 #include "vtkRayMarchedIllumination.h"
 
+#include "vtkColorTransferFunction.h"
 #include "vtkDoubleArray.h"
 #include "vtkExecutive.h"
 #include "vtkFieldData.h"
@@ -21,6 +22,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
+#include <vector>
 
 using volillumtest::DirectionalLight;
 using volillumtest::ErrorCounter;
@@ -528,6 +531,67 @@ TEST(RayMarchedIllumination, SegmentOpticalDepthIntegratesTheSlab)
         classified, segment.P, segment.D, segment.Length, 1, depth, skip);
       EXPECT_NEAR(depth[0], segment.Expected, 1e-6 * sigma) << "from z " << segment.P[2];
     }
+  }
+}
+
+TEST(RayMarchedIllumination, RowSegmentsEqualSegmentBySegment)
+{
+  // Rows of points 1.7 cells apart, near segments toward an oblique direction, grey and
+  // chromatic, with and without empty blocks: the row kernel against SegmentOpticalDepth at
+  // every point alone (the same arithmetic, so the same values).
+  auto spheres = MakeScene(vtkIlluminationPhantomSource::ThreeSpheres);
+  vtkNew<vtkPiecewiseFunction> opacity;
+  opacity->AddPoint(0.0, 0.0);
+  opacity->AddPoint(1.0, 0.3);
+  vtkNew<vtkColorTransferFunction> color;
+  color->AddRGBPoint(0.0, 1.0, 0.2, 0.1);
+  color->AddRGBPoint(1.0, 0.1, 0.6, 1.0);
+  volillum::GridGeometry geometry;
+  spheres->GetDimensions(geometry.Dimensions.data());
+  const double d[3] = { 0.36, -0.48, 0.8 };
+  for (const bool chromatic : { false, true })
+  {
+    volillum::ClassificationSettings settings;
+    settings.Opacity = opacity;
+    settings.Color = color;
+    settings.Chromatic = chromatic;
+    volillum::ClassifiedVolume classified;
+    std::string error;
+    ASSERT_TRUE(volillum::Classify(
+      spheres->GetPointData()->GetScalars(), geometry, settings, classified, error));
+    const volillum::EmptyBlocks empty(classified);
+    constexpr int Count = 30;
+    std::vector<double> x(Count);
+    for (int i = 0; i < Count; ++i)
+    {
+      x[i] = 3.2 + 1.7 * i;
+    }
+    double largest = 0.0, worst = 0.0;
+    for (const volillum::EmptyBlocks* skip :
+      { static_cast<const volillum::EmptyBlocks*>(nullptr), &empty })
+    {
+      for (const double yz : { 12.3, 31.0, 44.6 })
+      {
+        std::vector<double> row(3 * Count);
+        volillum::RowSegmentOpticalDepths(
+          classified, x.data(), Count, yz, yz - 4.0, d, 9.5, 3, row.data(), skip);
+        for (int i = 0; i < Count; ++i)
+        {
+          const double p[3] = { x[i], yz, yz - 4.0 };
+          double depth[3];
+          volillum::SegmentOpticalDepth(classified, p, d, 9.5, 3, depth, skip);
+          for (int c = 0; c < 3; ++c)
+          {
+            largest = std::max(largest, depth[c]);
+            worst = std::max(worst, std::abs(depth[c] - row[3 * i + c]));
+          }
+        }
+      }
+    }
+    std::cout << (chromatic ? "chromatic" : "grey") << ": largest depth " << largest
+              << ", largest difference row vs point by point " << worst << std::endl;
+    EXPECT_GT(largest, 1.0);
+    EXPECT_LE(worst, 1e-6 * largest);
   }
 }
 
