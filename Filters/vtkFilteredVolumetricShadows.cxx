@@ -17,6 +17,38 @@ bool SameFrame(const volillum::SatFrame& a, const volillum::SatFrame& b)
   return a.Axes == b.Axes;
 }
 
+// The tables for `count` keys, moved out of previous: the one that matches a key (found),
+// else a table no key matches, whose memory the rebuild reuses (a new table's first writes
+// cost a page fault every 4 KiB: ~0.3 s for the table of a 512^3 volume), else a new one. A
+// table goes to one key only (two lights at one position get a table each).
+template <typename Table, typename Matches>
+std::vector<Table> TakeTables(
+  std::vector<Table>& previous, size_t count, Matches matches, std::vector<bool>& found)
+{
+  std::vector<Table> tables(count);
+  found.assign(count, false);
+  for (size_t i = 0; i < count; ++i)
+  {
+    auto match =
+      std::find_if(previous.begin(), previous.end(), [&](const Table& t) { return matches(i, t); });
+    if (match != previous.end())
+    {
+      tables[i] = std::move(*match);
+      previous.erase(match);
+      found[i] = true;
+    }
+  }
+  for (size_t i = 0; i < count && !previous.empty(); ++i)
+  {
+    if (!found[i])
+    {
+      tables[i] = std::move(previous.back());
+      previous.pop_back();
+    }
+  }
+  return tables;
+}
+
 }
 
 //------------------------------------------------------------------------------
@@ -84,16 +116,17 @@ bool vtkFilteredVolumetricShadows::UpdateTables(const volillum::ClassifiedVolume
   bool inputModified, int& built)
 {
   const double scale = this->SATResolutionScale;
-  // Build only the tables whose frame, resolution or classification changed.
-  std::vector<volillum::CartesianSAT> tables(frames.size());
+  // Build only the tables whose frame (light position), resolution or classification changed.
+  const bool settingsKept = !inputModified && this->TablesScale == scale;
+  std::vector<bool> found;
+  auto tables = TakeTables(
+    this->Tables, frames.size(),
+    [&](size_t f, const volillum::CartesianSAT& t) { return SameFrame(t.GetFrame(), frames[f]); },
+    found);
   for (size_t f = 0; f < frames.size(); ++f)
   {
-    auto reuse = std::find_if(this->Tables.begin(), this->Tables.end(),
-      [&](const volillum::CartesianSAT& t) { return SameFrame(t.GetFrame(), frames[f]); });
-    if (!inputModified && this->TablesScale == scale && reuse != this->Tables.end() &&
-      reuse->GetNumberOfChannels() == channels)
+    if (found[f] && settingsKept && tables[f].GetNumberOfChannels() == channels)
     {
-      tables[f] = std::move(*reuse);
       continue;
     }
     tables[f].Build(volume, frames[f], cellSize, channels);
@@ -105,19 +138,18 @@ bool vtkFilteredVolumetricShadows::UpdateTables(const volillum::ClassifiedVolume
     }
   }
   // One spherical table per point or spot light, kept while the light does not move.
-  std::vector<volillum::SphericalSAT> spherical(sphericalLookups.size());
+  auto spherical = TakeTables(
+    this->SphericalTables, sphericalLookups.size(),
+    [&](size_t i, const volillum::SphericalSAT& t)
+    { return t.GetLight() == sphericalLookups[i].Light.Position; },
+    found);
   for (size_t i = 0; i < sphericalLookups.size(); ++i)
   {
-    const auto& position = sphericalLookups[i].Light.Position;
-    auto reuse = std::find_if(this->SphericalTables.begin(), this->SphericalTables.end(),
-      [&](const volillum::SphericalSAT& t) { return t.GetLight() == position; });
-    if (!inputModified && this->TablesScale == scale && reuse != this->SphericalTables.end() &&
-      reuse->GetTable().GetNumberOfChannels() == channels)
+    if (found[i] && settingsKept && spherical[i].GetTable().GetNumberOfChannels() == channels)
     {
-      spherical[i] = std::move(*reuse);
       continue;
     }
-    spherical[i].Build(volume, position.data(), cellSize, channels);
+    spherical[i].Build(volume, sphericalLookups[i].Light.Position.data(), cellSize, channels);
     ++built;
     if (!this->ReportProgress(0.5))
     {

@@ -257,6 +257,55 @@ TEST(FilteredVolumetricShadows, PointLightTablesFollowTheLight)
   EXPECT_EQ(Passes(filter), 1);
 }
 
+TEST(FilteredVolumetricShadows, KeptAndRebuiltTablesEqualNewOnes)
+{
+  // Two point lights at one position keep a table each when one changes colour, and a
+  // directional light that turns is rebuilt in its old table's memory: both equal a new
+  // filter's result.
+  auto image = Spheres(32);
+  auto otf = Opacity();
+  auto first = PointLight(-20, 16, 16);
+  auto second = PointLight(-20, 16, 16, 0, 0.5, 1);
+  auto directional = DirectionalLight(0.3, 0.2, -1);
+  vtkNew<vtkFilteredVolumetricShadows> filter;
+  filter->SetInputData(image);
+  filter->SetOpacityFunction(otf);
+  for (auto* light : { first.Get(), second.Get(), directional.Get() })
+  {
+    filter->AddLight(light);
+  }
+  filter->Update();
+  EXPECT_EQ(Passes(filter), 3);
+  auto differenceFromNew = [&]()
+  {
+    vtkNew<vtkFilteredVolumetricShadows> fresh;
+    fresh->SetInputData(image);
+    fresh->SetOpacityFunction(otf);
+    for (auto* light : { first.Get(), second.Get(), directional.Get() })
+    {
+      fresh->AddLight(light);
+    }
+    fresh->Update();
+    auto kept = Result(filter);
+    auto expected = Result(fresh);
+    double worst = 0.0;
+    for (vtkIdType i = 0; i < kept->GetNumberOfValues(); ++i)
+    {
+      worst =
+        std::max(worst, std::abs(static_cast<double>(kept->GetValue(i)) - expected->GetValue(i)));
+    }
+    return worst;
+  };
+  second->SetDiffuseColor(1, 0.5, 0);
+  filter->Update();
+  EXPECT_EQ(Passes(filter), 0);
+  EXPECT_EQ(differenceFromNew(), 0.0);
+  directional->SetFocalPoint(-0.2, 0.3, -1);
+  filter->Update();
+  EXPECT_EQ(Passes(filter), 1);
+  EXPECT_EQ(differenceFromNew(), 0.0);
+}
+
 TEST(FilteredVolumetricShadows, PerLightTransmittancesAddUpToTheIllumination)
 {
   auto image = Spheres(32);
