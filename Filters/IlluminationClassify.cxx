@@ -159,7 +159,9 @@ bool Classify(vtkDataArray* scalars, const GridGeometry& geometry,
 
   out.Geometry = geometry;
   out.Channels = settings.Chromatic ? 4 : 1;
-  out.Properties.assign(out.Channels * static_cast<size_t>(geometry.NumberOfPoints()), 0.0f);
+  // Every value is written below: resizing keeps the memory of the last classification
+  // without filling it first.
+  out.Properties.resize(out.Channels * static_cast<size_t>(geometry.NumberOfPoints()));
   std::atomic<long long> nans(0);
   ClassifyWorker worker;
   if (!vtkArrayDispatch::Dispatch::Execute(

@@ -129,7 +129,7 @@ bool vtkFilteredVolumetricShadows::UpdateTables(const volillum::ClassifiedVolume
     {
       continue;
     }
-    tables[f].Build(volume, frames[f], cellSize, channels);
+    tables[f].Build(volume, frames[f], cellSize, channels, this->GetEmptyBlocks());
     ++built;
     if (!this->ReportProgress(0.5 * (f + 1) / frames.size()))
     {

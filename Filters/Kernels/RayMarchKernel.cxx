@@ -147,11 +147,15 @@ void RowSegmentOpticalDepths(const ClassifiedVolume& volume, const double* x, in
     {
       const double first = (x[i] + 0.5 * h * d[0] - g.Origin[0]) / g.Spacing[0];
       double* out = depth + 3 * i;
+      int ix;
+      float fx;
+      AxisCell(g.Dimensions[0], first + m0 * step[0], ix, fx);
       for (int b = 0; b < batch; ++b)
       {
-        int ix;
-        float fx;
-        AxisCell(g.Dimensions[0], first + (m0 + b) * step[0], ix, fx);
+        if (step[0] != 0.0) // else the ray stays in its cell along x
+        {
+          AxisCell(g.Dimensions[0], first + (m0 + b) * step[0], ix, fx);
+        }
         if (empty && empty->RowContains(steps[b].Blocks, ix))
         {
           continue;

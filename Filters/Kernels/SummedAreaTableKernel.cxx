@@ -1,5 +1,7 @@
 #include "SummedAreaTableKernel.h"
 
+#include "RayMarchKernel.h"
+
 #include "vtkMath.h"
 #include "vtkSMPTools.h"
 
@@ -11,9 +13,8 @@ namespace volillum
 
 namespace
 {
-// Sample the classified data at p, or return false when p is outside its bounds.
-bool SampleInside(
-  const ClassifiedVolume& data, const double bounds[6], double eps, const double p[3], float s[4])
+// Whether p is inside the bounds, give or take eps.
+bool Inside(const double bounds[6], double eps, const double p[3])
 {
   for (int a = 0; a < 3; ++a)
   {
@@ -21,6 +22,17 @@ bool SampleInside(
     {
       return false;
     }
+  }
+  return true;
+}
+
+// Sample the classified data at p, or return false when p is outside its bounds.
+bool SampleInside(
+  const ClassifiedVolume& data, const double bounds[6], double eps, const double p[3], float s[4])
+{
+  if (!Inside(bounds, eps, p))
+  {
+    return false;
   }
   data.Sample(p, s);
   return true;
@@ -101,8 +113,8 @@ void CartesianSAT::ToFrame(const double p[3], double q[3]) const
   }
 }
 
-void CartesianSAT::Build(
-  const ClassifiedVolume& data, const SatFrame& frame, double cellSize, int channels)
+void CartesianSAT::Build(const ClassifiedVolume& data, const SatFrame& frame, double cellSize,
+  int channels, const EmptyBlocks* empty)
 {
   this->Frame = frame;
   this->H = cellSize;
@@ -136,6 +148,9 @@ void CartesianSAT::Build(
   // Cell integrals: extinction at the cell centre (zero outside the data) times volume.
   const double eps = GeometricTolerance * std::max(bounds[1] - bounds[0], 1.0);
   const double volume = cellSize * cellSize * cellSize;
+  const auto& g = data.Geometry;
+  const float* field = data.Properties.data();
+  const bool chromatic = channels == 3 && data.IsChromatic();
   vtkSMPTools::For(0, static_cast<long long>(n[2]),
     [&](long long k0, long long k1)
     {
@@ -152,15 +167,23 @@ void CartesianSAT::Build(
             {
               p[a] = q[0] * frame.Axes[0][a] + q[1] * frame.Axes[1][a] + q[2] * frame.Axes[2][a];
             }
-            float s[4];
-            if (!SampleInside(data, bounds, eps, p, s))
+            if (!Inside(bounds, eps, p))
             {
               continue;
             }
+            const double u[3] = { (p[0] - g.Origin[0]) / g.Spacing[0],
+              (p[1] - g.Origin[1]) / g.Spacing[1], (p[2] - g.Origin[2]) / g.Spacing[2] };
+            const TrilinearCell cell = CellAt(g, u);
+            if (empty && empty->ContainsCell(cell.Index))
+            {
+              continue;
+            }
+            const float sigma = Interpolate(g, field, data.Channels, cell, 0);
             for (int c = 0; c < channels; ++c)
             {
-              const double absorb = channels == 3 ? s[1 + c] : 1.0;
-              this->Table.SetCell(c, i, j, k, s[0] * absorb * volume);
+              const double absorb =
+                chromatic ? Interpolate(g, field, data.Channels, cell, 1 + c) : 1.0;
+              this->Table.SetCell(c, i, j, k, sigma * absorb * volume);
             }
           }
         }
@@ -321,6 +344,7 @@ void CartesianSAT::FilteredOpticalDepths(int channel, const double* points, int 
 {
   const double end = this->Table.GetDimensions()[axis] * this->H;
   const double area = 4.0 * halfWidth * halfWidth;
+  const double perCell = 1.0 / this->H;
   RunningIntegralTable::BoxTaps taps;
   for (int i = 0; i < count; ++i)
   {
@@ -336,8 +360,8 @@ void CartesianSAT::FilteredOpticalDepths(int channel, const double* points, int 
     hi[axis] = sign > 0 ? end : q[axis];
     for (int a = 0; a < 3; ++a)
     {
-      lo[a] /= this->H;
-      hi[a] /= this->H;
+      lo[a] *= perCell;
+      hi[a] *= perCell;
     }
     depth[i] = this->Table.Box(channel, lo, hi, taps) / area;
   }

@@ -29,6 +29,7 @@
 
 namespace volillum
 {
+class EmptyBlocks;
 
 /// Orthonormal axes; a light shining along one of them (either sign) can use a table built
 /// in this frame.
@@ -124,9 +125,11 @@ class VOLILLUMKERNELS_EXPORT CartesianSAT
 public:
   /**
    * Resample the extinction (times the channel's absorption k_c when channels is 3) onto
-   * cells of size cellSize in the frame, covering the data's bounds, and integrate.
+   * cells of size cellSize in the frame, covering the data's bounds, and integrate. Cells
+   * whose centre lies in one of the data's empty blocks (when given) are 0 without a sample.
    */
-  void Build(const ClassifiedVolume& data, const SatFrame& frame, double cellSize, int channels);
+  void Build(const ClassifiedVolume& data, const SatFrame& frame, double cellSize, int channels,
+    const EmptyBlocks* empty = nullptr);
 
   /// Coordinates of a world point in the table's frame, measured from its first corner.
   void ToFrame(const double p[3], double q[3]) const;

@@ -1,6 +1,7 @@
 // Tests of the light-aligned summed-area tables: box integrals and filtered optical depth
 // against direct sums over the cells, precision at large sizes, and sharing one table
 // between orthodirectional lights.
+#include "RayMarchKernel.h"
 #include "SummedAreaTableKernel.h"
 
 #include "vtkMath.h"
@@ -174,6 +175,44 @@ TEST(SummedAreaTable, BoxIntegralsEqualDirectSumsOverRandomCuboids)
     }
     std::cout << "largest relative difference over 200 cuboids: " << worst << std::endl;
     EXPECT_LE(worst, 1e-6);
+  }
+}
+
+TEST(SummedAreaTable, EmptyBlocksLeaveTheTableAsItIs)
+{
+  // Half of the volume holds no extinction: a table built with the empty blocks skips the
+  // samples there, and every cell equals the table's built from every sample.
+  ClassifiedVolume v = RandomVolume(26, 21, 23, 1.0, 29);
+  for (long long point = 0; point < v.Geometry.NumberOfPoints(); ++point)
+  {
+    if ((point / 26) % 21 < 11)
+    {
+      v.Properties[static_cast<size_t>(4 * point)] = 0.0f;
+    }
+  }
+  const EmptyBlocks empty(v);
+  double d[3] = { 0.3, -0.5, 0.8 };
+  vtkMath::Normalize(d);
+  for (const int channels : { 1, 3 })
+  {
+    CartesianSAT every, skipping;
+    every.Build(v, FrameForDirection(d), 0.75, channels);
+    skipping.Build(v, FrameForDirection(d), 0.75, channels, &empty);
+    const auto& n = every.GetDimensions();
+    double worst = 0.0, zero = 0.0;
+    for (int k = 0; k < n[2]; ++k)
+      for (int j = 0; j < n[1]; ++j)
+        for (int i = 0; i < n[0]; ++i)
+          for (int c = 0; c < channels; ++c)
+          {
+            const double value = every.CellExtinction(c, i, j, k);
+            worst = std::max(worst, std::abs(value - skipping.CellExtinction(c, i, j, k)));
+            zero += value == 0.0 ? 1.0 : 0.0;
+          }
+    std::cout << channels << " channels: cells of extinction 0 " << zero << ", largest difference "
+              << worst << std::endl;
+    EXPECT_GT(zero, 0.3 * n[0] * n[1] * n[2] * channels);
+    EXPECT_EQ(worst, 0.0);
   }
 }
 
