@@ -219,21 +219,8 @@ double RunningIntegralTable::Cumulative(int channel, double x, double y, double 
   return result;
 }
 
-void RunningIntegralTable::AxisTaps::Add(long long index, double weight)
+void RunningIntegralTable::AxisTaps::Compute(double a, double b, int n)
 {
-  if (weight != 0.0 && index != 0)
-  {
-    this->Index[this->Count] = index;
-    this->Weight[this->Count++] = weight;
-  }
-}
-
-void RunningIntegralTable::AxisTaps::Set(double a, double b, int n)
-{
-  if (a == this->A && b == this->B)
-  {
-    return;
-  }
   this->A = a;
   this->B = b;
   this->Count = 0;

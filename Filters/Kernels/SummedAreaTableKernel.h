@@ -79,10 +79,24 @@ public:
     double B = std::numeric_limits<double>::quiet_NaN();
 
     /// The taps of the ends a and b on an axis of n cells, unless they are already set.
-    void Set(double a, double b, int n);
+    void Set(double a, double b, int n)
+    {
+      if (a != this->A || b != this->B)
+      {
+        this->Compute(a, b, n);
+      }
+    }
 
   private:
-    void Add(long long index, double weight);
+    void Compute(double a, double b, int n);
+    void Add(long long index, double weight)
+    {
+      if (weight != 0.0 && index != 0)
+      {
+        this->Index[this->Count] = index;
+        this->Weight[this->Count++] = weight;
+      }
+    }
   };
   using BoxTaps = std::array<AxisTaps, 3>;
 
