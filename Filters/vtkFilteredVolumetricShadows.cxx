@@ -134,6 +134,7 @@ bool vtkFilteredVolumetricShadows::UpdateTables(const volillum::ClassifiedVolume
     if (!this->ReportProgress(0.5 * (f + 1) / frames.size()))
     {
       this->Tables.clear();
+      this->TablesScale = 0.0; // the tables left may predate the classification
       return false;
     }
   }
@@ -154,6 +155,7 @@ bool vtkFilteredVolumetricShadows::UpdateTables(const volillum::ClassifiedVolume
     if (!this->ReportProgress(0.5))
     {
       this->SphericalTables.clear();
+      this->TablesScale = 0.0; // the tables left may predate the classification
       return false;
     }
   }

@@ -76,6 +76,8 @@ double NearSegmentLength(double cell, double patch)
 namespace
 {
 // One row of points along the target's x axis and its working memory, reused row to row.
+// Sum, Near, Far and FullDepth hold 3 values a point; Table holds one channel after another
+// (as FilteredOpticalDepths writes them).
 struct ShadingRow
 {
   explicit ShadingRow(int count)
@@ -97,9 +99,10 @@ struct ShadingRow
   std::vector<int> Full;
 };
 
-// The near segments of a row's shadow rays toward a directional light (NearSegment for
-// every point): rays whose near segment has its full length share their samples' cells
-// along y and z (RowSegmentOpticalDepths); rays cut short by the box are integrated alone.
+// The optical depths (Near) and lengths (Length) of the near segments of a row's shadow rays
+// toward a directional light: rays whose near segment has its full length share their
+// samples' cells along y and z (RowSegmentOpticalDepths); rays cut short by the box are
+// integrated alone.
 void DirectionalNearSegments(const PointShading& shading, const ShadowLookup& l, ShadingRow& row)
 {
   const int count = static_cast<int>(row.X.size());

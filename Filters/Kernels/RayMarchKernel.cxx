@@ -100,7 +100,7 @@ void RowSegmentOpticalDepths(const ClassifiedVolume& volume, const double* x, in
   double z, const double d[3], double length, int channels, double* depth, const EmptyBlocks* empty)
 {
   std::fill(depth, depth + 3 * count, 0.0);
-  if (length <= 0.0)
+  if (length <= 0.0 || count <= 0)
   {
     return;
   }
