@@ -1,5 +1,7 @@
 #include "LightPropagationKernel.h"
 
+#include "ParallelSteps.h"
+
 #include "vtkMath.h"
 #include "vtkSMPTools.h"
 
@@ -713,63 +715,76 @@ inline void AnchorPoint(const SweepContext& s, int k, int i, int j, double p[3])
   p[s.C] = s.Origin[s.C] + j * s.Spacing[s.C] / AnchorSpread;
 }
 
-// After slice k of a point or spot source is done: anchor the rays there (their light,
-// computed into `next` from the rays reaching the previous slice, `rays`) or attenuate the
-// rays over the step to it. Returns whether the slice became the anchor (the caller swaps
-// the buffers).
-bool AdvanceAnchoredRays(const SweepContext& s, SweepSource& sweep, int k, float* rays, float* next)
+// What slice k does to a point or spot source's rays once its points are lit: nothing
+// (InFront false: the slice is not in front of the light), anchor the rays there (Anchor:
+// their light is computed from the rays reaching the previous slice) or attenuate the rays
+// over the step to it (their position there is the anchor's scaled by Scale from the light).
+struct AnchoredStep
 {
-  const int a = s.Axis;
-  const double* light = sweep.Source.Position;
-  const double from = s.Sign * (SliceCoordinate(s, k) - light[a]);
-  if (from <= GeometricTolerance * s.Spacing[a])
+  bool InFront = false;
+  bool Anchor = false;
+  double Scale = 1.0;
+
+  AnchoredStep(const SweepContext& s, const SweepSource& sweep, int k)
   {
-    return false; // the slice is not in front of the light
-  }
-  const bool anchor = sweep.Anchor < 0 ||
-    from >= AnchorSpread * s.Sign * (SliceCoordinate(s, sweep.Anchor) - light[a]);
-  const double scale = anchor
-    ? 1.0
-    : (SliceCoordinate(s, k) - light[a]) / (SliceCoordinate(s, sweep.Anchor) - light[a]);
-  vtkSMPTools::For(0, sweep.RaysC,
-    [&](int begin, int end)
+    const int a = s.Axis;
+    const double light = sweep.Source.Position[a];
+    const double from = s.Sign * (SliceCoordinate(s, k) - light);
+    this->InFront = from > GeometricTolerance * s.Spacing[a];
+    if (!this->InFront)
     {
-      double p[3], d[3], factor;
-      for (int j = begin; j < end; ++j)
-      {
-        for (int i = 0; i < sweep.RaysB; ++i)
-        {
-          float* o =
-            (anchor ? next : rays) + s.Channels * (static_cast<long long>(j) * sweep.RaysB + i);
-          if (anchor)
-          {
-            // The ray leaves slice k: its light is read from the rays at slice k - 1.
-            AnchorPoint(s, k, i, j, p);
-            TransmittanceAtPoint(s, sweep, rays, p, o, d, factor);
-            continue;
-          }
-          // The ray through anchor point (i, j), at slice k.
-          double offset[3];
-          AnchorPoint(s, sweep.Anchor, i, j, offset);
-          for (int c = 0; c < 3; ++c)
-          {
-            offset[c] -= light[c];
-          }
-          const double length = vtkMath::Norm(offset);
-          for (int c = 0; c < 3; ++c)
-          {
-            p[c] = light[c] + scale * offset[c];
-            d[c] = offset[c] / length;
-          }
-          SegmentTransmittance(s, p, d, s.Spacing[a] / (s.Sign * d[a]), o);
-        }
-      }
-    });
-  if (anchor)
-  {
-    sweep.Anchor = k;
+      return;
+    }
+    this->Anchor = sweep.Anchor < 0 ||
+      from >= AnchorSpread * s.Sign * (SliceCoordinate(s, sweep.Anchor) - light);
+    if (!this->Anchor)
+    {
+      this->Scale = (SliceCoordinate(s, k) - light) / (SliceCoordinate(s, sweep.Anchor) - light);
+    }
   }
-  return anchor;
+};
+
+// Rows [begin, end) of a point or spot source's rays at slice k (see AnchoredStep): an
+// anchor's rays get their light in `next` from the rays reaching the previous slice,
+// `rays`; otherwise the rays in `rays` are attenuated over the step to slice k.
+void AdvanceAnchoredRays(const SweepContext& s, const SweepSource& sweep, const AnchoredStep& step,
+  int k, int begin, int end, float* rays, float* next)
+{
+  if (!step.InFront)
+  {
+    return;
+  }
+  const double* light = sweep.Source.Position;
+  double p[3], d[3], factor;
+  for (int j = begin; j < end; ++j)
+  {
+    for (int i = 0; i < sweep.RaysB; ++i)
+    {
+      float* o =
+        (step.Anchor ? next : rays) + s.Channels * (static_cast<long long>(j) * sweep.RaysB + i);
+      if (step.Anchor)
+      {
+        // The ray leaves slice k: its light is read from the rays at slice k - 1.
+        AnchorPoint(s, k, i, j, p);
+        TransmittanceAtPoint(s, sweep, rays, p, o, d, factor);
+        continue;
+      }
+      // The ray through anchor point (i, j), at slice k.
+      double offset[3];
+      AnchorPoint(s, sweep.Anchor, i, j, offset);
+      for (int c = 0; c < 3; ++c)
+      {
+        offset[c] -= light[c];
+      }
+      const double length = vtkMath::Norm(offset);
+      for (int c = 0; c < 3; ++c)
+      {
+        p[c] = light[c] + step.Scale * offset[c];
+        d[c] = offset[c] / length;
+      }
+      SegmentTransmittance(s, p, d, s.Spacing[s.Axis] / (s.Sign * d[s.Axis]), o);
+    }
+  }
 }
 
 // Transmittance of a source that follows no ray lattice along row ic of slice k into out
@@ -1079,87 +1094,178 @@ void DepositRow(const SweepContext& s, const std::vector<Deposit>& deposits, con
   }
 }
 
-// One sweep of the tasks (all in the same group) through the grid.
+// The work of one sweep's slices, shared by the threads of the sweep. Slice t (index k
+// along the axis) takes these steps: its rows (Row: a directional source's lattice row and
+// the points' deposits, which read the previous slice's buffers only), each point or spot
+// source's rays (Advance), and its end (End: buffer swaps and anchors, one thread).
+struct SweepSlices
+{
+  const SweepContext& S;
+  std::vector<SweepSource> Prepared;
+  std::vector<Deposit> Deposits;
+  std::vector<std::vector<float>> Read, Write;
+  std::vector<size_t> Anchored; // the point and spot sources
+  int Rows = 0;                 // items of the rows step: a lattice has a row more
+  std::uint32_t* Values = nullptr;
+
+  // A thread's row buffers, per source: the light reaching each pixel, its direction and
+  // group factor (only point and spot sources vary along the row).
+  struct Scratch
+  {
+    std::vector<float> Light;
+    std::vector<double> Direction, GroupFactor;
+  };
+
+  SweepSlices(const SweepContext& s, const std::vector<PropagationTask>& tasks,
+    FixedPointIllumination& illumination, PropagationStatistics& statistics)
+    : S(s)
+    , Values(illumination.Values.data())
+  {
+    PrepareDeposits(s, tasks, illumination.Scale, this->Prepared, this->Deposits);
+    statistics.PeakBufferBytes = std::max(statistics.PeakBufferBytes,
+      AllocateSliceBuffers(
+        this->Prepared, s.Channels, s.N[s.B], s.N[s.C], this->Read, this->Write));
+    bool lattices = false;
+    for (size_t j = 0; j < this->Prepared.size(); ++j)
+    {
+      lattices = lattices || this->Prepared[j].FollowsRays();
+      if (!this->Prepared[j].Source.Directional)
+      {
+        this->Anchored.push_back(j);
+      }
+    }
+    this->Rows = lattices ? s.N[s.C] + 1 : s.N[s.C];
+  }
+
+  int StepsPerSlice() const { return static_cast<int>(this->Anchored.size()) + 2; }
+
+  int Slice(int t) const { return this->S.Sign > 0 ? t : this->S.N[this->S.Axis] - 1 - t; }
+
+  Scratch NewScratch() const
+  {
+    const size_t pixels = static_cast<size_t>(this->S.N[this->S.B]) * this->Prepared.size();
+    return { std::vector<float>(this->S.Channels * pixels), std::vector<double>(3 * pixels),
+      std::vector<double>(pixels, 1.0) };
+  }
+
+  // Row ic of slice t: the lattice rows, then (ic inside the slice) the row's deposits.
+  void Row(int t, int ic, Scratch& scratch)
+  {
+    const SweepContext& s = this->S;
+    const int k = this->Slice(t);
+    const int nb = s.N[s.B];
+    for (size_t j = 0; j < this->Prepared.size(); ++j)
+    {
+      if (this->Prepared[j].FollowsRays())
+      {
+        LatticeRow(s, this->Prepared[j], LatticePhase(this->Prepared[j], t), this->Read[j].data(),
+          t, k, ic, this->Write[j].data() + s.Channels * static_cast<size_t>(ic) * (nb + 1));
+      }
+    }
+    if (ic == s.N[s.C])
+    {
+      return; // the lattices' extra row
+    }
+    PrefetchRow(s, nb, k, ic, this->Values);
+    for (size_t j = 0; j < this->Prepared.size(); ++j)
+    {
+      float* light = scratch.Light.data() + s.Channels * nb * j;
+      double* direction = scratch.Direction.data() + 3 * nb * j;
+      double* groupFactor = scratch.GroupFactor.data() + nb * j;
+      if (this->Prepared[j].FollowsRays())
+      {
+        RowFromLattice(s, this->Prepared[j], LatticePhase(this->Prepared[j], t),
+          this->Read[j].data(), t, k, ic, light, direction, groupFactor);
+      }
+      else
+      {
+        RowTransmittance(
+          s, this->Prepared[j], this->Read[j].data(), k, ic, light, direction, groupFactor);
+      }
+    }
+    DepositRow(s, this->Deposits, scratch.Light.data(), scratch.Direction.data(),
+      scratch.GroupFactor.data(), nb, k, ic, this->Values);
+  }
+
+  // Rows [begin, end) of the rays of point or spot source j at slice t.
+  void Advance(size_t j, int t, int begin, int end)
+  {
+    const int k = this->Slice(t);
+    AdvanceAnchoredRays(this->S, this->Prepared[j], AnchoredStep(this->S, this->Prepared[j], k), k,
+      begin, end, this->Read[j].data(), this->Write[j].data());
+  }
+
+  // After slice t: a directional source's lattice is the next slice's previous one; a
+  // point or spot source anchored there now reads its rays from the slice.
+  void End(int t)
+  {
+    for (size_t j = 0; j < this->Prepared.size(); ++j)
+    {
+      SweepSource& sweep = this->Prepared[j];
+      const bool anchor =
+        !sweep.Source.Directional && AnchoredStep(this->S, sweep, this->Slice(t)).Anchor;
+      if (anchor)
+      {
+        sweep.Anchor = this->Slice(t);
+      }
+      if (anchor || sweep.FollowsRays())
+      {
+        std::swap(this->Read[j], this->Write[j]);
+      }
+    }
+  }
+};
+
+// One sweep of the tasks (all in the same group) through the grid: its slices' steps run by
+// one team of threads per chunk of slices (ForSteps), progress reported between chunks
+// from this thread.
 bool Sweep(const ClassifiedVolume& volume, const EmptyBlocks* empty, bool rowKernels,
   const GridGeometry& g, int group, const std::vector<PropagationTask>& tasks,
   FixedPointIllumination& illumination, PropagationStatistics& statistics,
   const std::function<bool(double)>& progress)
 {
   const SweepContext s = MakeSweepContext(volume, empty, rowKernels, g, group);
+  SweepSlices slices(s, tasks, illumination, statistics);
+  const int perSlice = slices.StepsPerSlice();
   const int na = s.N[s.Axis];
-  const int nb = s.N[s.B];
-  const int nc = s.N[s.C];
-  std::vector<SweepSource> prepared;
-  std::vector<Deposit> deposits;
-  PrepareDeposits(s, tasks, illumination.Scale, prepared, deposits);
-  const size_t count = prepared.size();
-  std::vector<std::vector<float>> read, write;
-  statistics.PeakBufferBytes = std::max(
-    statistics.PeakBufferBytes, AllocateSliceBuffers(prepared, s.Channels, nb, nc, read, write));
-  std::uint32_t* values = illumination.Values.data();
-  const int progressEvery = std::max(1, na / 16);
-
-  for (int t = 0; t < na; ++t)
+  const int chunk = std::max(1, na / 16);
+  for (int first = 0; first < na; first += chunk)
   {
-    const int k = s.Sign > 0 ? t : na - 1 - t;
-    std::vector<LatticePhase> phases;
-    for (size_t j = 0; j < count; ++j)
-    {
-      phases.emplace_back(prepared[j], t);
-      if (prepared[j].FollowsRays())
+    const int count = std::min(chunk, na - first);
+    ForSteps(
+      count * perSlice,
+      [&](int step) -> long long
       {
-        vtkSMPTools::For(0, nc + 1,
-          [&](int begin, int end)
-          {
-            for (int row = begin; row < end; ++row)
-            {
-              LatticeRow(s, prepared[j], phases[j], read[j].data(), t, k, row,
-                write[j].data() + s.Channels * static_cast<size_t>(row) * (nb + 1));
-            }
-          });
-      }
-    }
-    vtkSMPTools::For(0, nc,
-      [&](int begin, int end)
+        const int part = step % perSlice;
+        return part == 0         ? slices.Rows
+          : part == perSlice - 1 ? 1
+                                 : slices.Prepared[slices.Anchored[part - 1]].RaysC;
+      },
+      [&]() -> StepWork
       {
-        // Per row and source: the light reaching each pixel, its direction and group factor
-        // (only point and spot sources vary along the row).
-        std::vector<float> light(s.Channels * static_cast<size_t>(nb) * count);
-        std::vector<double> direction(3 * static_cast<size_t>(nb) * count);
-        std::vector<double> groupFactor(static_cast<size_t>(nb) * count, 1.0);
-        for (int ic = begin; ic < end; ++ic)
+        return [&, scratch = slices.NewScratch()](int step, long long begin, long long end) mutable
         {
-          PrefetchRow(s, nb, k, ic, values);
-          for (size_t j = 0; j < count; ++j)
+          const int t = first + step / perSlice;
+          const int part = step % perSlice;
+          if (part == 0)
           {
-            float* row = light.data() + s.Channels * nb * j;
-            if (prepared[j].FollowsRays())
+            for (long long ic = begin; ic < end; ++ic)
             {
-              RowFromLattice(s, prepared[j], phases[j], read[j].data(), t, k, ic, row,
-                direction.data() + 3 * nb * j, groupFactor.data() + nb * j);
-            }
-            else
-            {
-              RowTransmittance(s, prepared[j], read[j].data(), k, ic, row,
-                direction.data() + 3 * nb * j, groupFactor.data() + nb * j);
+              slices.Row(t, static_cast<int>(ic), scratch);
             }
           }
-          DepositRow(
-            s, deposits, light.data(), direction.data(), groupFactor.data(), nb, k, ic, values);
-        }
+          else if (part == perSlice - 1)
+          {
+            slices.End(t);
+          }
+          else
+          {
+            slices.Advance(
+              slices.Anchored[part - 1], t, static_cast<int>(begin), static_cast<int>(end));
+          }
+        };
       });
-    for (size_t j = 0; j < count; ++j)
-    {
-      // Directional sources: this slice's lattice is the next one's previous. Point and
-      // spot sources: read holds the anchored rays, write the slice's light.
-      if (prepared[j].FollowsRays() ||
-        (!prepared[j].Source.Directional &&
-          AdvanceAnchoredRays(s, prepared[j], k, read[j].data(), write[j].data())))
-      {
-        std::swap(read[j], write[j]);
-      }
-    }
-    if ((t + 1) % progressEvery == 0 && progress && !progress(static_cast<double>(t + 1) / na))
+    if (progress && !progress(static_cast<double>(first + count) / na))
     {
       return false;
     }

@@ -4,13 +4,17 @@
 #include "IlluminationClassification.h"
 #include "IlluminationLights.h"
 #include "LightPropagationKernel.h"
+#include "ParallelSteps.h"
 #include "RayMarchKernel.h"
 #include "TetrahedralLightKernel.h"
+
+#include "vtkSMPTools.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -62,6 +66,73 @@ LightState Downward()
   light.FocalPoint = { { 4.0, 4.0, 0.0 } };
   return light;
 }
+}
+
+// ForSteps against the same chain of steps done serially. Stencil steps: item i reads items
+// i - 1, i and i + 1 of the stencil step before, so a step started before the one before it
+// had finished would read stale values. Between two stencil steps a step of one item sets the
+// next stencil step's item count from the values: the counts depend on earlier steps. Run
+// with the Sequential backend (one thread does every step) and with STDThread.
+TEST(Kernels, ForStepsRunsDependentStepsInOrder)
+{
+  constexpr int Stencils = 200, Widest = 3000;
+  using Values = std::vector<std::uint64_t>;
+  const auto stencil = [](const Values& before, long long i)
+  {
+    const long long n = static_cast<long long>(before.size());
+    const std::uint64_t left = i > 0 && i - 1 < n ? before[i - 1] : 7;
+    const std::uint64_t right = i + 1 < n ? before[i + 1] : 11;
+    const std::uint64_t centre = i < n ? before[i] : 13;
+    return left * 3 + centre * 5 + right * 7 + static_cast<std::uint64_t>(i);
+  };
+  const auto nextCount = [](const Values& v)
+  { return 1000 + static_cast<long long>(v[v.size() / 2] % (Widest - 1000)); };
+
+  std::vector<Values> serial(Stencils + 1);
+  serial[0].assign(Widest, 1);
+  for (int s = 1; s <= Stencils; ++s)
+  {
+    serial[s].resize(nextCount(serial[s - 1]));
+    for (long long i = 0; i < static_cast<long long>(serial[s].size()); ++i)
+    {
+      serial[s][i] = stencil(serial[s - 1], i);
+    }
+  }
+
+  const std::string original = vtkSMPTools::GetBackend();
+  for (const char* backend : { "Sequential", "STDThread" })
+  {
+    vtkSMPTools::SetBackend(backend);
+    std::vector<Values> parallel(Stencils + 1);
+    parallel[0].assign(Widest, 1);
+    // Step 2 s: the count of stencil s + 1 (one item); step 2 s + 1: stencil s + 1.
+    ForSteps(
+      2 * Stencils,
+      [&](int step) -> long long
+      { return step % 2 == 0 ? 1 : static_cast<long long>(parallel[step / 2 + 1].size()); },
+      [&]() -> StepWork
+      {
+        return [&](int step, long long begin, long long end)
+        {
+          const int s = step / 2 + 1;
+          if (step % 2 == 0)
+          {
+            parallel[s].resize(nextCount(parallel[s - 1]));
+            return;
+          }
+          for (long long i = begin; i < end; ++i)
+          {
+            parallel[s][i] = stencil(parallel[s - 1], i);
+          }
+        };
+      });
+    EXPECT_TRUE(parallel == serial) << "backend " << backend;
+    std::cout << "ForSteps, " << backend << " backend ("
+              << vtkSMPTools::GetEstimatedNumberOfThreads() << " threads): " << Stencils
+              << " dependent steps equal the serial chain: " << (parallel == serial ? "yes" : "no")
+              << std::endl;
+  }
+  vtkSMPTools::SetBackend(original.c_str());
 }
 
 TEST(Kernels, RayMarchThroughASlabIsItsAnalyticTransmittance)
