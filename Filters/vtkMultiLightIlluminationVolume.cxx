@@ -82,23 +82,36 @@ bool vtkMultiLightIlluminationVolume::ComputeIllumination(const volillum::Classi
     this->Illumination.NumberOfPoints() != target.NumberOfPoints() ||
     !this->Illumination.Holds(largest, bound);
   bool selective = false;
+  bool subtract = false; // the changed light's old state leaves by subtracting the record
+  int record = -1;       // the light whose new state this update records
   std::vector<volillum::PropagationTask> work;
   if (!mustRecompute)
   {
     // Remove the applied states of the changed lights and add their new states, after the
-    // work an earlier update left pending.
+    // work an earlier update left pending. A light changed alone (nothing pending) is
+    // recorded; when it changes alone again, its old state is the record.
     const std::vector<int> changed = this->Applied.ChangedLights(lights);
+    if (this->RecordEditedLight && changed.size() == 1 && this->Pending.empty() &&
+      changed[0] < static_cast<int>(std::min(lights.size(), applied.size())))
+    {
+      record = changed[0];
+      subtract = record == this->RecordedLight;
+    }
     std::vector<volillum::PropagationTask> changes;
     for (int i : changed)
     {
-      if (i < static_cast<int>(applied.size()))
+      if (i < static_cast<int>(applied.size()) && !subtract)
       {
         const auto removal = volillum::TasksForLight(applied[i], -1, bounds);
         changes.insert(changes.end(), removal.begin(), removal.end());
       }
       if (i < static_cast<int>(lights.size()))
       {
-        const auto addition = volillum::TasksForLight(lights[i], +1, bounds);
+        auto addition = volillum::TasksForLight(lights[i], +1, bounds);
+        for (auto& task : addition)
+        {
+          task.Recorded = i == record;
+        }
         changes.insert(changes.end(), addition.begin(), addition.end());
       }
     }
@@ -109,6 +122,23 @@ bool vtkMultiLightIlluminationVolume::ComputeIllumination(const volillum::Classi
   }
 
   this->Valid = false;
+  this->RecordedLight = -1;
+  if (selective)
+  {
+    if (subtract)
+    {
+      this->Illumination.SubtractRecord();
+    }
+    if (record >= 0)
+    {
+      this->Illumination.StartRecord();
+    }
+  }
+  if (!selective || record < 0)
+  {
+    // Released before a full update allocates: its peak memory holds no record.
+    this->Illumination.DropRecord();
+  }
   if (!selective)
   {
     this->Illumination.Reset(
@@ -125,11 +155,22 @@ bool vtkMultiLightIlluminationVolume::ComputeIllumination(const volillum::Classi
     // The accumulated illumination is partly updated: the next update starts afresh.
     this->Pending.clear();
     this->Applied.Reset();
+    this->Illumination.DropRecord();
     return false;
   }
   this->Pending = remaining;
   this->Applied.Commit(lights);
   this->Valid = true;
+  if (selective && record >= 0 &&
+    std::none_of(remaining.begin(), remaining.end(),
+      [](const volillum::PropagationTask& t) { return t.Recorded; }))
+  {
+    this->RecordedLight = record;
+  }
+  else
+  {
+    this->Illumination.DropRecord();
+  }
   this->Illumination.ToFloat(rgb);
   report.Mode = selective ? 1 : 0;
   report.Passes = this->LastStatistics.Sweeps;
@@ -145,4 +186,6 @@ void vtkMultiLightIlluminationVolume::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "SelectiveUpdates: " << this->SelectiveUpdates << "\n";
   os << indent << "CoherentPropagation: " << this->CoherentPropagation << "\n";
   os << indent << "MaximumPassesPerUpdate: " << this->MaximumPassesPerUpdate << "\n";
+  os << indent << "RecordEditedLight: " << this->RecordEditedLight << "\n";
+  os << indent << "RecordedLight: " << this->RecordedLight << "\n";
 }

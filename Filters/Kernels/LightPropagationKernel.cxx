@@ -68,6 +68,7 @@ struct Deposit
   double CosCone;
   double Exponent;
   double Scaled[3]; // radiance x weight x sign x fixed-point scale
+  bool Recorded = false;
 };
 
 RaySource SourceOf(const PropagationTask& task)
@@ -968,6 +969,7 @@ void PrepareDeposits(const SweepContext& s, const std::vector<PropagationTask>& 
     auto found = std::find(sources.begin(), sources.end(), source);
     Deposit deposit;
     deposit.Source = static_cast<size_t>(found - sources.begin());
+    deposit.Recorded = task.Recorded;
     if (found == sources.end())
     {
       sources.push_back(source);
@@ -1043,13 +1045,16 @@ inline void PrefetchRow(const SweepContext& s, int nb, int k, int ic, const std:
 }
 
 // Adds the deposits of row ic of slice k to the fixed-point illumination: per pixel, the sum
-// over deposits of radiance x group factor x spot factor x light (rounded per deposit).
+// over deposits of radiance x group factor x spot factor x light (rounded per deposit); the
+// sum of the recorded deposits also to `recorded` (when given).
 void DepositRow(const SweepContext& s, const std::vector<Deposit>& deposits, const float* light,
-  const double* direction, const double* groupFactor, int nb, int k, int ic, std::uint32_t* values)
+  const double* direction, const double* groupFactor, int nb, int k, int ic, std::uint32_t* values,
+  std::uint32_t* recorded)
 {
   for (int ib = 0; ib < nb; ++ib)
   {
     std::int64_t sum[3] = { 0, 0, 0 };
+    std::int64_t record[3] = { 0, 0, 0 };
     for (const Deposit& deposit : deposits)
     {
       const size_t j = deposit.Source;
@@ -1082,7 +1087,10 @@ void DepositRow(const SweepContext& s, const std::vector<Deposit>& deposits, con
       const float* tj = light + s.Channels * (nb * j + ib);
       for (int ch = 0; ch < 3; ++ch)
       {
-        sum[ch] += RoundToFixed(deposit.Scaled[ch] * factor * tj[s.Channels == 3 ? ch : 0]);
+        const std::int64_t units =
+          RoundToFixed(deposit.Scaled[ch] * factor * tj[s.Channels == 3 ? ch : 0]);
+        sum[ch] += units;
+        record[ch] += deposit.Recorded ? units : 0;
       }
     }
     const long long index = k * s.Stride[s.Axis] + ib * s.Stride[s.B] + ic * s.Stride[s.C];
@@ -1090,6 +1098,13 @@ void DepositRow(const SweepContext& s, const std::vector<Deposit>& deposits, con
     {
       // Modulo 2^32 (see FixedPointIllumination).
       values[3 * index + ch] += static_cast<std::uint32_t>(sum[ch]);
+    }
+    if (recorded)
+    {
+      for (int ch = 0; ch < 3; ++ch)
+      {
+        recorded[3 * index + ch] += static_cast<std::uint32_t>(record[ch]);
+      }
     }
   }
 }
@@ -1107,6 +1122,7 @@ struct SweepSlices
   std::vector<size_t> Anchored; // the point and spot sources
   int Rows = 0;                 // items of the rows step: a lattice has a row more
   std::uint32_t* Values = nullptr;
+  std::uint32_t* Recorded = nullptr; // when a task is recorded
 
   // A thread's row buffers, per source: the light reaching each pixel, its direction and
   // group factor (only point and spot sources vary along the row).
@@ -1135,6 +1151,11 @@ struct SweepSlices
       }
     }
     this->Rows = lattices ? s.N[s.C] + 1 : s.N[s.C];
+    if (illumination.Recorded.size() == illumination.Values.size() &&
+      std::any_of(tasks.begin(), tasks.end(), [](const PropagationTask& t) { return t.Recorded; }))
+    {
+      this->Recorded = illumination.Recorded.data();
+    }
   }
 
   int StepsPerSlice() const { return static_cast<int>(this->Anchored.size()) + 2; }
@@ -1184,7 +1205,7 @@ struct SweepSlices
       }
     }
     DepositRow(s, this->Deposits, scratch.Light.data(), scratch.Direction.data(),
-      scratch.GroupFactor.data(), nb, k, ic, this->Values);
+      scratch.GroupFactor.data(), nb, k, ic, this->Values, this->Recorded);
   }
 
   // Rows [begin, end) of the rays of point or spot source j at slice t.
@@ -1386,6 +1407,20 @@ void FixedPointIllumination::ToFloat(float* rgb) const
       for (long long i = b; i < e; ++i)
       {
         rgb[i] = static_cast<float>(static_cast<std::int32_t>(v[i]) * unit);
+      }
+    });
+}
+
+void FixedPointIllumination::SubtractRecord()
+{
+  std::uint32_t* v = this->Values.data();
+  const std::uint32_t* r = this->Recorded.data();
+  vtkSMPTools::For(0, static_cast<long long>(std::min(this->Values.size(), this->Recorded.size())),
+    [&](long long b, long long e)
+    {
+      for (long long i = b; i < e; ++i)
+      {
+        v[i] -= r[i]; // modulo 2^32, as the record was added
       }
     });
 }

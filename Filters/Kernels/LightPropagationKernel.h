@@ -87,6 +87,8 @@ struct PropagationTask
   /// weight. OtherGroup is -1 when the light has one group or is directional.
   int OtherGroup = -1;
   double OtherWeight = 0.0;
+  /// Whether the task's contribution is also added to FixedPointIllumination::Recorded.
+  bool Recorded = false;
 };
 
 /// The tasks that add (sign +1) or remove (sign -1) a light state; none when it is off.
@@ -124,8 +126,19 @@ public:
   /// Convert to float RGB (3 floats a point).
   void ToFloat(float* rgb) const;
 
+  /// Start a record (all 0, the layout of Values) for the tasks marked Recorded.
+  void StartRecord() { this->Recorded.assign(this->Values.size(), 0); }
+  /// Subtract the record from the totals: exactly what the recorded tasks added.
+  void SubtractRecord();
+  /// Release the record's memory.
+  void DropRecord() { std::vector<std::uint32_t>().swap(this->Recorded); }
+
   double Scale = 1.0;
   std::vector<std::uint32_t> Values;
+  /// The units the tasks marked Recorded added since StartRecord (empty when none is kept):
+  /// one light's contribution, which a later change of that light removes by subtraction
+  /// instead of propagating the light's old state again.
+  std::vector<std::uint32_t> Recorded;
 };
 
 struct PropagationStatistics
