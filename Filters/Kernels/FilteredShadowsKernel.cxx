@@ -178,6 +178,27 @@ void ShadeDirectional(const PointShading& shading, const ShadowLookup& l, Shadin
   }
 }
 
+// The near part of the shadow ray from p toward the light (unit direction toward, clipped
+// to the box and to `reach`): its optical depth per channel, integrated through the data, and
+// in far the point where the table takes over. Without empty blocks (soft shadows: no near
+// segment) the table gives the whole ray from p.
+void NearSegment(const PointShading& shading, const double p[3], const double toward[3],
+  double reach, double depth[3], double far[3])
+{
+  depth[0] = depth[1] = depth[2] = 0.0;
+  std::copy_n(p, 3, far);
+  if (!shading.Empty)
+  {
+    return;
+  }
+  const double length = std::min(reach, DistanceToBoxExit(p, toward, shading.Bounds));
+  SegmentOpticalDepth(shading.Volume, p, toward, length, shading.Channels, depth, shading.Empty);
+  for (int a = 0; a < 3; ++a)
+  {
+    far[a] = p[a] + std::max(length, 0.0) * toward[a];
+  }
+}
+
 // Add a point or spot light's share at point id (at p) to sum.
 void ShadeSpherical(const PointShading& shading, const SphericalLookup& l, long long id,
   const double p[3], double* sum)
@@ -191,21 +212,9 @@ void ShadeSpherical(const PointShading& shading, const SphericalLookup& l, long 
   const int channels = shading.Channels;
   const auto& table = shading.SphericalTables[l.Table];
   const auto radiance = l.Light.Radiance();
-  // The near segment is integrated through the data and the table read beyond it; without
-  // empty blocks (soft shadows) the table gives the whole ray.
-  double near[3] = { 0.0, 0.0, 0.0 };
-  double far[3] = { p[0], p[1], p[2] };
-  if (shading.Empty)
-  {
-    const double length = std::min(std::min(shading.SphericalNear[l.Table], incidence.Distance),
-      DistanceToBoxExit(p, incidence.ToLight.data(), shading.Bounds));
-    SegmentOpticalDepth(
-      shading.Volume, p, incidence.ToLight.data(), length, channels, near, shading.Empty);
-    for (int a = 0; a < 3; ++a)
-    {
-      far[a] = p[a] + std::max(length, 0.0) * incidence.ToLight[a];
-    }
-  }
+  double near[3], far[3];
+  NearSegment(shading, p, incidence.ToLight.data(),
+    std::min(shading.SphericalNear[l.Table], incidence.Distance), near, far);
   double transmittance[3] = { 1.0, 1.0, 1.0 };
   for (int c = 0; c < channels; ++c)
   {
@@ -226,13 +235,13 @@ void ShadeRow(const PointShading& shading, const GridGeometry& target, long long
   const int count = static_cast<int>(row.X.size());
   row.First = count * (j + target.Dimensions[1] * k);
   double p[3];
-  for (int i = 0; i < count; ++i)
-  {
-    target.PointPosition(i, j, k, p);
-    row.X[i] = p[0];
-  }
+  target.PointPosition(0, j, k, p);
   row.Y = p[1];
   row.Z = p[2];
+  for (int i = 0; i < count; ++i)
+  {
+    row.X[i] = target.Origin[0] + i * target.Spacing[0]; // PointPosition's x
+  }
   std::fill(row.Sum.begin(), row.Sum.end(), 0.0);
   for (const auto& l : shading.Lookups)
   {

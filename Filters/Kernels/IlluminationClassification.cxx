@@ -41,9 +41,7 @@ GridGeometry ScaledGeometry(const GridGeometry& data, double scale)
 void TrilinearSample(
   const GridGeometry& g, const float* field, int channels, const double p[3], float* out)
 {
-  const double u[3] = { (p[0] - g.Origin[0]) / g.Spacing[0], (p[1] - g.Origin[1]) / g.Spacing[1],
-    (p[2] - g.Origin[2]) / g.Spacing[2] };
-  const TrilinearCell cell = CellAt(g, u);
+  const TrilinearCell cell = CellAtPosition(g, p);
   for (int c = 0; c < channels; ++c)
   {
     out[c] = Interpolate(g, field, channels, cell, c);

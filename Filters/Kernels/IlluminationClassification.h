@@ -75,6 +75,9 @@ struct TrilinearCell
 /// in grid coordinates.
 inline TrilinearCell CellAt(const GridGeometry& geometry, const double u[3]);
 
+/// CellAt for a sample at world position p.
+inline TrilinearCell CellAtPosition(const GridGeometry& geometry, const double p[3]);
+
 /// CellAt along one axis of n points: the cell's first point and the sample's fraction in it.
 inline void AxisCell(int n, double u, int& index, float& fraction);
 
@@ -143,6 +146,15 @@ inline volillum::TrilinearCell volillum::CellAt(const GridGeometry& geometry, co
     AxisCell(geometry.Dimensions[a], u[a], cell.Index[a], cell.Fraction[a]);
   }
   return cell;
+}
+
+inline volillum::TrilinearCell volillum::CellAtPosition(
+  const GridGeometry& geometry, const double p[3])
+{
+  const double u[3] = { (p[0] - geometry.Origin[0]) / geometry.Spacing[0],
+    (p[1] - geometry.Origin[1]) / geometry.Spacing[1],
+    (p[2] - geometry.Origin[2]) / geometry.Spacing[2] };
+  return CellAt(geometry, u);
 }
 
 inline void volillum::AxisCell(int n, double u, int& index, float& fraction)

@@ -131,6 +131,13 @@ inline void CubicWeights(float f, float w[4])
   w[3] = 0.5f * (f3 - f2);
 }
 
+// An interpolated value limited to the range of the four values around it (no new extremes).
+inline float ClampToSurrounding(float sum, float a, float b, float c, float d)
+{
+  return std::min(std::max(sum, std::min(std::min(a, b), std::min(c, d))),
+    std::max(std::max(a, b), std::max(c, d)));
+}
+
 // Bicubic (Catmull-Rom) interpolation of a slice buffer (nb x nc pixels, `channels` values
 // each) at `at`, limited to the range of the four surrounding pixels so that it adds no new
 // extremes.
@@ -166,8 +173,7 @@ inline void MonotoneBicubic(
     const float b = base[rowValues * iv[1] + channels * iu[2] + ch];
     const float c = base[rowValues * iv[2] + channels * iu[1] + ch];
     const float d = base[rowValues * iv[2] + channels * iu[2] + ch];
-    out[ch] = std::min(std::max(sum, std::min(std::min(a, b), std::min(c, d))),
-      std::max(std::max(a, b), std::max(c, d)));
+    out[ch] = ClampToSurrounding(sum, a, b, c, d);
   }
 }
 
@@ -201,8 +207,7 @@ void MonotoneBicubicRow(const float* base, int width, int shiftU, int v, float f
     sum += v3 * (u0 * r3[x] + u1 * r3[x + C] + u2 * r3[x + 2 * C] + u3 * r3[x + 3 * C]);
     const float a = r1[x + C], b = r1[x + 2 * C];
     const float c = r2[x + C], d = r2[x + 2 * C];
-    out[x] = std::min(std::max(sum, std::min(std::min(a, b), std::min(c, d))),
-      std::max(std::max(a, b), std::max(c, d)));
+    out[x] = ClampToSurrounding(sum, a, b, c, d);
   }
 }
 
@@ -465,10 +470,12 @@ void GreyRowTransmittance(const SweepContext& s, const TrilinearCell* cells, con
     for (int m = 0; m < n; ++m)
     {
       const TrilinearCell& c = cells[m];
+      // The first value of ray 0's cell.
+      const float* first = s.Volume.Properties.data() + c.Index[0] * stride[0] +
+        c.Index[1] * stride[1] + c.Index[2] * stride[2];
       if (!whole)
       {
-        const float* q = s.Volume.Properties.data() + c.Index[0] * stride[0] +
-          c.Index[1] * stride[1] + c.Index[2] * stride[2] - c.Index[s.B] * stride[s.B];
+        const float* q = first - c.Index[s.B] * stride[s.B]; // index 0 along B
         const double u0 = alongB[m] + begin * ratio;
         const long long sB = stride[s.B];
         if (s.B == 0)
@@ -485,8 +492,7 @@ void GreyRowTransmittance(const SweepContext& s, const TrilinearCell* cells, con
         }
         continue;
       }
-      const float* q = s.Volume.Properties.data() + c.Index[0] * stride[0] +
-        c.Index[1] * stride[1] + c.Index[2] * stride[2] + begin * step;
+      const float* q = first + begin * step;
       const float fx = c.Fraction[0], fy = c.Fraction[1], fz = c.Fraction[2];
       if (step == 1)
       {
@@ -931,7 +937,9 @@ void RowFromLattice(const SweepContext& s, const SweepSource& sweep, const Latti
   RowSegments(s, p, s.Spacing[s.B], nb, d, sweep.Step, out);
 }
 
-// The geometry of a sweep of the grid g in a group, and whether row kernels apply.
+// The geometry of a sweep of the grid g in a group, and whether row kernels apply. Rows
+// run along x (B = x) in sweeps along y and z, so that their volume reads and deposits are
+// contiguous; sweeps along x run their rows along y.
 SweepContext MakeSweepContext(const ClassifiedVolume& volume, const EmptyBlocks* empty,
   bool rowKernels, const GridGeometry& g, int group)
 {
@@ -1029,11 +1037,12 @@ size_t AllocateSliceBuffers(std::vector<SweepSource>& prepared, int channels, in
 
 // Asks for the illumination values of row ic of slice k ahead of DepositRow: computing the
 // row's light hides the misses of rows whose points lie far apart in memory (a sweep along x).
+// Contiguous rows (along x) are left to the hardware prefetcher.
 inline void PrefetchRow(const SweepContext& s, int nb, int k, int ic, const std::uint32_t* values)
 {
   const long long start = k * s.Stride[s.Axis] + ic * s.Stride[s.C];
 #if defined(__GNUC__)
-  for (int ib = 0; ib < nb; ++ib)
+  for (int ib = 0; ib < nb && s.Stride[s.B] != 1; ++ib)
   {
     __builtin_prefetch(values + 3 * (start + ib * s.Stride[s.B]), 1, 1);
   }

@@ -171,9 +171,7 @@ void CartesianSAT::Build(const ClassifiedVolume& data, const SatFrame& frame, do
             {
               continue;
             }
-            const double u[3] = { (p[0] - g.Origin[0]) / g.Spacing[0],
-              (p[1] - g.Origin[1]) / g.Spacing[1], (p[2] - g.Origin[2]) / g.Spacing[2] };
-            const TrilinearCell cell = CellAt(g, u);
+            const TrilinearCell cell = CellAtPosition(g, p);
             if (empty && empty->ContainsCell(cell.Index))
             {
               continue;
@@ -223,6 +221,7 @@ void RunningIntegralTable::AxisTaps::Compute(double a, double b, int n)
 {
   this->A = a;
   this->B = b;
+  this->N = n;
   this->Count = 0;
   for (int end = 0; end < 2; ++end)
   {

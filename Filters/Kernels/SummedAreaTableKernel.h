@@ -77,11 +77,12 @@ public:
     int Count = 0;
     double A = std::numeric_limits<double>::quiet_NaN(); // the ends they are for (none yet)
     double B = std::numeric_limits<double>::quiet_NaN();
+    int N = -1; // and the cells of their axis
 
     /// The taps of the ends a and b on an axis of n cells, unless they are already set.
     void Set(double a, double b, int n)
     {
-      if (a != this->A || b != this->B)
+      if (a != this->A || b != this->B || n != this->N)
       {
         this->Compute(a, b, n);
       }
