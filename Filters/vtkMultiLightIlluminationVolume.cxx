@@ -55,6 +55,76 @@ bool vtkMultiLightIlluminationVolume::ChooseSelective(
 }
 
 //------------------------------------------------------------------------------
+vtkMultiLightIlluminationVolume::RecordPlan vtkMultiLightIlluminationVolume::PlanRecord(
+  const std::vector<int>& changed, size_t lights) const
+{
+  RecordPlan plan;
+  if (!this->RecordEditedLight)
+  {
+    return plan;
+  }
+  const int recorded = this->RecordedLight;
+  if (recorded >= 0 && std::find(changed.begin(), changed.end(), recorded) != changed.end())
+  {
+    plan.Subtracted = recorded;
+    plan.Record = recorded < static_cast<int>(lights) ? recorded : -1;
+  }
+  else if (changed.size() == 1 && changed[0] < static_cast<int>(lights))
+  {
+    plan.Record = changed[0]; // another light changed alone: the one likely to change next
+  }
+  else
+  {
+    plan.Kept = recorded; // the recorded light does not change: its record stays exact
+  }
+  return plan;
+}
+
+//------------------------------------------------------------------------------
+void vtkMultiLightIlluminationVolume::StartRecord(const RecordPlan& plan)
+{
+  this->RecordedLight = -1; // until the update is complete
+  if (plan.Subtracted >= 0)
+  {
+    this->Illumination.SubtractRecord();
+  }
+  if (plan.Record >= 0)
+  {
+    this->Illumination.StartRecord();
+  }
+  else if (plan.Kept < 0)
+  {
+    // Released before a full update allocates: its peak memory holds no record.
+    this->Illumination.DropRecord();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkMultiLightIlluminationVolume::FinishRecord(
+  const RecordPlan& plan, std::vector<volillum::PropagationTask>& remaining)
+{
+  // A new record is complete once none of its tasks is left for later.
+  const bool complete = std::none_of(remaining.begin(), remaining.end(),
+    [](const volillum::PropagationTask& t) { return t.Recorded; });
+  for (auto& task : remaining)
+  {
+    task.Recorded = false;
+  }
+  if (plan.Record >= 0 && complete)
+  {
+    this->RecordedLight = plan.Record;
+  }
+  else if (plan.Kept >= 0)
+  {
+    this->RecordedLight = plan.Kept;
+  }
+  else
+  {
+    this->Illumination.DropRecord();
+  }
+}
+
+//------------------------------------------------------------------------------
 bool vtkMultiLightIlluminationVolume::ComputeIllumination(const volillum::ClassifiedVolume& volume,
   const std::vector<volillum::LightState>& lights, const volillum::GridGeometry& target,
   bool inputModified, float* rgb, UpdateReport& report)
@@ -82,25 +152,18 @@ bool vtkMultiLightIlluminationVolume::ComputeIllumination(const volillum::Classi
     this->Illumination.NumberOfPoints() != target.NumberOfPoints() ||
     !this->Illumination.Holds(largest, bound);
   bool selective = false;
-  bool subtract = false; // the changed light's old state leaves by subtracting the record
-  int record = -1;       // the light whose new state this update records
+  RecordPlan plan;
   std::vector<volillum::PropagationTask> work;
   if (!mustRecompute)
   {
     // Remove the applied states of the changed lights and add their new states, after the
-    // work an earlier update left pending. A light changed alone (nothing pending) is
-    // recorded; when it changes alone again, its old state is the record.
+    // work an earlier update left pending (see RecordPlan for the recorded light).
     const std::vector<int> changed = this->Applied.ChangedLights(lights);
-    if (this->RecordEditedLight && changed.size() == 1 && this->Pending.empty() &&
-      changed[0] < static_cast<int>(std::min(lights.size(), applied.size())))
-    {
-      record = changed[0];
-      subtract = record == this->RecordedLight;
-    }
+    plan = this->PlanRecord(changed, lights.size());
     std::vector<volillum::PropagationTask> changes;
     for (int i : changed)
     {
-      if (i < static_cast<int>(applied.size()) && !subtract)
+      if (i < static_cast<int>(applied.size()) && i != plan.Subtracted)
       {
         const auto removal = volillum::TasksForLight(applied[i], -1, bounds);
         changes.insert(changes.end(), removal.begin(), removal.end());
@@ -110,7 +173,7 @@ bool vtkMultiLightIlluminationVolume::ComputeIllumination(const volillum::Classi
         auto addition = volillum::TasksForLight(lights[i], +1, bounds);
         for (auto& task : addition)
         {
-          task.Recorded = i == record;
+          task.Recorded = i == plan.Record;
         }
         changes.insert(changes.end(), addition.begin(), addition.end());
       }
@@ -122,23 +185,7 @@ bool vtkMultiLightIlluminationVolume::ComputeIllumination(const volillum::Classi
   }
 
   this->Valid = false;
-  this->RecordedLight = -1;
-  if (selective)
-  {
-    if (subtract)
-    {
-      this->Illumination.SubtractRecord();
-    }
-    if (record >= 0)
-    {
-      this->Illumination.StartRecord();
-    }
-  }
-  if (!selective || record < 0)
-  {
-    // Released before a full update allocates: its peak memory holds no record.
-    this->Illumination.DropRecord();
-  }
+  this->StartRecord(selective ? plan : RecordPlan());
   if (!selective)
   {
     this->Illumination.Reset(
@@ -158,19 +205,10 @@ bool vtkMultiLightIlluminationVolume::ComputeIllumination(const volillum::Classi
     this->Illumination.DropRecord();
     return false;
   }
+  this->FinishRecord(selective ? plan : RecordPlan(), remaining);
   this->Pending = remaining;
   this->Applied.Commit(lights);
   this->Valid = true;
-  if (selective && record >= 0 &&
-    std::none_of(remaining.begin(), remaining.end(),
-      [](const volillum::PropagationTask& t) { return t.Recorded; }))
-  {
-    this->RecordedLight = record;
-  }
-  else
-  {
-    this->Illumination.DropRecord();
-  }
   this->Illumination.ToFloat(rgb);
   report.Mode = selective ? 1 : 0;
   report.Passes = this->LastStatistics.Sweeps;

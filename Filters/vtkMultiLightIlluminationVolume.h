@@ -23,12 +23,13 @@
  * the final lights up to float rounding of the output. A light brightened or dimmed beyond
  * what the unit suits makes the update a full one with a new unit.
  *
- * With RecordEditedLight (default on) a light changed alone is recorded: its contribution is
- * kept beside the total (12 bytes per illumination point, only while the last update changed
- * that one light). When that light changes alone again, as it does while it is dragged, its
- * old state is removed by subtracting the record instead of propagating it again: half the
- * work of the edit, with the same exact result. A full update releases the record before it
- * allocates.
+ * With RecordEditedLight (default on) the last light changed alone is recorded: its
+ * contribution is kept beside the total (12 bytes per illumination point) until a full
+ * update. When that light changes again, as it does while it is dragged, its old state is
+ * removed by subtracting the record instead of propagating it again: only the new state is
+ * propagated (and recorded), with the same exact result. A full update releases the record before
+ * it allocates, so its peak memory is unchanged; a selective update that records needs those 12
+ * bytes per point more.
  *
  * MaximumPassesPerUpdate limits the sweeps of one update for progressive refinement: the
  * rest is kept (field array PendingPasses) and done by the next update (call Modified()
@@ -92,7 +93,8 @@ public:
   ///@{
   /**
    * Record a light changed alone, so that its next change alone subtracts its old state
-   * instead of propagating it (default on; see above). Off releases the record.
+   * instead of propagating it (default on; see above). Off releases the record at the next
+   * update.
    */
   vtkSetMacro(RecordEditedLight, bool);
   vtkGetMacro(RecordEditedLight, bool);
@@ -131,6 +133,23 @@ private:
 
   bool ChooseSelective(const std::vector<volillum::PropagationTask>& selective,
     const std::vector<volillum::PropagationTask>& full, size_t changed, size_t lights) const;
+
+  // What a selective update does with the record (RecordEditedLight). When the recorded light
+  // changes (with others or not), its old state leaves by subtracting the record (Subtracted)
+  // and its new state is recorded (Record); otherwise a light changed alone is recorded
+  // instead, or the record is kept (Kept). A full update drops it.
+  struct RecordPlan
+  {
+    int Subtracted = -1;
+    int Record = -1;
+    int Kept = -1;
+  };
+  RecordPlan PlanRecord(const std::vector<int>& changed, size_t lights) const;
+  // Subtracts, starts or drops the record as planned, before the propagation.
+  void StartRecord(const RecordPlan& plan);
+  // Sets RecordedLight after the propagation (or drops the record) and clears the Recorded
+  // flags of the tasks left for later.
+  void FinishRecord(const RecordPlan& plan, std::vector<volillum::PropagationTask>& remaining);
 
   // The accumulated illumination and the states it holds (with Pending still to do).
   volillum::FixedPointIllumination Illumination;

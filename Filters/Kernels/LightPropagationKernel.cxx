@@ -1042,7 +1042,11 @@ inline void PrefetchRow(const SweepContext& s, int nb, int k, int ic, const std:
 {
   const long long start = k * s.Stride[s.Axis] + ic * s.Stride[s.C];
 #if defined(__GNUC__)
-  for (int ib = 0; ib < nb && s.Stride[s.B] != 1; ++ib)
+  if (s.Stride[s.B] == 1)
+  {
+    return;
+  }
+  for (int ib = 0; ib < nb; ++ib)
   {
     __builtin_prefetch(values + 3 * (start + ib * s.Stride[s.B]), 1, 1);
   }

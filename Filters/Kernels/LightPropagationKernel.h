@@ -26,7 +26,8 @@
  * light nor negative values. Light is attenuated inside the box only, so light entering
  * through a side face is attenuated from where it entered. Each point adds weight x sign x
  * light to the illumination volume, so removing a light is propagating its old state with
- * sign -1.
+ * sign -1, or subtracting the units its tasks added when they were recorded
+ * (FixedPointIllumination::Recorded).
  *
  * Group weights (eq. 5a/5b): a light outside the volume travels in the groups of the two
  * axis directions closest to its main direction t (a directional light's direction, the

@@ -13,7 +13,10 @@
  * before it starts the next step. A thread only ever waits for items that running threads
  * have claimed, never for a thread that has not started, so the team cannot deadlock
  * whether the backend runs its threads concurrently or one after the other (the Sequential
- * backend, or a call from inside another parallel loop: one thread does every step).
+ * backend, or STDThread called from inside another parallel loop: one thread does every
+ * step). Work items must not call vtkSMPTools themselves: a backend that lets a waiting
+ * thread take other tasks (TBB with nested loops) could give it one that waits for the item
+ * it holds. An exception thrown by an item stops the team and is thrown again by ForSteps.
  */
 #ifndef ParallelSteps_h
 #define ParallelSteps_h

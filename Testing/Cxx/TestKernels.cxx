@@ -102,7 +102,7 @@ TEST(Kernels, ForStepsRunsDependentStepsInOrder)
   const std::string original = vtkSMPTools::GetBackend();
   for (const char* backend : { "Sequential", "STDThread" })
   {
-    vtkSMPTools::SetBackend(backend);
+    ASSERT_TRUE(vtkSMPTools::SetBackend(backend)) << backend;
     std::vector<Values> parallel(Stencils + 1);
     parallel[0].assign(Widest, 1);
     // Step 2 s: the count of stencil s + 1 (one item); step 2 s + 1: stencil s + 1.

@@ -230,6 +230,116 @@ TEST(MultiLightIlluminationVolume, DraggedLightLeavesBySubtractingItsRecord)
   }
 }
 
+// The record through changes that keep it, move it or drop it, each followed by drags of
+// light 0: two lights changed at once (the recorded one among them), another light changed
+// alone, the light switched off and on alone, a transfer-function change, progressive
+// updates (MaximumPassesPerUpdate), a light removed and a brightening beyond the fixed-point
+// unit. After every update the output equals a
+// fresh filter's full recompute exactly, and a drag subtracts a record only when the update
+// before recorded that light.
+TEST(MultiLightIlluminationVolume, RecordFollowsTheChangedLights)
+{
+  auto image = PhantomScene(vtkIlluminationPhantomSource::ThreeSpheres, 24);
+  auto otf = RampOpacity(image, 0.3);
+  double bounds[6];
+  image->GetBounds(bounds);
+  auto filter = ImageFilter<vtkMultiLightIlluminationVolume>(image, otf);
+  std::vector<vtkSmartPointer<vtkLight>> lights = { PointLight(-20, 12, 14, 1, 0.8, 0.6),
+    DirectionalLight(0.2, -0.3, -1, 0.6, 0.8, 1), PointLight(40, 30, 10, 0.5, 1, 0.5) };
+  const auto setLights = [&]()
+  {
+    filter->RemoveAllLights();
+    for (const auto& l : lights)
+    {
+      filter->AddLight(l);
+    }
+  };
+  setLights();
+  filter->Update();
+  int step = 0;
+  const auto expectFresh = [&](const char* what)
+  {
+    auto fresh = ImageFilter<vtkMultiLightIlluminationVolume>(image, otf);
+    for (const auto& l : lights)
+    {
+      fresh->AddLight(l);
+    }
+    fresh->Update();
+    EXPECT_EQ(MaxRelative(Result(filter), Result(fresh)), 0.0) << what;
+  };
+  // Moves light 0 and updates; returns whether its old state left by subtraction (only its
+  // new state's tasks propagated).
+  const auto drag = [&](const char* what)
+  {
+    const bool recorded = filter->GetRecordedLight() == 0;
+    const double* p = lights[0]->GetPosition();
+    lights[0]->SetPosition(p[0] + 0.5, p[1] + 0.25 * (++step % 3), p[2] - 0.3);
+    filter->Update();
+    expectFresh(what);
+    const auto tasks = volillum::TasksForLight(volillum::CaptureLight(lights[0]), +1, bounds);
+    const bool subtracted =
+      filter->GetLastLightPropagations() == static_cast<long long>(tasks.size());
+    EXPECT_EQ(subtracted, recorded) << what;
+    EXPECT_EQ(filter->GetRecordedLight(), 0) << what;
+    return subtracted;
+  };
+  EXPECT_FALSE(drag("first drag"));
+  EXPECT_TRUE(drag("second drag"));
+
+  lights[0]->SetPosition(-22, 10, 15);
+  lights[1]->SetFocalPoint(0.1, -0.3, -1);
+  filter->Update();
+  expectFresh("two lights at once, the recorded one among them");
+  EXPECT_EQ(filter->GetRecordedLight(), 0);
+  lights[1]->SetFocalPoint(0.1, -0.2, -1);
+  filter->Update();
+  expectFresh("another light alone");
+  EXPECT_EQ(filter->GetRecordedLight(), 1);
+  EXPECT_FALSE(drag("drag after another light"));
+  EXPECT_TRUE(drag("drag again"));
+
+  lights[0]->SwitchOff();
+  filter->Update();
+  expectFresh("switched off alone");
+  lights[0]->SwitchOn();
+  filter->Update();
+  expectFresh("switched on alone");
+  EXPECT_TRUE(drag("drag after off and on"));
+
+  otf->AddPoint(0.5 * (otf->GetRange()[0] + otf->GetRange()[1]), 0.1);
+  filter->Update();
+  expectFresh("transfer function");
+  EXPECT_EQ(filter->GetRecordedLight(), -1);
+  EXPECT_FALSE(drag("drag after the transfer function"));
+
+  filter->SetMaximumPassesPerUpdate(1);
+  lights[0]->SetPosition(-20, -20, 30); // two groups of about equal weight: two passes
+  filter->Update();
+  EXPECT_GT(filter->GetNumberOfPendingPasses(), 0);
+  EXPECT_EQ(filter->GetRecordedLight(), -1) << "work left for later";
+  for (int more = 0; more < 20 && filter->GetNumberOfPendingPasses() > 0; ++more)
+  {
+    filter->Modified();
+    filter->Update();
+  }
+  filter->SetMaximumPassesPerUpdate(0);
+  expectFresh("progressive updates");
+  EXPECT_FALSE(drag("drag after progressive updates"));
+
+  lights.pop_back();
+  setLights();
+  filter->Update();
+  expectFresh("last light removed");
+  EXPECT_EQ(filter->GetRecordedLight(), 0); // light 0 did not change: its record is exact
+  EXPECT_TRUE(drag("drag after a removal"));
+
+  lights[0]->SetIntensity(5000);
+  filter->Update();
+  expectFresh("brightened beyond the unit");
+  EXPECT_EQ(Field(filter, "UpdateMode"), 0);
+  EXPECT_FALSE(drag("drag after the new unit"));
+}
+
 // The fixed-point scale is chosen from the lights' summed radiance: a light brightened far
 // beyond the room the scale leaves, or dimmed far below the precision it keeps, must give a
 // full update (with a new scale) equal to a fresh filter's, not totals that wrapped around
