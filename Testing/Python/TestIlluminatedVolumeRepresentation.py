@@ -6,7 +6,8 @@ filter run separately through paraview.simple on the same data, transfer functio
 lights (given as the flat 14-number list, camera lights converted to world coordinates
 here from the camera's position, focal point and view-up): the mean illumination must
 agree to 1e-5 (relative). Also: a Light Inspector edit with four lights is a selective
-update (one light re-propagated, same result as a full recompute); a colour map change
+update (one light re-propagated, same result as a full recompute), and so are further moves
+of that light (its recorded contribution subtracted); a colour map change
 forces a full update; interactive renders keep the lighting and the next still render
 updates it; the light kit counts only with Use Light Kit on; the rendered image takes
 the lights' colours; a cell array is lit like the filter lights it; a vector array is
@@ -115,6 +116,11 @@ full_passes = int(full.FieldData["PropagationPasses"].GetRange()[0])
 check(mode == 1 and passes < full_passes,
       "moving one of four lights is selective (%d passes, a full update %d)" % (passes, full_passes))
 Delete(full)
+# Dragging it on: its old state now leaves by subtracting its recorded contribution.
+for step in range(3):
+    fill.Position = [105 - 5 * step, 64 + 4 * step, -17 + 3 * step]
+    compare("after dragging that light, step %d" % step, lights())
+    check(info(rep, "IlluminationUpdateMode")[0] == 1, "a drag step is selective")
 
 # A colour map change recomputes everything, and the update reports progress (ParaView's
 # progress bar listens to the representation).
