@@ -96,6 +96,7 @@ struct ShadingRow
   long long First = 0; // id of the row's first point
   double Y = 0.0, Z = 0.0;
   std::vector<double> X, Sum, Near, Length, Far, Table, FullX, FullDepth;
+  std::vector<double> Line; // the table collapsed onto the row (CartesianSAT)
   std::vector<int> Full;
 };
 
@@ -153,7 +154,8 @@ void ShadeDirectional(const PointShading& shading, const ShadowLookup& l, Shadin
     double* tau = &row.Table[static_cast<size_t>(c) * count];
     if (shading.Gaussian.empty())
     {
-      table.FilteredOpticalDepths(c, row.Far.data(), count, l.Axis, l.Sign, shading.HalfWidth, tau);
+      table.FilteredOpticalDepths(
+        c, row.Far.data(), count, l.Axis, l.Sign, shading.HalfWidth, tau, row.Line);
       continue;
     }
     for (int i = 0; i < count; ++i)

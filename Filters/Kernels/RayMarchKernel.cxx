@@ -123,45 +123,42 @@ void RowSegmentOpticalDepths(const ClassifiedVolume& volume, const double* x, in
   const long long dx = g.Dimensions[0] > 1 ? sx : 0;
   const long long dy = g.Dimensions[1] > 1 ? sy : 0;
   const long long dz = g.Dimensions[2] > 1 ? sz : 0;
-  // The samples' cells along y and z, the same for every point, in batches of Batch steps;
-  // each point then sums its steps in order, as SegmentOpticalDepth does.
-  constexpr int Batch = 32;
-  struct Step
+  // The samples' cells along y and z are the same for every point: they are found once a
+  // step, for a chunk of points at a time, and each point adds its steps in order, as
+  // SegmentOpticalDepth does. A point keeps its cell along x when the rays cross the row.
+  constexpr int Chunk = 256;
+  double firstX[Chunk];
+  int ix[Chunk];
+  float fx[Chunk];
+  for (int begin = 0; begin < count; begin += Chunk)
   {
-    const float* Row; // the cell row's first value
-    long long Blocks; // its empty blocks (EmptyBlocks::Row)
-    float FY, FZ;
-  } steps[Batch];
-  for (int m0 = 0; m0 < n; m0 += Batch)
-  {
-    const int batch = std::min(Batch, n - m0);
-    for (int b = 0; b < batch; ++b)
+    const int size = std::min(Chunk, count - begin);
+    for (int i = 0; i < size; ++i)
+    {
+      firstX[i] = (x[begin + i] + 0.5 * h * d[0] - g.Origin[0]) / g.Spacing[0];
+      AxisCell(g.Dimensions[0], firstX[i], ix[i], fx[i]);
+    }
+    for (int m = 0; m < n; ++m)
     {
       int iy, iz;
-      AxisCell(g.Dimensions[1], firstY + (m0 + b) * step[1], iy, steps[b].FY);
-      AxisCell(g.Dimensions[2], firstZ + (m0 + b) * step[2], iz, steps[b].FZ);
-      steps[b].Row = volume.Properties.data() + iy * sy + iz * sz;
-      steps[b].Blocks = empty ? empty->Row(iy, iz) : 0;
-    }
-    for (int i = 0; i < count; ++i)
-    {
-      const double first = (x[i] + 0.5 * h * d[0] - g.Origin[0]) / g.Spacing[0];
-      double* out = depth + 3 * i;
-      int ix;
-      float fx;
-      AxisCell(g.Dimensions[0], first + m0 * step[0], ix, fx);
-      for (int b = 0; b < batch; ++b)
+      float fy, fz;
+      AxisCell(g.Dimensions[1], firstY + m * step[1], iy, fy);
+      AxisCell(g.Dimensions[2], firstZ + m * step[2], iz, fz);
+      const float* row = volume.Properties.data() + iy * sy + iz * sz;
+      const long long blocks = empty ? empty->Row(iy, iz) : 0;
+      for (int i = 0; i < size; ++i)
       {
         if (step[0] != 0.0) // else the ray stays in its cell along x
         {
-          AxisCell(g.Dimensions[0], first + (m0 + b) * step[0], ix, fx);
+          AxisCell(g.Dimensions[0], firstX[i] + m * step[0], ix[i], fx[i]);
         }
-        if (empty && empty->RowContains(steps[b].Blocks, ix))
+        if (empty && empty->RowContains(blocks, ix[i]))
         {
           continue;
         }
-        const float* q = steps[b].Row + ix * sx;
-        const double sigma = TrilinearInCell(q, dx, dy, dz, fx, steps[b].FY, steps[b].FZ) * h;
+        const float* q = row + ix[i] * sx;
+        double* out = depth + 3 * (begin + i);
+        const double sigma = TrilinearInCellSkippingZeros(q, dx, dy, dz, fx[i], fy, fz) * h;
         if (!chromatic)
         {
           out[0] += sigma;
@@ -169,7 +166,7 @@ void RowSegmentOpticalDepths(const ClassifiedVolume& volume, const double* x, in
         }
         for (int c = 0; c < 3; ++c)
         {
-          out[c] += sigma * TrilinearInCell(q + 1 + c, dx, dy, dz, fx, steps[b].FY, steps[b].FZ);
+          out[c] += sigma * TrilinearInCellSkippingZeros(q + 1 + c, dx, dy, dz, fx[i], fy, fz);
         }
       }
     }

@@ -145,12 +145,29 @@ void CartesianSAT::Build(const ClassifiedVolume& data, const SatFrame& frame, do
   }
   this->Table.Allocate(n, channels);
 
-  // Cell integrals: extinction at the cell centre (zero outside the data) times volume.
+  // Cell integrals: extinction at the cell centre (zero outside the data) times volume. The
+  // centres of a row along the frame's first axis share the other axes' terms of their world
+  // positions, and their cell along each data axis the row does not move along.
   const double eps = GeometricTolerance * std::max(bounds[1] - bounds[0], 1.0);
   const double volume = cellSize * cellSize * cellSize;
   const auto& g = data.Geometry;
   const float* field = data.Properties.data();
   const bool chromatic = channels == 3 && data.IsChromatic();
+  const long long stride[3] = { data.Channels,
+    data.Channels * static_cast<long long>(g.Dimensions[0]),
+    data.Channels * static_cast<long long>(g.Dimensions[0]) * g.Dimensions[1] };
+  const long long dx = g.Dimensions[0] > 1 ? stride[0] : 0;
+  const long long dy = g.Dimensions[1] > 1 ? stride[1] : 0;
+  const long long dz = g.Dimensions[2] > 1 ? stride[2] : 0;
+  // Position along data axis a of the centre of cell i of a row (ty, tz: the row's terms), and
+  // whether it lies inside the bounds; its cell in cell.
+  auto locate = [&](int a, long long i, const double* ty, const double* tz, TrilinearCell& cell)
+  {
+    const double qx = this->Origin[0] + (i + 0.5) * cellSize;
+    const double p = qx * frame.Axes[0][a] + ty[a] + tz[a];
+    AxisCell(g.Dimensions[a], (p - g.Origin[a]) / g.Spacing[a], cell.Index[a], cell.Fraction[a]);
+    return p >= bounds[2 * a] - eps && p <= bounds[2 * a + 1] + eps;
+  };
   vtkSMPTools::For(0, static_cast<long long>(n[2]),
     [&](long long k0, long long k1)
     {
@@ -158,29 +175,48 @@ void CartesianSAT::Build(const ClassifiedVolume& data, const SatFrame& frame, do
       {
         for (long long j = 0; j < n[1]; ++j)
         {
+          const double qy = this->Origin[1] + (j + 0.5) * cellSize;
+          const double qz = this->Origin[2] + (k + 0.5) * cellSize;
+          const double ty[3] = { qy * frame.Axes[1][0], qy * frame.Axes[1][1],
+            qy * frame.Axes[1][2] };
+          const double tz[3] = { qz * frame.Axes[2][0], qz * frame.Axes[2][1],
+            qz * frame.Axes[2][2] };
+          TrilinearCell cell;
+          bool rowInside = true;
+          for (int a = 0; a < 3; ++a)
+          {
+            if (frame.Axes[0][a] == 0.0)
+            {
+              rowInside = locate(a, 0, ty, tz, cell) && rowInside;
+            }
+          }
           for (long long i = 0; i < n[0]; ++i)
           {
-            const double q[3] = { this->Origin[0] + (i + 0.5) * cellSize,
-              this->Origin[1] + (j + 0.5) * cellSize, this->Origin[2] + (k + 0.5) * cellSize };
-            double p[3];
+            bool inside = rowInside;
             for (int a = 0; a < 3; ++a)
             {
-              p[a] = q[0] * frame.Axes[0][a] + q[1] * frame.Axes[1][a] + q[2] * frame.Axes[2][a];
+              if (frame.Axes[0][a] != 0.0)
+              {
+                inside = locate(a, i, ty, tz, cell) && inside;
+              }
             }
-            if (!Inside(bounds, eps, p))
+            if (!inside || (empty && empty->ContainsCell(cell.Index)))
             {
+              for (int c = 0; c < channels; ++c)
+              {
+                this->Table.SetCell(c, i, j, k, 0.0);
+              }
               continue;
             }
-            const TrilinearCell cell = CellAtPosition(g, p);
-            if (empty && empty->ContainsCell(cell.Index))
-            {
-              continue;
-            }
-            const float sigma = Interpolate(g, field, data.Channels, cell, 0);
+            const float* q = field + cell.Index[0] * stride[0] + cell.Index[1] * stride[1] +
+              cell.Index[2] * stride[2];
+            const auto& f = cell.Fraction;
+            const float sigma = TrilinearInCellSkippingZeros(q, dx, dy, dz, f[0], f[1], f[2]);
             for (int c = 0; c < channels; ++c)
             {
-              const double absorb =
-                chromatic ? Interpolate(g, field, data.Channels, cell, 1 + c) : 1.0;
+              const double absorb = chromatic
+                ? TrilinearInCellSkippingZeros(q + 1 + c, dx, dy, dz, f[0], f[1], f[2])
+                : 1.0;
               this->Table.SetCell(c, i, j, k, sigma * absorb * volume);
             }
           }
@@ -215,23 +251,6 @@ double RunningIntegralTable::Cumulative(int channel, double x, double y, double 
     }
   }
   return result;
-}
-
-void RunningIntegralTable::AxisTaps::Compute(double a, double b, int n)
-{
-  this->A = a;
-  this->B = b;
-  this->N = n;
-  this->Count = 0;
-  for (int end = 0; end < 2; ++end)
-  {
-    const double c = std::min(std::max(end ? b : a, 0.0), static_cast<double>(n));
-    const long long i0 = std::min(static_cast<long long>(c), static_cast<long long>(n - 1));
-    const double f = c - i0;
-    const double sign = end ? 1.0 : -1.0;
-    this->Add(i0, sign * (1.0 - f));
-    this->Add(i0 + 1, sign * f);
-  }
 }
 
 double RunningIntegralTable::Box(int channel, const double a[3], const double b[3]) const
@@ -269,11 +288,55 @@ double RunningIntegralTable::Box(
   return sum;
 }
 
+void RunningIntegralTable::CollapseToLine(
+  int channel, int axis, const BoxTaps& taps, double* line) const
+{
+  const long long stride[3] = { this->Channels, (this->N[0] + 1LL) * this->Channels,
+    (this->N[0] + 1LL) * (this->N[1] + 1LL) * this->Channels };
+  const AxisTaps& u = taps[(axis + 1) % 3];
+  const AxisTaps& v = taps[(axis + 2) % 3];
+  const long long planes = this->N[axis] + 1LL;
+  const long long step = stride[axis];
+  std::fill_n(line, planes, 0.0);
+  for (int a = 0; a < u.Count; ++a)
+  {
+    for (int b = 0; b < v.Count; ++b)
+    {
+      const double w = u.Weight[a] * v.Weight[b];
+      const double* column = &this->Values[static_cast<size_t>(
+        channel + u.Index[a] * stride[(axis + 1) % 3] + v.Index[b] * stride[(axis + 2) % 3])];
+      if (step == 1) // a loop the compiler vectorises
+      {
+        for (long long m = 0; m < planes; ++m)
+        {
+          line[m] += w * column[m];
+        }
+        continue;
+      }
+      for (long long m = 0; m < planes; ++m)
+      {
+        line[m] += w * column[m * step];
+      }
+    }
+  }
+}
+
 void RunningIntegralTable::Allocate(const std::array<int, 3>& n, int channels)
 {
   this->N = n;
   this->Channels = channels;
-  this->Values.assign(static_cast<size_t>(n[0] + 1) * (n[1] + 1) * (n[2] + 1) * channels, 0.0);
+  this->Values.resize(static_cast<size_t>(n[0] + 1) * (n[1] + 1) * (n[2] + 1) * channels);
+  // The zero planes; SetCell writes everything else.
+  const long long nx = n[0], ny = n[1], nz = n[2];
+  vtkSMPTools::For(0, nz + 1,
+    [&](long long k0, long long k1)
+    {
+      for (long long k = k0; k < k1; ++k)
+        for (long long j = 0; j <= ny; ++j)
+          for (long long i = 0; i <= nx; i += (j == 0 || k == 0) ? 1 : nx + 1)
+            for (int c = 0; c < channels; ++c)
+              this->At(c, i, j, k) = 0.0;
+    });
 }
 
 void RunningIntegralTable::Integrate()
@@ -321,22 +384,22 @@ double CartesianSAT::FilteredOpticalDepth(
   int channel, const double p[3], int axis, int sign, double halfWidth) const
 {
   double depth;
-  this->FilteredOpticalDepths(channel, p, 1, axis, sign, halfWidth, &depth);
+  std::vector<double> unused;
+  this->FilteredOpticalDepths(channel, p, 1, axis, sign, halfWidth, &depth, unused);
   return depth;
 }
 
 void CartesianSAT::FilteredOpticalDepths(int channel, const double* points, int count, int axis,
-  int sign, double halfWidth, double* depth) const
+  int sign, double halfWidth, double* depth, std::vector<double>& line) const
 {
   const double end = this->Table.GetDimensions()[axis] * this->H;
   const double area = 4.0 * halfWidth * halfWidth;
   const double perCell = 1.0 / this->H;
-  RunningIntegralTable::BoxTaps taps;
-  for (int i = 0; i < count; ++i)
+  // The box of point i in cell units.
+  auto box = [&](int i, double lo[3], double hi[3])
   {
     double q[3];
     this->ToFrame(points + 3 * i, q);
-    double lo[3], hi[3];
     for (int a = 0; a < 3; ++a)
     {
       lo[a] = q[a] - halfWidth;
@@ -348,6 +411,58 @@ void CartesianSAT::FilteredOpticalDepths(int channel, const double* points, int 
     {
       lo[a] *= perCell;
       hi[a] *= perCell;
+    }
+  };
+  // The row's axis (along), when its first, middle and last boxes differ on that axis only,
+  // and the ends the others share (key). Collapsing costs up to 16 reads a plane of the axis,
+  // a box read from the table up to 64.
+  int along = -1;
+  double keyLo[3], keyHi[3];
+  const auto& n = this->Table.GetDimensions();
+  if (count > 1)
+  {
+    double lo[2][3], hi[2][3];
+    box(0, lo[0], hi[0]);
+    box(count - 1, lo[1], hi[1]);
+    box(count / 2, keyLo, keyHi);
+    int differing = 0;
+    for (int a = 0; a < 3; ++a)
+    {
+      bool same = true;
+      for (int e = 0; e < 2; ++e)
+      {
+        same = same && lo[e][a] == keyLo[a] && hi[e][a] == keyHi[a];
+      }
+      if (!same)
+      {
+        along = a;
+        ++differing;
+      }
+    }
+    along = differing == 1 && 3LL * count > n[along] ? along : -1;
+  }
+  RunningIntegralTable::BoxTaps taps;
+  if (along >= 0)
+  {
+    RunningIntegralTable::BoxTaps keyTaps;
+    for (int a = 0; a < 3; ++a)
+    {
+      keyTaps[a].Set(keyLo[a], keyHi[a], n[a]);
+    }
+    line.resize(n[along] + 1);
+    this->Table.CollapseToLine(channel, along, keyTaps, line.data());
+  }
+  for (int i = 0; i < count; ++i)
+  {
+    double lo[3], hi[3];
+    box(i, lo, hi);
+    const int u = (along + 1) % 3, v = (along + 2) % 3;
+    if (along >= 0 && lo[u] == keyLo[u] && hi[u] == keyHi[u] && lo[v] == keyLo[v] &&
+      hi[v] == keyHi[v])
+    {
+      taps[along].Set(lo[along], hi[along], n[along]);
+      depth[i] = RunningIntegralTable::LineBox(line.data(), taps[along]) / area;
+      continue;
     }
     depth[i] = this->Table.Box(channel, lo, hi, taps) / area;
   }

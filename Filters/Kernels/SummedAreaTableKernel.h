@@ -23,6 +23,7 @@
 #include "IlluminationClassification.h"
 #include "VolIllumKernelsModule.h"
 
+#include <algorithm>
 #include <array>
 #include <limits>
 #include <vector>
@@ -59,7 +60,8 @@ VOLILLUMKERNELS_EXPORT int AxisOfDirection(
 class VOLILLUMKERNELS_EXPORT RunningIntegralTable
 {
 public:
-  /// Allocate zeroed cells; set them with SetCell, then call Integrate once.
+  /// Allocate the cells, keeping the memory of the last allocation (their values are left
+  /// as they were: set every cell with SetCell, then call Integrate once).
   void Allocate(const std::array<int, 3>& n, int channels);
   void SetCell(int channel, long long i, long long j, long long k, double value)
   {
@@ -89,7 +91,22 @@ public:
     }
 
   private:
-    void Compute(double a, double b, int n);
+    void Compute(double a, double b, int n)
+    {
+      this->A = a;
+      this->B = b;
+      this->N = n;
+      this->Count = 0;
+      for (int end = 0; end < 2; ++end)
+      {
+        const double c = std::min(std::max(end ? b : a, 0.0), static_cast<double>(n));
+        const long long i0 = std::min(static_cast<long long>(c), static_cast<long long>(n - 1));
+        const double f = c - i0;
+        const double sign = end ? 1.0 : -1.0;
+        this->Add(i0, sign * (1.0 - f));
+        this->Add(i0 + 1, sign * f);
+      }
+    }
     void Add(long long index, double weight)
     {
       if (weight != 0.0 && index != 0)
@@ -107,6 +124,22 @@ public:
   /// The same, keeping each axis's taps in taps: the next box with the same ends on an axis
   /// (boxes around a row of points along another axis) reuses them.
   double Box(int channel, const double lo[3], const double hi[3], BoxTaps& taps) const;
+
+  /// Boxes whose ends on the two axes other than `axis` are those of taps: the table summed
+  /// over those axes' taps into line, one value a plane of `axis` (N[axis] + 1 values).
+  /// LineBox then gives each such box from at most four of them.
+  void CollapseToLine(int channel, int axis, const BoxTaps& taps, double* line) const;
+
+  /// The integral over a box whose ends on the collapsed axis are those of t.
+  static double LineBox(const double* line, const AxisTaps& t)
+  {
+    double sum = 0.0;
+    for (int i = 0; i < t.Count; ++i)
+    {
+      sum += t.Weight[i] * line[t.Index[i]];
+    }
+    return sum;
+  }
 
   /// Running integral from the grid's first corner to (x, y, z) in cell units (clamped).
   double Cumulative(int channel, double x, double y, double z) const;
@@ -158,10 +191,13 @@ public:
   double FilteredOpticalDepth(
     int channel, const double p[3], int axis, int sign, double halfWidth) const;
 
-  /// FilteredOpticalDepth at `count` world points (3 values a point) into depth; points
-  /// along a row of the table's frame share the taps of the two other axes.
+  /// FilteredOpticalDepth at `count` world points (3 values a point) into depth. Points
+  /// along a row of the table's frame share the taps of the two other axes; when the row's
+  /// first, middle and last boxes have the same ends on those axes and the row is long
+  /// enough, the table is collapsed onto the row's axis once (into line, resized as needed)
+  /// and every box with those ends reads at most four values instead of 64.
   void FilteredOpticalDepths(int channel, const double* points, int count, int axis, int sign,
-    double halfWidth, double* depth) const;
+    double halfWidth, double* depth, std::vector<double>& line) const;
 
   /// The same with a separable kernel: the patch is cut into weights.size()^2 equal
   /// squares, square (i, j) weighted by weights[i] x weights[j] (weights summing to 1),

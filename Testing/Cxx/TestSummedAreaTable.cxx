@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 using namespace volillum;
 
@@ -307,6 +308,71 @@ TEST(SummedAreaTable, OrthodirectionalLightsShareOneTable)
         EXPECT_NEAR(a, b, 1e-9 * std::max(1.0, std::abs(b)));
       }
     }
+  }
+}
+
+TEST(SummedAreaTable, RowsOfPointsEqualEachPointAlone)
+{
+  // Rows along each axis of a table in the data's frame read the table collapsed onto the
+  // row (FilteredOpticalDepths); points moved toward the light (as near segments move them)
+  // or off the row read boxes of their own. Every depth equals the point's read alone.
+  ClassifiedVolume v = RandomVolume(24, 20, 22, 1.0, 37);
+  const double down[3] = { 0, 0, -1 };
+  const double directions[6][3] = { { 1, 0, 0 }, { -1, 0, 0 }, { 0, 1, 0 }, { 0, -1, 0 },
+    { 0, 0, 1 }, { 0, 0, -1 } };
+  for (const int channels : { 1, 3 })
+  {
+    CartesianSAT sat;
+    sat.Build(v, FrameForDirection(down), 1.0, channels);
+    double worst = 0.0, largest = 0.0;
+    int rows = 0;
+    for (const auto& d : directions)
+    {
+      int sign = 0;
+      const int axis = AxisOfDirection(sat.GetFrame(), d, sign);
+      ASSERT_GE(axis, 0);
+      for (int along = 0; along < 3; ++along)
+      {
+        const int count = v.Geometry.Dimensions[along];
+        std::vector<double> points(3 * count);
+        for (int i = 0; i < count; ++i)
+        {
+          double* p = &points[3 * i];
+          p[0] = -1.0 + 7.0;
+          p[1] = 2.0 + 9.5;
+          p[2] = 0.5 + 6.0;
+          p[along] = v.Geometry.Origin[along] + i;
+          // Some points moved toward the light, one off the row.
+          const double toward = i % 5 == 4 ? 0.75 * (i % 3) : 0.0;
+          for (int a = 0; a < 3; ++a)
+          {
+            p[a] -= toward * d[a];
+          }
+          p[(along + 1) % 3] += i == count / 3 ? 0.3 : 0.0;
+        }
+        for (double halfWidth : { 0.5, 1.5, 4.0 })
+        {
+          for (int c = 0; c < channels; ++c)
+          {
+            std::vector<double> row(count), line;
+            sat.FilteredOpticalDepths(
+              c, points.data(), count, axis, sign, halfWidth, row.data(), line);
+            for (int i = 0; i < count; ++i)
+            {
+              const double alone =
+                sat.FilteredOpticalDepth(c, &points[3 * i], axis, sign, halfWidth);
+              worst = std::max(worst, std::abs(row[i] - alone));
+              largest = std::max(largest, alone);
+            }
+            ++rows;
+          }
+        }
+      }
+    }
+    std::cout << channels << " channels, " << rows << " rows: largest difference " << worst
+              << " (largest depth " << largest << ")" << std::endl;
+    EXPECT_GT(largest, 1.0);
+    EXPECT_LE(worst, 1e-12 * largest);
   }
 }
 
