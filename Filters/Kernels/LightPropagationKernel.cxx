@@ -447,6 +447,25 @@ void AddFractionalRowDepths(const float* q, long long strideB, long long dx, lon
   }
 }
 
+// AddFractionalRowDepths along axis b (0, 1 or 2).
+void AddFractionalRowDepthsAlong(int b, const float* q, long long strideB, long long dx,
+  long long dy, long long dz, const TrilinearCell& cell, double u0, double ratio, float h,
+  int count, float* depth)
+{
+  if (b == 0)
+  {
+    AddFractionalRowDepths<0>(q, strideB, dx, dy, dz, cell, u0, ratio, h, count, depth);
+  }
+  else if (b == 1)
+  {
+    AddFractionalRowDepths<1>(q, strideB, dx, dy, dz, cell, u0, ratio, h, count, depth);
+  }
+  else
+  {
+    AddFractionalRowDepths<2>(q, strideB, dx, dy, dz, cell, u0, ratio, h, count, depth);
+  }
+}
+
 // The row kernel without chromatic attenuation (one value a ray): the transmittance of
 // `count` rays multiplied into out[i]. Ray i samples cells[m] with its position along B
 // moved by i x ratio cells (alongB[m] on ray 0); shift is ratio when that is whole. The
@@ -477,19 +496,7 @@ void GreyRowTransmittance(const SweepContext& s, const TrilinearCell* cells, con
       {
         const float* q = first - c.Index[s.B] * stride[s.B]; // index 0 along B
         const double u0 = alongB[m] + begin * ratio;
-        const long long sB = stride[s.B];
-        if (s.B == 0)
-        {
-          AddFractionalRowDepths<0>(q, sB, dx, dy, dz, c, u0, ratio, h, size, depth);
-        }
-        else if (s.B == 1)
-        {
-          AddFractionalRowDepths<1>(q, sB, dx, dy, dz, c, u0, ratio, h, size, depth);
-        }
-        else
-        {
-          AddFractionalRowDepths<2>(q, sB, dx, dy, dz, c, u0, ratio, h, size, depth);
-        }
+        AddFractionalRowDepthsAlong(s.B, q, stride[s.B], dx, dy, dz, c, u0, ratio, h, size, depth);
         continue;
       }
       const float* q = first + begin * step;
@@ -625,6 +632,96 @@ void RowSegments(const SweepContext& s, const double p[3], double spacing, int c
   }
 }
 
+// Most rays DivergingRowSegments takes at once.
+constexpr int MaximumDivergingRays = 256;
+
+// SegmentTransmittance(s, p_i, d_i, length_i, out_i) for `count` rays of a point or spot
+// source whose near ends p_i lie along a row of a slice (axis B) and whose directions d_i
+// point away from the light, each over its step from the previous slice (length_i: the
+// slice spacing over its progress along the axis; 0: nothing to integrate). Such rays with
+// the same number of steps place their m-th samples at the same coordinates along the sweep
+// axis and along C, and along B affinely in the ray index (the ray's offset from the light
+// along B is affine in it): without chromatic attenuation, a run of them inside the
+// volume's grid is summed sample by sample, a run at a time (AddFractionalRowDepths), and
+// the optical depth scaled by each ray's step length. Other rays are integrated one by one.
+// Both give the same cells up to the rounding of the positions.
+void DivergingRowSegments(const SweepContext& s, const double* p, const double* d,
+  const double* length, int count, float* out)
+{
+  const GridGeometry& g = s.Volume.Geometry;
+  int steps[MaximumDivergingRays];
+  bool inside[MaximumDivergingRays];
+  const bool rows = s.RowKernels && !s.Volume.IsChromatic();
+  for (int i = 0; i < count && rows; ++i)
+  {
+    steps[i] = SegmentSteps(s, length[i]);
+    // Both ends inside the grid (short of its last point along B: every sample has its cell
+    // there without clamping) put the whole segment inside the box.
+    inside[i] = length[i] > 0.0;
+    for (int a = 0; a < 3; ++a)
+    {
+      const double near = (p[3 * i + a] - g.Origin[a]) / g.Spacing[a];
+      const double far = (p[3 * i + a] - length[i] * d[3 * i + a] - g.Origin[a]) / g.Spacing[a];
+      const double end = g.Dimensions[a] - 1;
+      inside[i] = inside[i] && std::min(near, far) >= 0.0 &&
+        (a == s.B ? std::max(near, far) < end : std::max(near, far) <= end);
+    }
+  }
+  const long long stride[3] = { 1, g.Dimensions[0],
+    static_cast<long long>(g.Dimensions[0]) * g.Dimensions[1] };
+  const long long dx = g.Dimensions[0] > 1 ? stride[0] : 0;
+  const long long dy = g.Dimensions[1] > 1 ? stride[1] : 0;
+  const long long dz = g.Dimensions[2] > 1 ? stride[2] : 0;
+  // Grid coordinates of sample m of ray i.
+  auto sample = [&](int i, int m, double u[3])
+  {
+    const double h = length[i] / steps[i];
+    for (int a = 0; a < 3; ++a)
+    {
+      u[a] = (p[3 * i + a] - (m + 0.5) * h * d[3 * i + a] - g.Origin[a]) / g.Spacing[a];
+    }
+  };
+  float depth[MaximumDivergingRays];
+  for (int first = 0; first < count;)
+  {
+    int last = first;
+    while (rows && inside[first] && last + 1 < count && inside[last + 1] &&
+      steps[last + 1] == steps[first])
+    {
+      ++last;
+    }
+    if (last == first)
+    {
+      if (length[first] > 0.0)
+      {
+        SegmentTransmittance(
+          s, p + 3 * first, d + 3 * first, length[first], out + s.Channels * first);
+      }
+      ++first;
+      continue;
+    }
+    const int size = last - first + 1;
+    std::fill_n(depth, size, 0.0f);
+    for (int m = 0; m < steps[first]; ++m)
+    {
+      double u[3], v[3];
+      sample(first, m, u);
+      sample(last, m, v);
+      const TrilinearCell cell = CellAt(g, u);
+      const float* q = s.Volume.Properties.data() + cell.Index[0] * stride[0] +
+        cell.Index[1] * stride[1] + cell.Index[2] * stride[2] - cell.Index[s.B] * stride[s.B];
+      AddFractionalRowDepthsAlong(s.B, q, stride[s.B], dx, dy, dz, cell, u[s.B],
+        (v[s.B] - u[s.B]) / (size - 1), 1.0f, size, depth);
+    }
+    for (int i = 0; i < size; ++i)
+    {
+      ApplyDepth(
+        1, static_cast<float>(length[first + i] / steps[first]) * depth[i], out + first + i);
+    }
+    first = last + 1;
+  }
+}
+
 // A point or spot light's rays diverge, so no lattice keeps them a whole number of cells
 // apart. They are followed exactly from an anchor slice instead: rays leave the anchor
 // AnchorSpread times closer together than its points, are attenuated slice by slice
@@ -648,13 +745,20 @@ inline double SliceCoordinate(const SweepContext& s, int k)
 
 // Transmittance of the ray from a point or spot source to point p (out), the unit direction
 // the light travels there (d) and the factor an inside light's group gives the point; rays
-// holds the light along the anchored rays at the previous slice.
+// holds the light along the anchored rays at the previous slice. The light read from them
+// is attenuated over the point's last step, from the previous slice, into out; when
+// lastStep is given, that step is left to the caller, its length stored there (0 when
+// nothing is left).
 void TransmittanceAtPoint(const SweepContext& s, const SweepSource& sweep, const float* rays,
-  const double p[3], float* out, double d[3], double& groupFactor)
+  const double p[3], float* out, double d[3], double& groupFactor, double* lastStep = nullptr)
 {
   const RaySource& source = sweep.Source;
   std::fill_n(out, s.Channels, 1.0f);
   groupFactor = 1.0;
+  if (lastStep)
+  {
+    *lastStep = 0.0;
+  }
   const int a = s.Axis;
   for (int i = 0; i < 3; ++i)
   {
@@ -711,7 +815,26 @@ void TransmittanceAtPoint(const SweepContext& s, const SweepSource& sweep, const
     return;
   }
   MonotoneBicubic(rays, s.Channels, sweep.RaysB, sweep.RaysC, at, out);
+  if (lastStep)
+  {
+    *lastStep = s.Spacing[a] / along;
+    return;
+  }
   SegmentTransmittance(s, p, d, s.Spacing[a] / along, out);
+}
+
+// TransmittanceAtPoint at `count` points along axis B of a slice (p: 3 values a point, at
+// most MaximumDivergingRays), their last steps integrated as a row (DivergingRowSegments).
+void TransmittanceAlongRow(const SweepContext& s, const SweepSource& sweep, const float* rays,
+  const double* p, int count, float* out, double* direction, double* groupFactor)
+{
+  double lastStep[MaximumDivergingRays];
+  for (int i = 0; i < count; ++i)
+  {
+    TransmittanceAtPoint(s, sweep, rays, p + 3 * i, out + s.Channels * i, direction + 3 * i,
+      groupFactor[i], lastStep + i);
+  }
+  DivergingRowSegments(s, p, direction, lastStep, count, out);
 }
 
 // Position of ray (i, j) of a point or spot source where it leaves anchor slice k.
@@ -762,34 +885,42 @@ void AdvanceAnchoredRays(const SweepContext& s, const SweepSource& sweep, const 
     return;
   }
   const double* light = sweep.Source.Position;
-  double p[3], d[3], factor;
+  double p[3 * MaximumDivergingRays], d[3 * MaximumDivergingRays], length[MaximumDivergingRays];
   for (int j = begin; j < end; ++j)
   {
-    for (int i = 0; i < sweep.RaysB; ++i)
+    for (int i0 = 0; i0 < sweep.RaysB; i0 += MaximumDivergingRays)
     {
-      float* o =
-        (step.Anchor ? next : rays) + s.Channels * (static_cast<long long>(j) * sweep.RaysB + i);
+      const int size = std::min(MaximumDivergingRays, sweep.RaysB - i0);
+      const long long firstRay = static_cast<long long>(j) * sweep.RaysB + i0;
       if (step.Anchor)
       {
-        // The ray leaves slice k: its light is read from the rays at slice k - 1.
-        AnchorPoint(s, k, i, j, p);
-        TransmittanceAtPoint(s, sweep, rays, p, o, d, factor);
+        // The rays leave slice k: their light is read from the rays at slice k - 1.
+        for (int i = 0; i < size; ++i)
+        {
+          AnchorPoint(s, k, i0 + i, j, p + 3 * i);
+        }
+        double factors[MaximumDivergingRays];
+        TransmittanceAlongRow(s, sweep, rays, p, size, next + s.Channels * firstRay, d, factors);
         continue;
       }
-      // The ray through anchor point (i, j), at slice k.
-      double offset[3];
-      AnchorPoint(s, sweep.Anchor, i, j, offset);
-      for (int c = 0; c < 3; ++c)
+      // The rays through the anchor's points, at slice k, over their step from slice k - 1.
+      for (int i = 0; i < size; ++i)
       {
-        offset[c] -= light[c];
+        double offset[3];
+        AnchorPoint(s, sweep.Anchor, i0 + i, j, offset);
+        for (int c = 0; c < 3; ++c)
+        {
+          offset[c] -= light[c];
+        }
+        const double norm = vtkMath::Norm(offset);
+        for (int c = 0; c < 3; ++c)
+        {
+          p[3 * i + c] = light[c] + step.Scale * offset[c];
+          d[3 * i + c] = offset[c] / norm;
+        }
+        length[i] = s.Spacing[s.Axis] / (s.Sign * d[3 * i + s.Axis]);
       }
-      const double length = vtkMath::Norm(offset);
-      for (int c = 0; c < 3; ++c)
-      {
-        p[c] = light[c] + step.Scale * offset[c];
-        d[c] = offset[c] / length;
-      }
-      SegmentTransmittance(s, p, d, s.Spacing[s.Axis] / (s.Sign * d[s.Axis]), o);
+      DivergingRowSegments(s, p, d, length, size, rays + s.Channels * firstRay);
     }
   }
 }
@@ -811,14 +942,18 @@ void RowTransmittance(const SweepContext& s, const SweepSource& sweep, const flo
     }
     return;
   }
-  double p[3];
-  p[s.Axis] = SliceCoordinate(s, k);
-  p[s.C] = s.Origin[s.C] + ic * s.Spacing[s.C];
-  for (int ib = 0; ib < nb; ++ib)
+  double p[3 * MaximumDivergingRays];
+  for (int first = 0; first < nb; first += MaximumDivergingRays)
   {
-    p[s.B] = s.Origin[s.B] + ib * s.Spacing[s.B];
-    TransmittanceAtPoint(
-      s, sweep, rays, p, out + s.Channels * ib, direction + 3 * ib, groupFactor[ib]);
+    const int size = std::min(MaximumDivergingRays, nb - first);
+    for (int i = 0; i < size; ++i)
+    {
+      p[3 * i + s.Axis] = SliceCoordinate(s, k);
+      p[3 * i + s.B] = s.Origin[s.B] + (first + i) * s.Spacing[s.B];
+      p[3 * i + s.C] = s.Origin[s.C] + ic * s.Spacing[s.C];
+    }
+    TransmittanceAlongRow(s, sweep, rays, p, size, out + s.Channels * first, direction + 3 * first,
+      groupFactor + first);
   }
 }
 

@@ -379,10 +379,12 @@ TEST(MultiLightIlluminationVolume, BrightenedLightsKeepTheFixedPointExact)
 }
 
 // The row kernels (a directional light's segments along a row of the illumination grid,
-// sampled in cells found once per row; at the data's resolution a whole row summed at once)
-// against every segment integrated on its own: the same illumination to 1e-6 of its
-// largest value, with and without chromatic attenuation, at the data's resolution and at
-// half of it (the rays 39 / 19 = 2.05 data cells apart).
+// sampled in cells found once per row, at the data's resolution a whole row summed at once;
+// the steps of a point or spot light's rays and points along a row of a slice, summed a run
+// of equal step counts at a time) against every segment integrated on its own: the same
+// illumination to 1e-6 of its largest value, with and without chromatic attenuation, at the
+// data's resolution and at half of it (the rays 39 / 19 = 2.05 data cells apart), with a
+// point light outside and one inside the volume and a spot light.
 TEST(MultiLightIlluminationVolume, RowKernelsEqualSegmentBySegment)
 {
   auto image = PhantomScene(vtkIlluminationPhantomSource::ThreeSpheres, 40);
@@ -402,8 +404,10 @@ TEST(MultiLightIlluminationVolume, RowKernelsEqualSegmentBySegment)
     double bounds[6];
     target.GetBounds(bounds);
     std::vector<volillum::PropagationTask> tasks;
+    auto spot = PointLight(60, -10, 25, 1, 0.6, 0.3);
+    spot->SetConeAngle(30);
     for (const auto& light : { DirectionalLight(0.4, -0.3, -1), DirectionalLight(-1, 0.5, 0.3),
-           DirectionalLight(0.2, 1, -0.6), PointLight(-30, 20, 60) })
+           DirectionalLight(0.2, 1, -0.6), PointLight(-30, 20, 60), PointLight(18, 22, 15), spot })
     {
       const auto more = volillum::TasksForLight(volillum::CaptureLight(light), +1, bounds);
       tasks.insert(tasks.end(), more.begin(), more.end());
