@@ -87,9 +87,10 @@ inline void AxisCell(int n, double u, int& index, float& fraction);
 inline float TrilinearInCell(
   const float* q, long long dx, long long dy, long long dz, float fx, float fy, float fz);
 
-/// TrilinearInCell reading only what a zero fraction leaves: the same value, from two
-/// values instead of eight for a sample on a grid line (cell centres of a table in the
-/// data's frame, rays along a grid axis), at the price of two branches.
+/// TrilinearInCell reading only what a zero fraction leaves: the same value for finite
+/// values (which classified volumes hold), from two values instead of eight for a sample on
+/// a grid line (cell centres of a table in the data's frame, rays along a grid axis), at the
+/// price of two branches.
 inline float TrilinearInCellSkippingZeros(
   const float* q, long long dx, long long dy, long long dz, float fx, float fy, float fz);
 

@@ -224,8 +224,9 @@ struct SweepContext
   long long Stride[3];
   double Origin[3], Spacing[3];
   double Bounds[6];
-  // Whether rows of parallel segments may share their samples' cells (RowSegments); false
-  // integrates every segment on its own.
+  // Whether rows of segments may share their samples' cells (RowSegments for directional
+  // sources, DivergingRowSegments for point and spot sources); false integrates every segment
+  // on its own.
   bool RowKernels;
   // Values of light per ray or pixel: 3 (RGB) with chromatic attenuation; else 1, as every
   // channel keeps the same transmittance.
@@ -635,16 +636,18 @@ void RowSegments(const SweepContext& s, const double p[3], double spacing, int c
 // Most rays DivergingRowSegments takes at once.
 constexpr int MaximumDivergingRays = 256;
 
-// SegmentTransmittance(s, p_i, d_i, length_i, out_i) for `count` rays of a point or spot
-// source whose near ends p_i lie along a row of a slice (axis B) and whose directions d_i
-// point away from the light, each over its step from the previous slice (length_i: the
-// slice spacing over its progress along the axis; 0: nothing to integrate). Such rays with
-// the same number of steps place their m-th samples at the same coordinates along the sweep
+// SegmentTransmittance(s, p_i, d_i, length_i, out_i) for `count` (at most
+// MaximumDivergingRays) rays of a point or spot source whose near ends p_i lie equally spaced
+// along axis B of a slice, at the same coordinate along C, and whose directions d_i point
+// away from the light, each over its step from the previous slice (length_i: the slice
+// spacing over its progress along the axis; 0: nothing to integrate). Such rays with the
+// same number of steps place their m-th samples at the same coordinates along the sweep
 // axis and along C, and along B affinely in the ray index (the ray's offset from the light
 // along B is affine in it): without chromatic attenuation, a run of them inside the
 // volume's grid is summed sample by sample, a run at a time (AddFractionalRowDepths), and
 // the optical depth scaled by each ray's step length. Other rays are integrated one by one.
-// Both give the same cells up to the rounding of the positions.
+// Both give the same cells up to the rounding of the positions: a ray's result depends, by
+// that rounding, on the run it belongs to (deterministic, as runs depend on the row only).
 void DivergingRowSegments(const SweepContext& s, const double* p, const double* d,
   const double* length, int count, float* out)
 {
@@ -654,9 +657,9 @@ void DivergingRowSegments(const SweepContext& s, const double* p, const double* 
   const bool rows = s.RowKernels && !s.Volume.IsChromatic();
   for (int i = 0; i < count && rows; ++i)
   {
-    steps[i] = SegmentSteps(s, length[i]);
-    // Both ends inside the grid (short of its last point along B: every sample has its cell
-    // there without clamping) put the whole segment inside the box.
+    // Both ends inside the grid (along B short of its last point by more than the rounding
+    // of the interpolated positions: every sample has its cell there without clamping) put
+    // the whole segment inside the box.
     inside[i] = length[i] > 0.0;
     for (int a = 0; a < 3; ++a)
     {
@@ -664,8 +667,10 @@ void DivergingRowSegments(const SweepContext& s, const double* p, const double* 
       const double far = (p[3 * i + a] - length[i] * d[3 * i + a] - g.Origin[a]) / g.Spacing[a];
       const double end = g.Dimensions[a] - 1;
       inside[i] = inside[i] && std::min(near, far) >= 0.0 &&
-        (a == s.B ? std::max(near, far) < end : std::max(near, far) <= end);
+        (a == s.B ? std::max(near, far) < end - GeometricTolerance * end
+                  : std::max(near, far) <= end);
     }
+    steps[i] = inside[i] ? SegmentSteps(s, length[i]) : 0;
   }
   const long long stride[3] = { 1, g.Dimensions[0],
     static_cast<long long>(g.Dimensions[0]) * g.Dimensions[1] };
@@ -715,8 +720,8 @@ void DivergingRowSegments(const SweepContext& s, const double* p, const double* 
     }
     for (int i = 0; i < size; ++i)
     {
-      ApplyDepth(
-        1, static_cast<float>(length[first + i] / steps[first]) * depth[i], out + first + i);
+      ApplyDepth(1, static_cast<float>(length[first + i] / steps[first]) * depth[i],
+        out + s.Channels * (first + i));
     }
     first = last + 1;
   }
@@ -746,19 +751,15 @@ inline double SliceCoordinate(const SweepContext& s, int k)
 // Transmittance of the ray from a point or spot source to point p (out), the unit direction
 // the light travels there (d) and the factor an inside light's group gives the point; rays
 // holds the light along the anchored rays at the previous slice. The light read from them
-// is attenuated over the point's last step, from the previous slice, into out; when
-// lastStep is given, that step is left to the caller, its length stored there (0 when
-// nothing is left).
+// still has to be attenuated over the point's last step, from the previous slice: that is
+// left to the caller, the step's length stored in lastStep (0 when nothing is left).
 void TransmittanceAtPoint(const SweepContext& s, const SweepSource& sweep, const float* rays,
-  const double p[3], float* out, double d[3], double& groupFactor, double* lastStep = nullptr)
+  const double p[3], float* out, double d[3], double& groupFactor, double& lastStep)
 {
   const RaySource& source = sweep.Source;
   std::fill_n(out, s.Channels, 1.0f);
   groupFactor = 1.0;
-  if (lastStep)
-  {
-    *lastStep = 0.0;
-  }
+  lastStep = 0.0;
   const int a = s.Axis;
   for (int i = 0; i < 3; ++i)
   {
@@ -815,16 +816,12 @@ void TransmittanceAtPoint(const SweepContext& s, const SweepSource& sweep, const
     return;
   }
   MonotoneBicubic(rays, s.Channels, sweep.RaysB, sweep.RaysC, at, out);
-  if (lastStep)
-  {
-    *lastStep = s.Spacing[a] / along;
-    return;
-  }
-  SegmentTransmittance(s, p, d, s.Spacing[a] / along, out);
+  lastStep = s.Spacing[a] / along;
 }
 
-// TransmittanceAtPoint at `count` points along axis B of a slice (p: 3 values a point, at
-// most MaximumDivergingRays), their last steps integrated as a row (DivergingRowSegments).
+// TransmittanceAtPoint at `count` points equally spaced along axis B of a slice (p: 3 values
+// a point, at most MaximumDivergingRays), their last steps integrated as a row
+// (DivergingRowSegments).
 void TransmittanceAlongRow(const SweepContext& s, const SweepSource& sweep, const float* rays,
   const double* p, int count, float* out, double* direction, double* groupFactor)
 {
@@ -832,7 +829,7 @@ void TransmittanceAlongRow(const SweepContext& s, const SweepSource& sweep, cons
   for (int i = 0; i < count; ++i)
   {
     TransmittanceAtPoint(s, sweep, rays, p + 3 * i, out + s.Channels * i, direction + 3 * i,
-      groupFactor[i], lastStep + i);
+      groupFactor[i], lastStep[i]);
   }
   DivergingRowSegments(s, p, direction, lastStep, count, out);
 }

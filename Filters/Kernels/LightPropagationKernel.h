@@ -157,9 +157,10 @@ struct PropagationStatistics
  * returned in remaining. Returns false when progress asked to stop (the illumination is
  * then partly updated). With `empty` (the volume's empty blocks), segments skip the samples
  * there (they are 0): the same result, faster where the volume is mostly empty. rowKernels
- * false integrates every segment on its own instead of a row of a directional light's
- * segments at once where the illumination grid has the data's resolution (the reference
- * the row kernels are tested against; the same result up to float rounding).
+ * false integrates every segment on its own instead of the segments along a row of the
+ * illumination grid at once (a directional light's rays; a point or spot light's steps from
+ * the previous slice): the reference the row kernels are tested against, the same result up
+ * to float rounding.
  */
 VOLILLUMKERNELS_EXPORT bool PropagateTasks(const ClassifiedVolume& volume,
   const GridGeometry& target, const std::vector<PropagationTask>& tasks, bool coherent,

@@ -60,8 +60,8 @@ VOLILLUMKERNELS_EXPORT int AxisOfDirection(
 class VOLILLUMKERNELS_EXPORT RunningIntegralTable
 {
 public:
-  /// Allocate the cells, keeping the memory of the last allocation (their values are left
-  /// as they were: set every cell with SetCell, then call Integrate once).
+  /// Allocate the cells. A table rebuilt at the same size or smaller keeps its memory
+  /// without filling it first: set every cell with SetCell, then call Integrate once.
   void Allocate(const std::array<int, 3>& n, int channels);
   void SetCell(int channel, long long i, long long j, long long k, double value)
   {
@@ -195,7 +195,9 @@ public:
   /// along a row of the table's frame share the taps of the two other axes; when the row's
   /// first, middle and last boxes have the same ends on those axes and the row is long
   /// enough, the table is collapsed onto the row's axis once (into line, resized as needed)
-  /// and every box with those ends reads at most four values instead of 64.
+  /// and every box with those ends reads at most four values instead of 64 (the same
+  /// integral up to the rounding of the sums: a depth depends, by that rounding, on whether
+  /// its row was collapsed, which depends on the row alone).
   void FilteredOpticalDepths(int channel, const double* points, int count, int axis, int sign,
     double halfWidth, double* depth, std::vector<double>& line) const;
 
