@@ -329,6 +329,14 @@ bool ClipToBox(const double bounds[6], const double p[3], const double d[3], dou
   return to > from;
 }
 
+// Whether coordinate x along axis a lies on one of the box's faces across a (within the
+// tolerance ClipToBox gives points on a face).
+inline bool OnFaceAcross(const double bounds[6], int a, double x)
+{
+  const double tolerance = GeometricTolerance * (bounds[2 * a + 1] - bounds[2 * a] + 1.0);
+  return std::abs(x - bounds[2 * a]) <= tolerance || std::abs(x - bounds[2 * a + 1]) <= tolerance;
+}
+
 // One midpoint sample (in `cell`, step length h) of a segment: without chromatic
 // attenuation every channel keeps exp(-sigma h), so the optical depth is summed (depth) and
 // applied once per segment (ApplyDepth); with it, out is multiplied per channel.
@@ -465,6 +473,32 @@ void AddFractionalRowDepthsAlong(int b, const float* q, long long strideB, long 
   {
     AddFractionalRowDepths<2>(q, strideB, dx, dy, dz, cell, u0, ratio, h, count, depth);
   }
+}
+
+// AddFractionalRowDepthsAlong(s.B, ...) for rays [0, count) whose positions along B
+// increase (ratio > 0), left out when every ray's cell lies in an empty block (SweepContext
+// Empty): their extinction is 0, so the sums are the same, without reading empty space.
+void AddFractionalRowDepthsOutsideEmpty(const SweepContext& s, const float* q, long long strideB,
+  long long dx, long long dy, long long dz, const TrilinearCell& cell, double u0, double ratio,
+  float h, int count, float* depth)
+{
+  if (s.Empty && ratio > 0.0)
+  {
+    // The cells along B of the first and last rays, as AddFractionalRowDepths finds them,
+    // and a cell of each block between.
+    const int last = static_cast<int>(u0 + (count - 1) * ratio);
+    int index[3] = { cell.Index[0], cell.Index[1], cell.Index[2] };
+    index[s.B] = static_cast<int>(u0);
+    while (s.Empty->ContainsCell(index))
+    {
+      if (index[s.B] >= last)
+      {
+        return;
+      }
+      index[s.B] = std::min(last, (index[s.B] / EmptyBlocks::Cells + 1) * EmptyBlocks::Cells);
+    }
+  }
+  AddFractionalRowDepthsAlong(s.B, q, strideB, dx, dy, dz, cell, u0, ratio, h, count, depth);
 }
 
 // The row kernel without chromatic attenuation (one value a ray): the transmittance of
@@ -657,18 +691,23 @@ void DivergingRowSegments(const SweepContext& s, const double* p, const double* 
   const bool rows = s.RowKernels && !s.Volume.IsChromatic();
   for (int i = 0; i < count && rows; ++i)
   {
-    // Both ends inside the grid (along B short of its last point by more than the rounding
-    // of the interpolated positions: every sample has its cell there without clamping) put
-    // the whole segment inside the box.
+    // Both ends inside the grid put the whole segment inside the box: along B short of its
+    // last point by more than the rounding of the interpolated positions (every sample has
+    // its cell there without clamping), along the other axes up to twice the tolerance of
+    // ClipToBox, which may have put an end there on a face (the samples, midpoints, lie
+    // inside).
     inside[i] = length[i] > 0.0;
     for (int a = 0; a < 3; ++a)
     {
       const double near = (p[3 * i + a] - g.Origin[a]) / g.Spacing[a];
       const double far = (p[3 * i + a] - length[i] * d[3 * i + a] - g.Origin[a]) / g.Spacing[a];
       const double end = g.Dimensions[a] - 1;
-      inside[i] = inside[i] && std::min(near, far) >= 0.0 &&
-        (a == s.B ? std::max(near, far) < end - GeometricTolerance * end
-                  : std::max(near, far) <= end);
+      const double tolerance = a == s.B
+        ? GeometricTolerance * end
+        : 2.0 * GeometricTolerance * (s.Bounds[2 * a + 1] - s.Bounds[2 * a] + 1.0) / g.Spacing[a];
+      inside[i] = inside[i] &&
+        (a == s.B ? std::min(near, far) >= 0.0 && std::max(near, far) < end - tolerance
+                  : std::min(near, far) >= -tolerance && std::max(near, far) <= end + tolerance);
     }
     steps[i] = inside[i] ? SegmentSteps(s, length[i]) : 0;
   }
@@ -715,7 +754,7 @@ void DivergingRowSegments(const SweepContext& s, const double* p, const double* 
       const TrilinearCell cell = CellAt(g, u);
       const float* q = s.Volume.Properties.data() + cell.Index[0] * stride[0] +
         cell.Index[1] * stride[1] + cell.Index[2] * stride[2] - cell.Index[s.B] * stride[s.B];
-      AddFractionalRowDepthsAlong(s.B, q, stride[s.B], dx, dy, dz, cell, u[s.B],
+      AddFractionalRowDepthsOutsideEmpty(s, q, stride[s.B], dx, dy, dz, cell, u[s.B],
         (v[s.B] - u[s.B]) / (size - 1), 1.0f, size, depth);
     }
     for (int i = 0; i < size; ++i)
@@ -752,14 +791,17 @@ inline double SliceCoordinate(const SweepContext& s, int k)
 // the light travels there (d) and the factor an inside light's group gives the point; rays
 // holds the light along the anchored rays at the previous slice. The light read from them
 // still has to be attenuated over the point's last step, from the previous slice: that is
-// left to the caller, the step's length stored in lastStep (0 when nothing is left).
+// left to the caller, the step's length stored in lastStep (0 when nothing is left). A ray
+// that entered the box across C after the anchor slice is integrated from there, also by
+// the caller: the length of its path inside the box is stored in entry (else 0).
 void TransmittanceAtPoint(const SweepContext& s, const SweepSource& sweep, const float* rays,
-  const double p[3], float* out, double d[3], double& groupFactor, double& lastStep)
+  const double p[3], float* out, double d[3], double& groupFactor, double& lastStep, double& entry)
 {
   const RaySource& source = sweep.Source;
   std::fill_n(out, s.Channels, 1.0f);
   groupFactor = 1.0;
   lastStep = 0.0;
+  entry = 0.0;
   const int a = s.Axis;
   for (int i = 0; i < 3; ++i)
   {
@@ -812,7 +854,15 @@ void TransmittanceAtPoint(const SweepContext& s, const SweepSource& sweep, const
         at))
   {
     // The ray entered the box through a side face after the anchor slice.
-    SegmentTransmittance(s, p, d, (1.0 - ratio) * distance, out);
+    const double remaining = (1.0 - ratio) * distance;
+    double from, to;
+    if (ClipToBox(s.Bounds, p, d, remaining, from, to) && from == 0.0 &&
+      OnFaceAcross(s.Bounds, s.C, p[s.C] - to * d[s.C]))
+    {
+      entry = to;
+      return;
+    }
+    SegmentTransmittance(s, p, d, remaining, out);
     return;
   }
   MonotoneBicubic(rays, s.Channels, sweep.RaysB, sweep.RaysC, at, out);
@@ -821,17 +871,26 @@ void TransmittanceAtPoint(const SweepContext& s, const SweepSource& sweep, const
 
 // TransmittanceAtPoint at `count` points equally spaced along axis B of a slice (p: 3 values
 // a point, at most MaximumDivergingRays), their last steps integrated as a row
-// (DivergingRowSegments).
+// (DivergingRowSegments), and so are the paths of the rays that entered the box across C:
+// those of a row all enter the same face at the same fraction of their way from the light,
+// the fraction that brings them to the face's coordinate along C, so their samples line up
+// as their last steps' do.
 void TransmittanceAlongRow(const SweepContext& s, const SweepSource& sweep, const float* rays,
   const double* p, int count, float* out, double* direction, double* groupFactor)
 {
-  double lastStep[MaximumDivergingRays];
+  double lastStep[MaximumDivergingRays], entry[MaximumDivergingRays];
+  bool entries = false;
   for (int i = 0; i < count; ++i)
   {
     TransmittanceAtPoint(s, sweep, rays, p + 3 * i, out + s.Channels * i, direction + 3 * i,
-      groupFactor[i], lastStep[i]);
+      groupFactor[i], lastStep[i], entry[i]);
+    entries = entries || entry[i] > 0.0;
   }
   DivergingRowSegments(s, p, direction, lastStep, count, out);
+  if (entries)
+  {
+    DivergingRowSegments(s, p, direction, entry, count, out);
+  }
 }
 
 // Position of ray (i, j) of a point or spot source where it leaves anchor slice k.

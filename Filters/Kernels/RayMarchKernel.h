@@ -49,6 +49,8 @@ using ProgressCallback = std::function<bool(double)>;
 class VOLILLUMKERNELS_EXPORT EmptyBlocks
 {
 public:
+  /// Cells of a block along each axis.
+  static constexpr int Cells = 4;
   explicit EmptyBlocks(const ClassifiedVolume& volume);
   /// Whether the sample at world position q is certainly 0.
   bool Contains(const double q[3]) const;
@@ -72,7 +74,6 @@ public:
   }
 
 private:
-  static constexpr int Cells = 4;
   std::array<int, 3> Last{ { 0, 0, 0 } };   // last point index per axis
   std::array<int, 3> Blocks{ { 0, 0, 0 } }; // blocks per axis
   GridGeometry Geometry;                    // of the classification, to find a position's cell

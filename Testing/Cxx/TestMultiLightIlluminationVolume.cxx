@@ -383,8 +383,9 @@ TEST(MultiLightIlluminationVolume, BrightenedLightsKeepTheFixedPointExact)
 // the steps of a point or spot light's rays and points along a row of a slice, summed a run
 // of equal step counts at a time) against every segment integrated on its own: the same
 // illumination to 1e-6 of its largest value, with and without chromatic attenuation, at the
-// data's resolution and at half of it (the rays 39 / 19 = 2.05 data cells apart), with a
-// point light outside and one inside the volume and a spot light.
+// data's resolution and at half of it (the rays 39 / 19 = 2.05 data cells apart), with
+// point lights outside (their rays entering through every side face) and one inside the
+// volume and a spot light. The rows skip the empty blocks, the segments read everything.
 TEST(MultiLightIlluminationVolume, RowKernelsEqualSegmentBySegment)
 {
   auto image = PhantomScene(vtkIlluminationPhantomSource::ThreeSpheres, 40);
@@ -407,25 +408,27 @@ TEST(MultiLightIlluminationVolume, RowKernelsEqualSegmentBySegment)
     auto spot = PointLight(60, -10, 25, 1, 0.6, 0.3);
     spot->SetConeAngle(30);
     for (const auto& light : { DirectionalLight(0.4, -0.3, -1), DirectionalLight(-1, 0.5, 0.3),
-           DirectionalLight(0.2, 1, -0.6), PointLight(-30, 20, 60), PointLight(18, 22, 15), spot })
+           DirectionalLight(0.2, 1, -0.6), PointLight(-30, 20, 60), PointLight(18, 22, 15),
+           PointLight(25, -45, 70), spot })
     {
       const auto more = volillum::TasksForLight(volillum::CaptureLight(light), +1, bounds);
       tasks.insert(tasks.end(), more.begin(), more.end());
     }
-    auto propagate = [&](bool rowKernels)
+    const volillum::EmptyBlocks empty(classified);
+    auto propagate = [&](bool rowKernels, const volillum::EmptyBlocks* skipped)
     {
       volillum::FixedPointIllumination illumination;
       illumination.Reset(target.NumberOfPoints(), volillum::FixedPointIllumination::ScaleFor(4));
       std::vector<volillum::PropagationTask> remaining;
       volillum::PropagationStatistics statistics;
       volillum::PropagateTasks(classified, target, tasks, true, 0, illumination, remaining,
-        statistics, nullptr, nullptr, rowKernels);
+        statistics, nullptr, skipped, rowKernels);
       std::vector<float> rgb(3 * static_cast<size_t>(target.NumberOfPoints()));
       illumination.ToFloat(rgb.data());
       return rgb;
     };
-    const auto rows = propagate(true);
-    const auto single = propagate(false);
+    const auto rows = propagate(true, &empty);
+    const auto single = propagate(false, nullptr);
     double worst = 0.0, largest = 0.0, darkest = 1e30;
     for (size_t i = 0; i < rows.size(); ++i)
     {
