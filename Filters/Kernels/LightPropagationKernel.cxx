@@ -475,28 +475,35 @@ void AddFractionalRowDepthsAlong(int b, const float* q, long long strideB, long 
   }
 }
 
+// Whether the cells first to last (first <= last) along B of the row through cell all lie
+// in empty blocks (SweepContext Empty, given): their extinction is 0, so a row kernel
+// leaves them out with the same sums, without reading empty space. One lookup a block.
+bool RowCellsEmpty(const SweepContext& s, const int cell[3], int first, int last)
+{
+  int index[3] = { cell[0], cell[1], cell[2] };
+  index[s.B] = first;
+  while (s.Empty->ContainsCell(index))
+  {
+    if (index[s.B] >= last)
+    {
+      return true;
+    }
+    index[s.B] = std::min(last, (index[s.B] / EmptyBlocks::Cells + 1) * EmptyBlocks::Cells);
+  }
+  return false;
+}
+
 // AddFractionalRowDepthsAlong(s.B, ...) for rays [0, count) whose positions along B
-// increase (ratio > 0), left out when every ray's cell lies in an empty block (SweepContext
-// Empty): their extinction is 0, so the sums are the same, without reading empty space.
+// increase (ratio > 0), left out when their cells all lie in empty blocks.
 void AddFractionalRowDepthsOutsideEmpty(const SweepContext& s, const float* q, long long strideB,
   long long dx, long long dy, long long dz, const TrilinearCell& cell, double u0, double ratio,
   float h, int count, float* depth)
 {
-  if (s.Empty && ratio > 0.0)
+  // The cells along B of the first and last rays, as AddFractionalRowDepths finds them.
+  if (s.Empty && ratio > 0.0 &&
+    RowCellsEmpty(s, cell.Index, static_cast<int>(u0), static_cast<int>(u0 + (count - 1) * ratio)))
   {
-    // The cells along B of the first and last rays, as AddFractionalRowDepths finds them,
-    // and a cell of each block between.
-    const int last = static_cast<int>(u0 + (count - 1) * ratio);
-    int index[3] = { cell.Index[0], cell.Index[1], cell.Index[2] };
-    index[s.B] = static_cast<int>(u0);
-    while (s.Empty->ContainsCell(index))
-    {
-      if (index[s.B] >= last)
-      {
-        return;
-      }
-      index[s.B] = std::min(last, (index[s.B] / EmptyBlocks::Cells + 1) * EmptyBlocks::Cells);
-    }
+    return;
   }
   AddFractionalRowDepthsAlong(s.B, q, strideB, dx, dy, dz, cell, u0, ratio, h, count, depth);
 }
@@ -531,7 +538,14 @@ void GreyRowTransmittance(const SweepContext& s, const TrilinearCell* cells, con
       {
         const float* q = first - c.Index[s.B] * stride[s.B]; // index 0 along B
         const double u0 = alongB[m] + begin * ratio;
-        AddFractionalRowDepthsAlong(s.B, q, stride[s.B], dx, dy, dz, c, u0, ratio, h, size, depth);
+        AddFractionalRowDepthsOutsideEmpty(
+          s, q, stride[s.B], dx, dy, dz, c, u0, ratio, h, size, depth);
+        continue;
+      }
+      const int firstCell = c.Index[s.B] + begin * shift;
+      if (s.Empty && shift > 0 &&
+        RowCellsEmpty(s, c.Index, firstCell, firstCell + (size - 1) * shift))
+      {
         continue;
       }
       const float* q = first + begin * step;
