@@ -329,11 +329,12 @@ bool ClipToBox(const double bounds[6], const double p[3], const double d[3], dou
   return to > from;
 }
 
-// Whether coordinate x along axis a lies on one of the box's faces across a (within the
-// tolerance ClipToBox gives points on a face).
+// Whether coordinate x along axis a lies on one of the box's faces across a: within twice
+// the tolerance ClipToBox gives points on a face, as it puts the ends it clips that far out
+// (give or take their rounding).
 inline bool OnFaceAcross(const double bounds[6], int a, double x)
 {
-  const double tolerance = GeometricTolerance * (bounds[2 * a + 1] - bounds[2 * a] + 1.0);
+  const double tolerance = 2.0 * GeometricTolerance * (bounds[2 * a + 1] - bounds[2 * a] + 1.0);
   return std::abs(x - bounds[2 * a]) <= tolerance || std::abs(x - bounds[2 * a + 1]) <= tolerance;
 }
 
@@ -687,8 +688,9 @@ constexpr int MaximumDivergingRays = 256;
 // SegmentTransmittance(s, p_i, d_i, length_i, out_i) for `count` (at most
 // MaximumDivergingRays) rays of a point or spot source whose near ends p_i lie equally spaced
 // along axis B of a slice, at the same coordinate along C, and whose directions d_i point
-// away from the light, each over its step from the previous slice (length_i: the slice
-// spacing over its progress along the axis; 0: nothing to integrate). Such rays with the
+// away from the light, each over the same fraction of its way back to the light (length_i
+// proportional to the ray's distance from the light, as a step from the previous slice or
+// a path from a face across C; 0: nothing to integrate). Such rays with the
 // same number of steps place their m-th samples at the same coordinates along the sweep
 // axis and along C, and along B affinely in the ray index (the ray's offset from the light
 // along B is affine in it): without chromatic attenuation, a run of them inside the
@@ -870,6 +872,9 @@ void TransmittanceAtPoint(const SweepContext& s, const SweepSource& sweep, const
     // The ray entered the box through a side face after the anchor slice.
     const double remaining = (1.0 - ratio) * distance;
     double from, to;
+    // A point inside the box (from 0) whose path starts on a face across C. A path that
+    // starts on a face across B as well (a corner, or a row in the plane of a face across
+    // C) ends a tolerance outside the grid along B, which keeps it out of the row runs.
     if (ClipToBox(s.Bounds, p, d, remaining, from, to) && from == 0.0 &&
       OnFaceAcross(s.Bounds, s.C, p[s.C] - to * d[s.C]))
     {
@@ -886,9 +891,10 @@ void TransmittanceAtPoint(const SweepContext& s, const SweepSource& sweep, const
 // TransmittanceAtPoint at `count` points equally spaced along axis B of a slice (p: 3 values
 // a point, at most MaximumDivergingRays), their last steps integrated as a row
 // (DivergingRowSegments), and so are the paths of the rays that entered the box across C:
-// those of a row all enter the same face at the same fraction of their way from the light,
-// the fraction that brings them to the face's coordinate along C, so their samples line up
-// as their last steps' do.
+// those of a row's points inside the box all enter the same face (the one between the row
+// and the light along C) at the same fraction of their way from the light, the fraction
+// that brings them to the face's coordinate along C, so their samples line up as their
+// last steps' do.
 void TransmittanceAlongRow(const SweepContext& s, const SweepSource& sweep, const float* rays,
   const double* p, int count, float* out, double* direction, double* groupFactor)
 {
