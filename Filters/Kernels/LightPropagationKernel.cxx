@@ -495,20 +495,10 @@ void AddFractionalRowDepthsAlong(int b, const float* q, long long strideB, long 
 
 // Whether the cells first to last (first <= last) along B of the row through cell all lie
 // in empty blocks (SweepContext Empty, given): their extinction is 0, so a row kernel
-// leaves them out with the same sums, without reading empty space. One lookup a block.
+// leaves them out with the same sums, without reading empty space.
 bool RowCellsEmpty(const SweepContext& s, const int cell[3], int first, int last)
 {
-  int index[3] = { cell[0], cell[1], cell[2] };
-  index[s.B] = first;
-  while (s.Empty->ContainsCell(index))
-  {
-    if (index[s.B] >= last)
-    {
-      return true;
-    }
-    index[s.B] = std::min(last, (index[s.B] / EmptyBlocks::Cells + 1) * EmptyBlocks::Cells);
-  }
-  return false;
+  return s.Empty->ContainsCells(s.B, cell, first, last);
 }
 
 // AddFractionalRowDepthsAlong(s.B, ...) for rays [0, count) whose positions along B

@@ -42,6 +42,66 @@ EmptyBlocks::EmptyBlocks(const ClassifiedVolume& volume)
             this->Empty[static_cast<size_t>(ib + bx * (jb + by * kb))] = empty ? 1 : 0;
           }
     });
+  const long long stride[2] = { 1, bx };
+  for (int a = 0; a < 2; ++a)
+  {
+    if (this->Blocks[a] >= 65536)
+    {
+      continue;
+    }
+    std::vector<std::uint16_t>& filled = this->Filled[a];
+    filled.resize(this->Empty.size());
+    const long long rows = bx * by * bz / this->Blocks[a];
+    vtkSMPTools::For(0, rows,
+      [&](long long r0, long long r1)
+      {
+        for (long long r = r0; r < r1; ++r)
+        {
+          // Row r's first block: rows along x are numbered by (y, z); along y by (x, z).
+          const long long first = a == 0 ? r * bx : (r % bx) + bx * by * (r / bx);
+          std::uint16_t count = 0;
+          for (long long b = 0; b < this->Blocks[a]; ++b)
+          {
+            const size_t index = static_cast<size_t>(first + b * stride[a]);
+            count = static_cast<std::uint16_t>(count + (this->Empty[index] ? 0 : 1));
+            filled[index] = count;
+          }
+        }
+      });
+  }
+}
+
+bool EmptyBlocks::ContainsCells(int a, const int cell[3], int first, int last) const
+{
+  int index[3] = { cell[0], cell[1], cell[2] };
+  const std::vector<std::uint16_t>& filled = this->Filled[a];
+  if (filled.empty())
+  {
+    index[a] = first;
+    while (this->ContainsCell(index))
+    {
+      if (index[a] >= last)
+      {
+        return true;
+      }
+      index[a] = std::min(last, (index[a] / Cells + 1) * Cells);
+    }
+    return false;
+  }
+  // The blocks of the first and last cells, as ContainsCell finds them.
+  long long block[3];
+  for (int b = 0; b < 3; ++b)
+  {
+    block[b] = std::min(cell[b] / Cells, this->Blocks[b] - 1);
+  }
+  const long long stride = a == 0 ? 1 : this->Blocks[0];
+  block[a] = 0;
+  const long long row = block[0] + this->Blocks[0] * (block[1] + this->Blocks[1] * block[2]);
+  const long long lastBlock = std::min(last / Cells, this->Blocks[a] - 1);
+  const long long firstBlock = std::min(first / Cells, this->Blocks[a] - 1);
+  const std::uint16_t before =
+    firstBlock > 0 ? filled[static_cast<size_t>(row + (firstBlock - 1) * stride)] : 0;
+  return filled[static_cast<size_t>(row + lastBlock * stride)] == before;
 }
 
 bool EmptyBlocks::Contains(const double q[3]) const

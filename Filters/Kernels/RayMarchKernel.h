@@ -23,6 +23,7 @@
 #include "VolIllumKernelsModule.h"
 
 #include <array>
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -72,12 +73,19 @@ public:
     return this->Empty[static_cast<size_t>(row + std::min(cellX / Cells, this->Blocks[0] - 1))] !=
       0;
   }
+  /// Whether the cells first to last (first <= last) along axis a (0 or 1) of the row of
+  /// cells through `cell` all lie in empty blocks: two lookups whatever the row's length.
+  bool ContainsCells(int a, const int cell[3], int first, int last) const;
 
 private:
   std::array<int, 3> Last{ { 0, 0, 0 } };   // last point index per axis
   std::array<int, 3> Blocks{ { 0, 0, 0 } }; // blocks per axis
   GridGeometry Geometry;                    // of the classification, to find a position's cell
   std::vector<char> Empty;
+  // Per axis a (x and y) and block: how many blocks are not empty from the first of its row
+  // along a to it, inclusive, modulo 2^16 (exact differences while a row has fewer than 2^16
+  // blocks; empty for longer rows, which ContainsCells walks block by block).
+  std::array<std::vector<std::uint16_t>, 2> Filled;
 };
 
 /// Per-channel transmittance from point p to the light (0 outside a spot cone); with

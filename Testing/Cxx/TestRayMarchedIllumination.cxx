@@ -491,6 +491,57 @@ TEST(RayMarchedIllumination, SkippingEmptyBlocksChangesNothing)
   EXPECT_LE(worst, 1e-6);
 }
 
+TEST(RayMarchedIllumination, EmptyRowQueriesEqualCellByCellLookups)
+{
+  // ContainsCells answers for a range of cells along x or y from two counts; every cell's
+  // own lookup must agree, over all rows and ranges that start and end anywhere in a block.
+  auto spheres = MakeScene(vtkIlluminationPhantomSource::ThreeSpheres);
+  auto otf = vtkSmartPointer<vtkPiecewiseFunction>::New();
+  otf->AddPoint(0, 0);
+  otf->AddPoint(200, 0.3);
+  volillum::ClassificationSettings settings;
+  settings.Opacity = otf;
+  volillum::GridGeometry geometry;
+  spheres->GetDimensions(geometry.Dimensions.data());
+  volillum::ClassifiedVolume classified;
+  std::string error;
+  ASSERT_TRUE(volillum::Classify(
+    spheres->GetPointData()->GetScalars(), geometry, settings, classified, error));
+  const volillum::EmptyBlocks empty(classified);
+  long long answers[2] = { 0, 0 };
+  for (int a = 0; a < 2; ++a)
+  {
+    const int cells = geometry.Dimensions[a] - 1;
+    for (int j = 0; j < geometry.Dimensions[1 - a] - 1; j += 3)
+    {
+      for (int k = 0; k < geometry.Dimensions[2] - 1; k += 2)
+      {
+        for (int first = 0; first < cells; first += 3)
+        {
+          for (int last = first; last < cells; last += 5)
+          {
+            int cell[3] = { 0, 0, k };
+            cell[1 - a] = j;
+            bool expected = true;
+            for (int i = first; i <= last && expected; ++i)
+            {
+              cell[a] = i;
+              expected = empty.ContainsCell(cell);
+            }
+            cell[a] = 0;
+            ASSERT_EQ(empty.ContainsCells(a, cell, first, last), expected)
+              << "axis " << a << " row " << j << " " << k << " cells " << first << "-" << last;
+            answers[expected ? 1 : 0] += 1;
+          }
+        }
+      }
+    }
+  }
+  std::cout << "ranges with material " << answers[0] << ", empty " << answers[1] << std::endl;
+  EXPECT_GT(answers[0], 1000);
+  EXPECT_GT(answers[1], 1000);
+}
+
 TEST(RayMarchedIllumination, SegmentOpticalDepthIntegratesTheSlab)
 {
   // Extinction sigma inside the slab (z in [SlabBegin, SlabEnd]), 0 outside, ramping
