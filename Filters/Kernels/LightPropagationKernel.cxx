@@ -293,6 +293,12 @@ struct SweepSource
   /// followed, -1 while there is none, and the number of rays along each slice axis.
   int Anchor = -1;
   int RaysB = 0, RaysC = 0;
+  /// Point and spot sources: each ray's unit direction (3 values) and path length between
+  /// slices, the same at every slice until the anchor moves, so computed once per anchor
+  /// (the square root and divisions cost more than the ray's step): row j of rays holds
+  /// those of anchor RowAnchor[j] (-1: none yet).
+  std::vector<double> Norms;
+  std::vector<int> RowAnchor;
 };
 
 // Where the ray lattice of a directional source crosses slice t: lattice ray (i, j) lies
@@ -712,25 +718,35 @@ void DivergingRowSegments(const SweepContext& s, const double* p, const double* 
   int steps[MaximumDivergingRays];
   bool inside[MaximumDivergingRays];
   const bool rows = s.RowKernels && !s.Volume.IsChromatic();
+  // Both ends inside the grid put the whole segment inside the box: along B short of its
+  // last point by more than the rounding of the interpolated positions (every sample has its
+  // cell there without clamping), along the other axes up to twice the tolerance of
+  // ClipToBox, which may have put an end there on a face (the samples, midpoints, lie
+  // inside). Per axis, the grid coordinates [low, high] an end may take.
+  double low[3], high[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    const double end = g.Dimensions[a] - 1;
+    if (a == s.B)
+    {
+      low[a] = 0.0;
+      high[a] = end - GeometricTolerance * end;
+      continue;
+    }
+    const double tolerance =
+      2.0 * GeometricTolerance * (s.Bounds[2 * a + 1] - s.Bounds[2 * a] + 1.0) / g.Spacing[a];
+    low[a] = -tolerance;
+    high[a] = end + tolerance;
+  }
   for (int i = 0; i < count && rows; ++i)
   {
-    // Both ends inside the grid put the whole segment inside the box: along B short of its
-    // last point by more than the rounding of the interpolated positions (every sample has
-    // its cell there without clamping), along the other axes up to twice the tolerance of
-    // ClipToBox, which may have put an end there on a face (the samples, midpoints, lie
-    // inside).
     inside[i] = length[i] > 0.0;
     for (int a = 0; a < 3; ++a)
     {
       const double near = (p[3 * i + a] - g.Origin[a]) / g.Spacing[a];
       const double far = (p[3 * i + a] - length[i] * d[3 * i + a] - g.Origin[a]) / g.Spacing[a];
-      const double end = g.Dimensions[a] - 1;
-      const double tolerance = a == s.B
-        ? GeometricTolerance * end
-        : 2.0 * GeometricTolerance * (s.Bounds[2 * a + 1] - s.Bounds[2 * a] + 1.0) / g.Spacing[a];
-      inside[i] = inside[i] &&
-        (a == s.B ? std::min(near, far) >= 0.0 && std::max(near, far) < end - tolerance
-                  : std::min(near, far) >= -tolerance && std::max(near, far) <= end + tolerance);
+      inside[i] = inside[i] && std::min(near, far) >= low[a] &&
+        (a == s.B ? std::max(near, far) < high[a] : std::max(near, far) <= high[a]);
     }
     steps[i] = inside[i] ? SegmentSteps(s, length[i]) : 0;
   }
@@ -960,8 +976,8 @@ struct AnchoredStep
 // Rows [begin, end) of a point or spot source's rays at slice k (see AnchoredStep): an
 // anchor's rays get their light in `next` from the rays reaching the previous slice,
 // `rays`; otherwise the rays in `rays` are attenuated over the step to slice k.
-void AdvanceAnchoredRays(const SweepContext& s, const SweepSource& sweep, const AnchoredStep& step,
-  int k, int begin, int end, float* rays, float* next)
+void AdvanceAnchoredRays(const SweepContext& s, SweepSource& sweep, const AnchoredStep& step, int k,
+  int begin, int end, float* rays, float* next)
 {
   if (!step.InFront)
   {
@@ -971,6 +987,21 @@ void AdvanceAnchoredRays(const SweepContext& s, const SweepSource& sweep, const 
   double p[3 * MaximumDivergingRays], d[3 * MaximumDivergingRays], length[MaximumDivergingRays];
   for (int j = begin; j < end; ++j)
   {
+    double* norms = sweep.Norms.data() + static_cast<long long>(j) * sweep.RaysB;
+    if (!step.Anchor && sweep.RowAnchor[j] != sweep.Anchor)
+    {
+      for (int i = 0; i < sweep.RaysB; ++i)
+      {
+        double offset[3];
+        AnchorPoint(s, sweep.Anchor, i, j, offset);
+        for (int c = 0; c < 3; ++c)
+        {
+          offset[c] -= light[c];
+        }
+        norms[i] = vtkMath::Norm(offset);
+      }
+      sweep.RowAnchor[j] = sweep.Anchor;
+    }
     for (int i0 = 0; i0 < sweep.RaysB; i0 += MaximumDivergingRays)
     {
       const int size = std::min(MaximumDivergingRays, sweep.RaysB - i0);
@@ -994,12 +1025,8 @@ void AdvanceAnchoredRays(const SweepContext& s, const SweepSource& sweep, const 
         for (int c = 0; c < 3; ++c)
         {
           offset[c] -= light[c];
-        }
-        const double norm = vtkMath::Norm(offset);
-        for (int c = 0; c < 3; ++c)
-        {
           p[3 * i + c] = light[c] + step.Scale * offset[c];
-          d[3 * i + c] = offset[c] / norm;
+          d[3 * i + c] = offset[c] / norms[i0 + i];
         }
         length[i] = s.Spacing[s.Axis] / (s.Sign * d[3 * i + s.Axis]);
       }
@@ -1238,6 +1265,10 @@ size_t AllocateSliceBuffers(std::vector<SweepSource>& prepared, int channels, in
       sweep.RaysB = static_cast<int>(std::ceil((nb - 1) * AnchorSpread)) + 1;
       sweep.RaysC = static_cast<int>(std::ceil((nc - 1) * AnchorSpread)) + 1;
       size = channels * static_cast<size_t>(sweep.RaysB) * sweep.RaysC;
+      const size_t rays = static_cast<size_t>(sweep.RaysB) * sweep.RaysC;
+      sweep.Norms.assign(rays, 0.0);
+      sweep.RowAnchor.assign(sweep.RaysC, -1);
+      bufferBytes += rays * sizeof(double) + sweep.RaysC * sizeof(int);
     }
     read.emplace_back(size, 1.0f);
     write.emplace_back(size, 1.0f);
