@@ -293,10 +293,10 @@ struct SweepSource
   /// followed, -1 while there is none, and the number of rays along each slice axis.
   int Anchor = -1;
   int RaysB = 0, RaysC = 0;
-  /// Point and spot sources: each ray's unit direction (3 values) and path length between
-  /// slices, the same at every slice until the anchor moves, so computed once per anchor
-  /// (the square root and divisions cost more than the ray's step): row j of rays holds
-  /// those of anchor RowAnchor[j] (-1: none yet).
+  /// Point and spot sources: each ray's distance from the light to its anchor point, which
+  /// gives its direction at every slice until the anchor moves, so computed once per anchor
+  /// (a square root a ray and slice cost more than a fifth of the ray's step): row j of rays
+  /// holds those of anchor RowAnchor[j] (-1: none yet).
   std::vector<double> Norms;
   std::vector<int> RowAnchor;
 };
