@@ -542,6 +542,49 @@ TEST(RayMarchedIllumination, EmptyRowQueriesEqualCellByCellLookups)
   EXPECT_GT(answers[1], 1000);
 }
 
+TEST(RayMarchedIllumination, EmptyRowQueriesWalkRowsOfTwoToTheSixteenBlocks)
+{
+  // Rows of 2^16 blocks or more overflow the 16-bit counts: ContainsCells walks them block by
+  // block. A thin grid 2^18 + 8 points long, material in every third stretch of 1,000 points.
+  constexpr int Length = (1 << 18) + 8;
+  vtkNew<vtkFloatArray> scalars;
+  scalars->SetNumberOfValues(4LL * Length);
+  for (vtkIdType id = 0; id < scalars->GetNumberOfValues(); ++id)
+  {
+    scalars->SetValue(id, (id % Length) / 1000 % 3 == 0 ? 200.0f : 0.0f);
+  }
+  auto otf = vtkSmartPointer<vtkPiecewiseFunction>::New();
+  otf->AddPoint(0, 0);
+  otf->AddPoint(200, 0.3);
+  volillum::ClassificationSettings settings;
+  settings.Opacity = otf;
+  volillum::GridGeometry geometry;
+  geometry.Dimensions = { Length, 2, 2 };
+  volillum::ClassifiedVolume classified;
+  std::string error;
+  ASSERT_TRUE(volillum::Classify(scalars, geometry, settings, classified, error)) << error;
+  const volillum::EmptyBlocks empty(classified);
+  long long answers[2] = { 0, 0 };
+  for (int first = 0; first < Length - 1; first += 997)
+  {
+    for (int last = first; last < std::min(Length - 1, first + 5000); last += 331)
+    {
+      const int row[3] = { 0, 0, 0 };
+      bool expected = true;
+      for (int i = first; i <= last && expected; ++i)
+      {
+        const int cell[3] = { i, 0, 0 };
+        expected = empty.ContainsCell(cell);
+      }
+      ASSERT_EQ(empty.ContainsCells(0, row, first, last), expected) << first << "-" << last;
+      answers[expected ? 1 : 0] += 1;
+    }
+  }
+  std::cout << "ranges with material " << answers[0] << ", empty " << answers[1] << std::endl;
+  EXPECT_GT(answers[0], 100);
+  EXPECT_GT(answers[1], 100);
+}
+
 TEST(RayMarchedIllumination, SegmentOpticalDepthIntegratesTheSlab)
 {
   // Extinction sigma inside the slab (z in [SlabBegin, SlabEnd]), 0 outside, ramping
