@@ -60,10 +60,20 @@ constexpr double MinimumAlong = 1e-6;
 // slices measured no faster.
 constexpr int DepositSlices = 4;
 
-// How many pixels ahead SweepSlices::Flush asks for the cache lines it will add to.
-constexpr int FlushAhead = 16;
+// How many rows ahead SweepSlices::Flush and CopySlab ask for the cache lines they will
+// use: theirs lie rows apart, which the hardware prefetchers do not follow.
+constexpr int RowsAhead = 16;
 
-// Asks for the cache line at p ahead of a write (nothing where the compiler cannot).
+// Asks for the cache line at p ahead of a read, or of a write (nothing where the compiler
+// cannot).
+inline void PrefetchForRead(const void* p)
+{
+#if defined(__GNUC__)
+  __builtin_prefetch(p, 0, 0);
+#else
+  (void)p;
+#endif
+}
 inline void PrefetchForWrite(const void* p)
 {
 #if defined(__GNUC__)
@@ -228,6 +238,18 @@ void MonotoneBicubicRow(const float* base, int width, int shiftU, int v, float f
   }
 }
 
+// Grey extinction at points Low to High along x of the volume's grid: point (i, j, k) at
+// Values + (i - Low) Stride[0] + j Stride[1] + k Stride[2].
+struct ExtinctionSlab
+{
+  const float* Values = nullptr;
+  long long Stride[3] = { 0, 0, 0 };
+  int Low = 0, High = -1;
+
+  // Whether it holds the points of a cell whose first point along x is i.
+  bool HoldsCell(int i) const { return this->Low <= i && i + 1 <= this->High; }
+};
+
 // One sweep over the illumination grid (N, Stride, Origin, Spacing, Bounds) along Axis
 // toward Sign; light is attenuated through the full-resolution Volume, whose Empty blocks
 // (when given) are skipped.
@@ -248,6 +270,10 @@ struct SweepContext
   // Values of light per ray or pixel: 3 (RGB) with chromatic attenuation; else 1, as every
   // channel keeps the same transmittance.
   int Channels;
+  // Sweeps along x without chromatic attenuation: a copy of the volume's extinction at the
+  // points along x the current slices reach, rows along y contiguous (SweepSlices::Slab),
+  // read by the grey row kernel; none (Low > High) otherwise.
+  ExtinctionSlab Slab;
 };
 
 // A ray source as one sweep uses it; for a directional light everything that does not
@@ -529,13 +555,14 @@ void AddFractionalRowDepthsOutsideEmpty(const SweepContext& s, const float* q, l
 void GreyRowTransmittance(const SweepContext& s, const TrilinearCell* cells, const double* alongB,
   int n, float h, double ratio, int shift, bool whole, int count, float* out)
 {
+  // The volume's values, or the slab's where it holds a sample's cell (the same values).
   const GridGeometry& g = s.Volume.Geometry;
-  const long long stride[3] = { 1, g.Dimensions[0],
-    static_cast<long long>(g.Dimensions[0]) * g.Dimensions[1] };
-  const long long dx = g.Dimensions[0] > 1 ? stride[0] : 0;
-  const long long dy = g.Dimensions[1] > 1 ? stride[1] : 0;
-  const long long dz = g.Dimensions[2] > 1 ? stride[2] : 0;
-  const long long step = shift * stride[s.B];
+  ExtinctionSlab volume;
+  volume.Values = s.Volume.Properties.data();
+  volume.Stride[0] = 1;
+  volume.Stride[1] = g.Dimensions[0];
+  volume.Stride[2] = static_cast<long long>(g.Dimensions[0]) * g.Dimensions[1];
+  volume.High = g.Dimensions[0] - 1;
   constexpr int Chunk = 256;
   float depth[Chunk];
   for (int begin = 0; begin < count; begin += Chunk)
@@ -545,8 +572,14 @@ void GreyRowTransmittance(const SweepContext& s, const TrilinearCell* cells, con
     for (int m = 0; m < n; ++m)
     {
       const TrilinearCell& c = cells[m];
+      const ExtinctionSlab& view = s.Slab.HoldsCell(c.Index[0]) ? s.Slab : volume;
+      const long long* stride = view.Stride;
+      const long long dx = g.Dimensions[0] > 1 ? stride[0] : 0;
+      const long long dy = g.Dimensions[1] > 1 ? stride[1] : 0;
+      const long long dz = g.Dimensions[2] > 1 ? stride[2] : 0;
+      const long long step = shift * stride[s.B];
       // The first value of ray 0's cell.
-      const float* first = s.Volume.Properties.data() + c.Index[0] * stride[0] +
+      const float* first = view.Values + (c.Index[0] - view.Low) * stride[0] +
         c.Index[1] * stride[1] + c.Index[2] * stride[2];
       if (!whole)
       {
@@ -1380,6 +1413,10 @@ struct SweepSlices
   // illumination.
   int BufferSlices = 0;
   std::vector<std::uint32_t> Buffer, BufferRecorded;
+  // A sweep along x with a directional source and without chromatic attenuation copies the
+  // extinction its next slices reach into SlabValues (rows along y contiguous), so that the
+  // lattice's row kernel reads the volume as it does in other sweeps (CopySlab).
+  std::vector<float> SlabValues;
 
   // A thread's row buffers, per source: the light reaching each pixel, its direction and
   // group factor (point and spot sources only); and a deposit's factors (DepositRow).
@@ -1424,6 +1461,69 @@ struct SweepSlices
       }
       statistics.PeakBufferBytes +=
         (this->Buffer.size() + this->BufferRecorded.size()) * sizeof(std::uint32_t);
+    }
+    const GridGeometry& v = s.Volume.Geometry;
+    if (s.Axis == 0 && lattices && s.RowKernels && !s.Volume.IsChromatic())
+    {
+      // The points along x of the slices of a chunk and the one before, and a point of
+      // rounding either side.
+      const double cells = (this->BufferSlices + 1) * s.Spacing[0] / v.Spacing[0];
+      const size_t points = std::min<size_t>(
+        static_cast<size_t>(std::ceil(cells)) + 4, static_cast<size_t>(v.Dimensions[0]));
+      this->SlabValues.resize(points * v.Dimensions[1] * v.Dimensions[2]);
+      statistics.PeakBufferBytes += this->SlabValues.size() * sizeof(float);
+    }
+  }
+
+  // The slab for slices [first, first + count) (see SweepContext::Slab): the points along x
+  // from the one before the previous slice to the one after the last, when they fit.
+  ExtinctionSlab SlabFor(int first, int count) const
+  {
+    const SweepContext& s = this->S;
+    const GridGeometry& v = s.Volume.Geometry;
+    ExtinctionSlab slab;
+    if (this->SlabValues.empty())
+    {
+      return slab;
+    }
+    const int a = std::max(0, first - 1), b = first + count - 1;
+    const double x0 = SliceCoordinate(s, this->Slice(a)), x1 = SliceCoordinate(s, this->Slice(b));
+    const double low = (std::min(x0, x1) - v.Origin[0]) / v.Spacing[0];
+    const double high = (std::max(x0, x1) - v.Origin[0]) / v.Spacing[0];
+    slab.Low = std::max(0, static_cast<int>(std::floor(low)) - 1);
+    slab.High = std::min(v.Dimensions[0] - 1, static_cast<int>(std::ceil(high)) + 1);
+    const long long planes = static_cast<long long>(v.Dimensions[1]) * v.Dimensions[2];
+    if ((slab.High - slab.Low + 1) * planes > static_cast<long long>(this->SlabValues.size()))
+    {
+      return ExtinctionSlab();
+    }
+    slab.Values = this->SlabValues.data();
+    slab.Stride[0] = planes;
+    slab.Stride[1] = 1;
+    slab.Stride[2] = v.Dimensions[1];
+    return slab;
+  }
+
+  // Copies row z (along y) of the volume's extinction into the slab s.Slab describes.
+  void CopySlab(int z)
+  {
+    const SweepContext& s = this->S;
+    const GridGeometry& v = s.Volume.Geometry;
+    const ExtinctionSlab& slab = s.Slab;
+    const long long nx = v.Dimensions[0], ny = v.Dimensions[1];
+    const float* in = s.Volume.Properties.data() + nx * ny * z;
+    float* out = this->SlabValues.data() + ny * z;
+    for (long long y = 0; y < ny; ++y)
+    {
+      if (y + RowsAhead < ny)
+      {
+        PrefetchForRead(in + nx * (y + RowsAhead) + slab.Low);
+        PrefetchForRead(in + nx * (y + RowsAhead) + slab.High);
+      }
+      for (int x = slab.Low; x <= slab.High; ++x)
+      {
+        out[(x - slab.Low) * slab.Stride[0] + y] = in[nx * y + x];
+      }
     }
   }
 
@@ -1501,10 +1601,10 @@ struct SweepSlices
       {
         std::uint32_t* in = buffer + 3 * (static_cast<size_t>(ic) * nb + ib);
         const long long row = ib * s.Stride[s.B] + ic * s.Stride[s.C];
-        if (ib + FlushAhead < nb)
+        if (ib + RowsAhead < nb)
         {
           // The units of a pixel lie rows apart: ask for those of a later one meanwhile.
-          const long long ahead = row + FlushAhead * s.Stride[s.B];
+          const long long ahead = row + RowsAhead * s.Stride[s.B];
           PrefetchForWrite(out + 3 * (ahead + this->Slice(first) * s.Stride[s.Axis]));
           PrefetchForWrite(out + 3 * (ahead + this->Slice(first + count - 1) * s.Stride[s.Axis]));
         }
@@ -1563,20 +1663,30 @@ bool Sweep(const ClassifiedVolume& volume, const EmptyBlocks* empty, bool rowKer
   FixedPointIllumination& illumination, PropagationStatistics& statistics,
   const std::function<bool(double)>& progress)
 {
-  const SweepContext s = MakeSweepContext(volume, empty, rowKernels, g, group);
+  // The slab (SweepContext::Slab) changes from chunk to chunk: the threads read it after the
+  // step that copies it.
+  SweepContext s = MakeSweepContext(volume, empty, rowKernels, g, group);
   SweepSlices slices(s, tasks, illumination, statistics);
   const int perSlice = slices.StepsPerSlice();
   const int na = s.N[s.Axis];
-  // A chunk of buffered slices ends with their flush, a step of a row each.
+  // A chunk of buffered slices ends with their flush, a step of a row each; one with a slab
+  // starts by copying it, a step of a row along y each.
   const int chunk = slices.BufferSlices > 0 ? slices.BufferSlices : std::max(1, na / 16);
   const int flush = slices.BufferSlices > 0 ? 1 : 0;
   for (int first = 0; first < na; first += chunk)
   {
     const int count = std::min(chunk, na - first);
+    s.Slab = slices.SlabFor(first, count);
+    const int copy = s.Slab.Low <= s.Slab.High ? 1 : 0;
     ForSteps(
-      count * perSlice + flush,
+      copy + count * perSlice + flush,
       [&](int step) -> long long
       {
+        if (step < copy)
+        {
+          return volume.Geometry.Dimensions[2];
+        }
+        step -= copy;
         if (step == count * perSlice)
         {
           return s.N[s.C];
@@ -1590,6 +1700,15 @@ bool Sweep(const ClassifiedVolume& volume, const EmptyBlocks* empty, bool rowKer
       {
         return [&, scratch = slices.NewScratch()](int step, long long begin, long long end) mutable
         {
+          if (step < copy)
+          {
+            for (long long z = begin; z < end; ++z)
+            {
+              slices.CopySlab(static_cast<int>(z));
+            }
+            return;
+          }
+          step -= copy;
           const int t = first + step / perSlice;
           const int part = step % perSlice;
           if (step == count * perSlice)
