@@ -64,20 +64,13 @@ constexpr int DepositSlices = 4;
 // use: theirs lie rows apart, which the hardware prefetchers do not follow.
 constexpr int RowsAhead = 16;
 
-// Asks for the cache line at p ahead of a read, or of a write (nothing where the compiler
-// cannot).
-inline void PrefetchForRead(const void* p)
+// Asks for the cache line at p ahead of a read (Write 0) or a write (1); nothing where the
+// compiler cannot.
+template <int Write>
+inline void Prefetch(const void* p)
 {
 #if defined(__GNUC__)
-  __builtin_prefetch(p, 0, 0);
-#else
-  (void)p;
-#endif
-}
-inline void PrefetchForWrite(const void* p)
-{
-#if defined(__GNUC__)
-  __builtin_prefetch(p, 1, 1);
+  __builtin_prefetch(p, Write, Write);
 #else
   (void)p;
 #endif
@@ -1517,8 +1510,8 @@ struct SweepSlices
     {
       if (y + RowsAhead < ny)
       {
-        PrefetchForRead(in + nx * (y + RowsAhead) + slab.Low);
-        PrefetchForRead(in + nx * (y + RowsAhead) + slab.High);
+        Prefetch<0>(in + nx * (y + RowsAhead) + slab.Low);
+        Prefetch<0>(in + nx * (y + RowsAhead) + slab.High);
       }
       for (int x = slab.Low; x <= slab.High; ++x)
       {
@@ -1605,8 +1598,8 @@ struct SweepSlices
         {
           // The units of a pixel lie rows apart: ask for those of a later one meanwhile.
           const long long ahead = row + RowsAhead * s.Stride[s.B];
-          PrefetchForWrite(out + 3 * (ahead + this->Slice(first) * s.Stride[s.Axis]));
-          PrefetchForWrite(out + 3 * (ahead + this->Slice(first + count - 1) * s.Stride[s.Axis]));
+          Prefetch<1>(out + 3 * (ahead + this->Slice(first) * s.Stride[s.Axis]));
+          Prefetch<1>(out + 3 * (ahead + this->Slice(first + count - 1) * s.Stride[s.Axis]));
         }
         for (int m = 0; m < count; ++m, in += perSlice)
         {
