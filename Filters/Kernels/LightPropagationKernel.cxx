@@ -41,7 +41,8 @@ struct RaySource
 
 // A deposit's fixed-point units: x rounded half away from zero, so that -x rounds to exactly
 // minus what x rounds to (a light state removed later cancels to the last unit). Deposits
-// stay far below 2^31 units (FixedPointIllumination::ScaleFor), so 32 bits hold them; a NaN
+// stay below 2^31 units (every total an update may show is at most 2^30 units,
+// FixedPointIllumination::Holds), so 32 bits hold them; a NaN
 // or an overflowing product gives 0 instead of an undefined conversion. Branch-free, so that
 // a row of deposits vectorises.
 inline std::int32_t DepositUnits(double x)
@@ -64,8 +65,9 @@ constexpr int DepositSlices = 4;
 // use: theirs lie rows apart, which the hardware prefetchers do not follow.
 constexpr int RowsAhead = 16;
 
-// Asks for the cache line at p ahead of a read (Write 0) or a write (1); nothing where the
-// compiler cannot.
+// Asks for the cache line at p ahead of a read (Write 0: read once, not kept in the caches
+// closest to the core) or of a write (1: kept in the outer caches until written); nothing
+// where the compiler cannot.
 template <int Write>
 inline void Prefetch(const void* p)
 {
@@ -263,9 +265,10 @@ struct SweepContext
   // Values of light per ray or pixel: 3 (RGB) with chromatic attenuation; else 1, as every
   // channel keeps the same transmittance.
   int Channels;
-  // Sweeps along x without chromatic attenuation: a copy of the volume's extinction at the
-  // points along x the current slices reach, rows along y contiguous (SweepSlices::Slab),
-  // read by the grey row kernel; none (Low > High) otherwise.
+  // Sweeps along x with a directional source, row kernels and no chromatic attenuation: a
+  // copy of the volume's extinction at the points along x the current chunk of slices
+  // reaches, rows along y contiguous (SweepSlices::SlabFor and CopySlab), read by the grey
+  // row kernel; none (Low > High) otherwise.
   ExtinctionSlab Slab;
 };
 
@@ -550,12 +553,12 @@ void GreyRowTransmittance(const SweepContext& s, const TrilinearCell* cells, con
 {
   // The volume's values, or the slab's where it holds a sample's cell (the same values).
   const GridGeometry& g = s.Volume.Geometry;
-  ExtinctionSlab volume;
-  volume.Values = s.Volume.Properties.data();
-  volume.Stride[0] = 1;
-  volume.Stride[1] = g.Dimensions[0];
-  volume.Stride[2] = static_cast<long long>(g.Dimensions[0]) * g.Dimensions[1];
-  volume.High = g.Dimensions[0] - 1;
+  ExtinctionSlab entire;
+  entire.Values = s.Volume.Properties.data();
+  entire.Stride[0] = 1;
+  entire.Stride[1] = g.Dimensions[0];
+  entire.Stride[2] = static_cast<long long>(g.Dimensions[0]) * g.Dimensions[1];
+  entire.High = g.Dimensions[0] - 1;
   constexpr int Chunk = 256;
   float depth[Chunk];
   for (int begin = 0; begin < count; begin += Chunk)
@@ -565,7 +568,7 @@ void GreyRowTransmittance(const SweepContext& s, const TrilinearCell* cells, con
     for (int m = 0; m < n; ++m)
     {
       const TrilinearCell& c = cells[m];
-      const ExtinctionSlab& view = s.Slab.HoldsCell(c.Index[0]) ? s.Slab : volume;
+      const ExtinctionSlab& view = s.Slab.HoldsCell(c.Index[0]) ? s.Slab : entire;
       const long long* stride = view.Stride;
       const long long dx = g.Dimensions[0] > 1 ? stride[0] : 0;
       const long long dy = g.Dimensions[1] > 1 ? stride[1] : 0;
@@ -1117,7 +1120,7 @@ void LatticeRow(const SweepContext& s, const SweepSource& sweep, const LatticePh
   if (first < last)
   {
     const long long offset = channels * (static_cast<long long>(from) * width - phase.ShiftU);
-    std::copy(previous + offset + channels * first, previous + offset + channels * last,
+    std::copy(previous + (offset + channels * first), previous + (offset + channels * last),
       out + channels * first);
   }
   std::fill(out + channels * last, out + channels * width, 1.0f);
@@ -1300,9 +1303,10 @@ size_t AllocateSliceBuffers(std::vector<SweepSource>& prepared, int channels, in
     write.emplace_back(size, 1.0f);
     bufferBytes += 2 * size * sizeof(float);
   }
-  // Each thread's row buffers: light, direction and group factor per pixel and source.
-  bufferBytes += static_cast<size_t>(vtkSMPTools::GetEstimatedNumberOfThreads()) * nb * count *
-    (channels * sizeof(float) + 4 * sizeof(double));
+  // Each thread's row buffers: light, direction and group factor per pixel and source, and
+  // a deposit's factors per pixel.
+  bufferBytes += static_cast<size_t>(vtkSMPTools::GetEstimatedNumberOfThreads()) * nb *
+    (count * (channels * sizeof(float) + 4 * sizeof(double)) + sizeof(double));
   return bufferBytes;
 }
 
@@ -1425,9 +1429,8 @@ struct SweepSlices
     , Values(illumination.Values.data())
   {
     PrepareDeposits(s, tasks, illumination.Scale, this->Prepared, this->Deposits);
-    statistics.PeakBufferBytes = std::max(statistics.PeakBufferBytes,
-      AllocateSliceBuffers(
-        this->Prepared, s.Channels, s.N[s.B], s.N[s.C], this->Read, this->Write));
+    size_t bytes =
+      AllocateSliceBuffers(this->Prepared, s.Channels, s.N[s.B], s.N[s.C], this->Read, this->Write);
     bool lattices = false;
     for (size_t j = 0; j < this->Prepared.size(); ++j)
     {
@@ -1452,20 +1455,21 @@ struct SweepSlices
       {
         this->BufferRecorded.assign(size, 0);
       }
-      statistics.PeakBufferBytes +=
-        (this->Buffer.size() + this->BufferRecorded.size()) * sizeof(std::uint32_t);
+      bytes += (this->Buffer.size() + this->BufferRecorded.size()) * sizeof(std::uint32_t);
     }
     const GridGeometry& v = s.Volume.Geometry;
     if (s.Axis == 0 && lattices && s.RowKernels && !s.Volume.IsChromatic())
     {
-      // The points along x of the slices of a chunk and the one before, and a point of
-      // rounding either side.
-      const double cells = (this->BufferSlices + 1) * s.Spacing[0] / v.Spacing[0];
+      // The points along x from the slice before a chunk to its last (BufferSlices
+      // spacings), those of their cells' far corners and one more either side for rounding:
+      // SlabFor leaves a chunk that needs more (rounding) to the volume.
+      const double cells = this->BufferSlices * s.Spacing[0] / v.Spacing[0];
       const size_t points = std::min<size_t>(
         static_cast<size_t>(std::ceil(cells)) + 4, static_cast<size_t>(v.Dimensions[0]));
       this->SlabValues.resize(points * v.Dimensions[1] * v.Dimensions[2]);
-      statistics.PeakBufferBytes += this->SlabValues.size() * sizeof(float);
+      bytes += this->SlabValues.size() * sizeof(float);
     }
+    statistics.PeakBufferBytes = std::max(statistics.PeakBufferBytes, bytes);
   }
 
   // The slab for slices [first, first + count) (see SweepContext::Slab): the points along x

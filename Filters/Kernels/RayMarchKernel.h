@@ -73,8 +73,9 @@ public:
     return this->Empty[static_cast<size_t>(row + std::min(cellX / Cells, this->Blocks[0] - 1))] !=
       0;
   }
-  /// Whether the cells first to last (first <= last) along axis a (0 or 1) of the row of
-  /// cells through `cell` all lie in empty blocks: two lookups whatever the row's length.
+  /// Whether the cells first to last (first <= last) along axis a (0 or 1 only: x or y) of
+  /// the row of cells through `cell` all lie in empty blocks: two lookups whatever the row's
+  /// length.
   bool ContainsCells(int a, const int cell[3], int first, int last) const;
 
 private:
