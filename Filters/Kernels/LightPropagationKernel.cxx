@@ -784,13 +784,14 @@ void DivergingRowSegments(const SweepContext& s, const double* p, const double* 
   const long long dx = g.Dimensions[0] > 1 ? stride[0] : 0;
   const long long dy = g.Dimensions[1] > 1 ? stride[1] : 0;
   const long long dz = g.Dimensions[2] > 1 ? stride[2] : 0;
-  // Grid coordinates of sample m of ray i.
-  auto sample = [&](int i, int m, double u[3])
+  // Grid coordinates of ray i's samples: start + m step for sample m.
+  auto samples = [&](int i, double start[3], double step[3])
   {
     const double h = length[i] / steps[i];
     for (int a = 0; a < 3; ++a)
     {
-      u[a] = (p[3 * i + a] - (m + 0.5) * h * d[3 * i + a] - g.Origin[a]) / g.Spacing[a];
+      start[a] = (p[3 * i + a] - 0.5 * h * d[3 * i + a] - g.Origin[a]) / g.Spacing[a];
+      step[a] = -h * d[3 * i + a] / g.Spacing[a];
     }
   };
   float depth[MaximumDivergingRays];
@@ -814,11 +815,17 @@ void DivergingRowSegments(const SweepContext& s, const double* p, const double* 
     }
     const int size = last - first + 1;
     std::fill_n(depth, size, 0.0f);
+    double firstStart[3], firstStep[3], lastStart[3], lastStep[3];
+    samples(first, firstStart, firstStep);
+    samples(last, lastStart, lastStep);
     for (int m = 0; m < steps[first]; ++m)
     {
       double u[3], v[3];
-      sample(first, m, u);
-      sample(last, m, v);
+      for (int a = 0; a < 3; ++a)
+      {
+        u[a] = firstStart[a] + m * firstStep[a];
+        v[a] = lastStart[a] + m * lastStep[a];
+      }
       const TrilinearCell cell = CellAt(g, u);
       const float* q = s.Volume.Properties.data() + cell.Index[0] * stride[0] +
         cell.Index[1] * stride[1] + cell.Index[2] * stride[2] - cell.Index[s.B] * stride[s.B];
@@ -1002,6 +1009,50 @@ struct AnchoredStep
   }
 };
 
+// The rays [first, last) of row j of a point or spot source's rays that may cross the box
+// over a step from slice k - Sign to slice k (step.Anchor false): the others lie beyond one
+// side of it at both ends of the step, by more than a margin far above the rounding of
+// their positions, so SegmentTransmittance would leave them unchanged. A ray's coordinate
+// along B or C is the light's plus the anchor point's offset from it scaled by the slice's
+// distance from the light, so it is affine in the ray's index along B and the same for the
+// whole row along C.
+void RaysCrossingBox(const SweepContext& s, const SweepSource& sweep, const AnchoredStep& step,
+  int k, int j, int& first, int& last)
+{
+  first = 0;
+  last = 0;
+  const double* light = sweep.Source.Position;
+  const double scales[2] = { step.Scale,
+    (SliceCoordinate(s, k - s.Sign) - light[s.Axis]) /
+      (SliceCoordinate(s, sweep.Anchor) - light[s.Axis]) };
+  double anchor[3];
+  AnchorPoint(s, sweep.Anchor, 0, j, anchor);
+  double low[3], high[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    const double margin = 1e-6 * (s.Bounds[2 * a + 1] - s.Bounds[2 * a] + 1.0);
+    low[a] = s.Bounds[2 * a] - margin;
+    high[a] = s.Bounds[2 * a + 1] + margin;
+  }
+  const double c0 = light[s.C] + scales[0] * (anchor[s.C] - light[s.C]);
+  const double c1 = light[s.C] + scales[1] * (anchor[s.C] - light[s.C]);
+  if (std::max(c0, c1) < low[s.C] || std::min(c0, c1) > high[s.C])
+  {
+    return; // the whole row lies beyond one face across C
+  }
+  // Per scale, the (fractional) ray index at which the coordinate along B reaches x.
+  auto index = [&](double scale, double x)
+  {
+    const double slope = scale * s.Spacing[s.B] / AnchorSpread;
+    return (x - light[s.B] - scale * (anchor[s.B] - light[s.B])) / slope;
+  };
+  const double below = std::min(index(scales[0], low[s.B]), index(scales[1], low[s.B]));
+  const double above = std::max(index(scales[0], high[s.B]), index(scales[1], high[s.B]));
+  first = static_cast<int>(std::min<double>(sweep.RaysB, std::max(0.0, std::floor(below) - 1)));
+  last = static_cast<int>(std::min<double>(sweep.RaysB, std::max(0.0, std::ceil(above) + 2)));
+  last = std::max(first, last);
+}
+
 // Rows [begin, end) of a point or spot source's rays at slice k (see AnchoredStep): an
 // anchor's rays get their light in `next` from the rays reaching the previous slice,
 // `rays`; otherwise the rays in `rays` are attenuated over the step to slice k.
@@ -1031,9 +1082,21 @@ void AdvanceAnchoredRays(const SweepContext& s, SweepSource& sweep, const Anchor
       }
       sweep.RowAnchor[j] = sweep.Anchor;
     }
-    for (int i0 = 0; i0 < sweep.RaysB; i0 += MaximumDivergingRays)
+    // The rays that stay beyond the box are left out; the others keep the runs they have
+    // in the row's chunks of MaximumDivergingRays rays (the rays left out break runs).
+    int crossing = 0, beyond = sweep.RaysB;
+    if (!step.Anchor)
     {
-      const int size = std::min(MaximumDivergingRays, sweep.RaysB - i0);
+      RaysCrossingBox(s, sweep, step, k, j, crossing, beyond);
+    }
+    for (int chunk = 0; chunk < beyond; chunk += MaximumDivergingRays)
+    {
+      const int i0 = std::max(chunk, crossing);
+      const int size = std::min(chunk + MaximumDivergingRays, beyond) - i0;
+      if (size <= 0)
+      {
+        continue;
+      }
       const long long firstRay = static_cast<long long>(j) * sweep.RaysB + i0;
       if (step.Anchor)
       {
