@@ -57,6 +57,38 @@ struct VOLILLUMKERNELS_EXPORT GridGeometry
 /// bounds as the data grid: the first and last points coincide with the data's.
 VOLILLUMKERNELS_EXPORT GridGeometry ScaledGeometry(const GridGeometry& data, double scale);
 
+/// Where the values of a point field on a grid lie: from a point to the next along each axis
+/// (Stride, in floats) and from a cell's first value to its next corner's along each axis
+/// (Corner: 0 along a flat axis, whose cells have one point).
+struct FieldLayout
+{
+  long long Stride[3] = { 0, 0, 0 };
+  long long Corner[3] = { 0, 0, 0 };
+
+  FieldLayout() = default;
+  /// A field with `channels` floats per grid point, x fastest.
+  FieldLayout(const GridGeometry& geometry, int channels)
+    : FieldLayout(geometry,
+        { channels, channels * static_cast<long long>(geometry.Dimensions[0]),
+          channels * static_cast<long long>(geometry.Dimensions[0]) * geometry.Dimensions[1] })
+  {
+  }
+  /// A field on the grid with the given strides.
+  FieldLayout(const GridGeometry& geometry, const std::array<long long, 3>& stride)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      this->Stride[a] = stride[a];
+      this->Corner[a] = geometry.Dimensions[a] > 1 ? stride[a] : 0;
+    }
+  }
+  /// Offset of the first value of the cell whose first point has the given indices.
+  long long Offset(const int index[3]) const
+  {
+    return index[0] * this->Stride[0] + index[1] * this->Stride[1] + index[2] * this->Stride[2];
+  }
+};
+
 /// Trilinear interpolation of a point field with `channels` floats per grid point (x
 /// fastest) at a world position; positions outside the grid are clamped onto it.
 VOLILLUMKERNELS_EXPORT void TrilinearSample(
@@ -174,14 +206,10 @@ inline void volillum::AxisCell(int n, double u, int& index, float& fraction)
 inline float volillum::Interpolate(
   const GridGeometry& geometry, const float* field, int channels, const TrilinearCell& cell, int c)
 {
-  const long long sx = channels;
-  const long long sy = sx * geometry.Dimensions[0];
-  const long long sz = sy * geometry.Dimensions[1];
-  const long long dx = geometry.Dimensions[0] > 1 ? sx : 0;
-  const long long dy = geometry.Dimensions[1] > 1 ? sy : 0;
-  const long long dz = geometry.Dimensions[2] > 1 ? sz : 0;
-  const float* q = field + cell.Index[0] * sx + cell.Index[1] * sy + cell.Index[2] * sz + c;
-  return TrilinearInCell(q, dx, dy, dz, cell.Fraction[0], cell.Fraction[1], cell.Fraction[2]);
+  const FieldLayout layout(geometry, channels);
+  const float* q = field + layout.Offset(cell.Index) + c;
+  return TrilinearInCell(q, layout.Corner[0], layout.Corner[1], layout.Corner[2], cell.Fraction[0],
+    cell.Fraction[1], cell.Fraction[2]);
 }
 
 inline float volillum::TrilinearInCell(

@@ -234,15 +234,29 @@ void MonotoneBicubicRow(const float* base, int width, int shiftU, int v, float f
 }
 
 // Grey extinction at points Low to High along x of the volume's grid: point (i, j, k) at
-// Values + (i - Low) Stride[0] + j Stride[1] + k Stride[2].
+// Values + (i - Low) Stride[0] + j Stride[1] + k Stride[2] (Layout).
 struct ExtinctionSlab
 {
   const float* Values = nullptr;
-  long long Stride[3] = { 0, 0, 0 };
+  FieldLayout Layout;
   int Low = 0, High = -1;
 
+  // The whole volume's extinction (grey: one value a point).
+  static ExtinctionSlab Entire(const ClassifiedVolume& volume)
+  {
+    ExtinctionSlab entire;
+    entire.Values = volume.Properties.data();
+    entire.Layout = FieldLayout(volume.Geometry, 1);
+    entire.High = volume.Geometry.Dimensions[0] - 1;
+    return entire;
+  }
   // Whether it holds the points of a cell whose first point along x is i.
   bool HoldsCell(int i) const { return this->Low <= i && i + 1 <= this->High; }
+  // The first value of a cell it holds.
+  const float* Cell(const int index[3]) const
+  {
+    return this->Values + (this->Layout.Offset(index) - this->Low * this->Layout.Stride[0]);
+  }
 };
 
 // One sweep over the illumination grid (N, Stride, Origin, Spacing, Bounds) along Axis
@@ -552,13 +566,7 @@ void GreyRowTransmittance(const SweepContext& s, const TrilinearCell* cells, con
   int n, float h, double ratio, int shift, bool whole, int count, float* out)
 {
   // The volume's values, or the slab's where it holds a sample's cell (the same values).
-  const GridGeometry& g = s.Volume.Geometry;
-  ExtinctionSlab entire;
-  entire.Values = s.Volume.Properties.data();
-  entire.Stride[0] = 1;
-  entire.Stride[1] = g.Dimensions[0];
-  entire.Stride[2] = static_cast<long long>(g.Dimensions[0]) * g.Dimensions[1];
-  entire.High = g.Dimensions[0] - 1;
+  const ExtinctionSlab entire = ExtinctionSlab::Entire(s.Volume);
   constexpr int Chunk = 256;
   float depth[Chunk];
   for (int begin = 0; begin < count; begin += Chunk)
@@ -569,14 +577,12 @@ void GreyRowTransmittance(const SweepContext& s, const TrilinearCell* cells, con
     {
       const TrilinearCell& c = cells[m];
       const ExtinctionSlab& view = s.Slab.HoldsCell(c.Index[0]) ? s.Slab : entire;
-      const long long* stride = view.Stride;
-      const long long dx = g.Dimensions[0] > 1 ? stride[0] : 0;
-      const long long dy = g.Dimensions[1] > 1 ? stride[1] : 0;
-      const long long dz = g.Dimensions[2] > 1 ? stride[2] : 0;
+      const long long* stride = view.Layout.Stride;
+      const long long dx = view.Layout.Corner[0], dy = view.Layout.Corner[1],
+                      dz = view.Layout.Corner[2];
       const long long step = shift * stride[s.B];
       // The first value of ray 0's cell.
-      const float* first = view.Values + (c.Index[0] - view.Low) * stride[0] +
-        c.Index[1] * stride[1] + c.Index[2] * stride[2];
+      const float* first = view.Cell(c.Index);
       if (!whole)
       {
         const float* q = first - c.Index[s.B] * stride[s.B]; // index 0 along B
@@ -779,11 +785,8 @@ void DivergingRowSegments(const SweepContext& s, const double* p, const double* 
     }
     steps[i] = inside[i] ? SegmentSteps(s, length[i]) : 0;
   }
-  const long long stride[3] = { 1, g.Dimensions[0],
-    static_cast<long long>(g.Dimensions[0]) * g.Dimensions[1] };
-  const long long dx = g.Dimensions[0] > 1 ? stride[0] : 0;
-  const long long dy = g.Dimensions[1] > 1 ? stride[1] : 0;
-  const long long dz = g.Dimensions[2] > 1 ? stride[2] : 0;
+  const ExtinctionSlab entire = ExtinctionSlab::Entire(s.Volume);
+  const FieldLayout& layout = entire.Layout;
   // Grid coordinates of ray i's samples: start + m step for sample m.
   auto samples = [&](int i, double start[3], double step[3])
   {
@@ -827,10 +830,10 @@ void DivergingRowSegments(const SweepContext& s, const double* p, const double* 
         v[a] = lastStart[a] + m * lastStep[a];
       }
       const TrilinearCell cell = CellAt(g, u);
-      const float* q = s.Volume.Properties.data() + cell.Index[0] * stride[0] +
-        cell.Index[1] * stride[1] + cell.Index[2] * stride[2] - cell.Index[s.B] * stride[s.B];
-      AddFractionalRowDepthsOutsideEmpty(s, q, stride[s.B], dx, dy, dz, cell, u[s.B],
-        (v[s.B] - u[s.B]) / (size - 1), 1.0f, size, depth);
+      const float* q = entire.Cell(cell.Index) - cell.Index[s.B] * layout.Stride[s.B];
+      AddFractionalRowDepthsOutsideEmpty(s, q, layout.Stride[s.B], layout.Corner[0],
+        layout.Corner[1], layout.Corner[2], cell, u[s.B], (v[s.B] - u[s.B]) / (size - 1), 1.0f,
+        size, depth);
     }
     for (int i = 0; i < size; ++i)
     {
@@ -1558,9 +1561,7 @@ struct SweepSlices
       return ExtinctionSlab();
     }
     slab.Values = this->SlabValues.data();
-    slab.Stride[0] = planes;
-    slab.Stride[1] = 1;
-    slab.Stride[2] = v.Dimensions[1];
+    slab.Layout = FieldLayout(v, { planes, 1, v.Dimensions[1] });
     return slab;
   }
 
@@ -1582,7 +1583,7 @@ struct SweepSlices
       }
       for (int x = slab.Low; x <= slab.High; ++x)
       {
-        out[(x - slab.Low) * slab.Stride[0] + y] = in[nx * y + x];
+        out[(x - slab.Low) * slab.Layout.Stride[0] + y] = in[nx * y + x];
       }
     }
   }

@@ -177,12 +177,8 @@ void RowSegmentOpticalDepths(const ClassifiedVolume& volume, const double* x, in
   const double firstY = (y + 0.5 * h * d[1] - g.Origin[1]) / g.Spacing[1];
   const double firstZ = (z + 0.5 * h * d[2] - g.Origin[2]) / g.Spacing[2];
   const bool chromatic = channels == 3 && volume.IsChromatic();
-  const long long sx = volume.Channels;
-  const long long sy = sx * g.Dimensions[0];
-  const long long sz = sy * g.Dimensions[1];
-  const long long dx = g.Dimensions[0] > 1 ? sx : 0;
-  const long long dy = g.Dimensions[1] > 1 ? sy : 0;
-  const long long dz = g.Dimensions[2] > 1 ? sz : 0;
+  const FieldLayout layout(g, volume.Channels);
+  const long long dx = layout.Corner[0], dy = layout.Corner[1], dz = layout.Corner[2];
   // The samples' cells along y and z are the same for every point: they are found once a
   // step, for a chunk of points at a time, and each point adds its steps in order, as
   // SegmentOpticalDepth does. A point keeps its cell along x when the rays cross the row.
@@ -204,7 +200,7 @@ void RowSegmentOpticalDepths(const ClassifiedVolume& volume, const double* x, in
       float fy, fz;
       AxisCell(g.Dimensions[1], firstY + m * step[1], iy, fy);
       AxisCell(g.Dimensions[2], firstZ + m * step[2], iz, fz);
-      const float* row = volume.Properties.data() + iy * sy + iz * sz;
+      const float* row = volume.Properties.data() + iy * layout.Stride[1] + iz * layout.Stride[2];
       const long long blocks = empty ? empty->Row(iy, iz) : 0;
       for (int i = 0; i < size; ++i)
       {
@@ -216,7 +212,7 @@ void RowSegmentOpticalDepths(const ClassifiedVolume& volume, const double* x, in
         {
           continue;
         }
-        const float* q = row + ix[i] * sx;
+        const float* q = row + ix[i] * layout.Stride[0];
         double* out = depth + 3 * (begin + i);
         const double sigma = TrilinearInCellSkippingZeros(q, dx, dy, dz, fx[i], fy, fz) * h;
         if (!chromatic)

@@ -153,12 +153,8 @@ void CartesianSAT::Build(const ClassifiedVolume& data, const SatFrame& frame, do
   const auto& g = data.Geometry;
   const float* field = data.Properties.data();
   const bool chromatic = channels == 3 && data.IsChromatic();
-  const long long stride[3] = { data.Channels,
-    data.Channels * static_cast<long long>(g.Dimensions[0]),
-    data.Channels * static_cast<long long>(g.Dimensions[0]) * g.Dimensions[1] };
-  const long long dx = g.Dimensions[0] > 1 ? stride[0] : 0;
-  const long long dy = g.Dimensions[1] > 1 ? stride[1] : 0;
-  const long long dz = g.Dimensions[2] > 1 ? stride[2] : 0;
+  const FieldLayout layout(g, data.Channels);
+  const long long dx = layout.Corner[0], dy = layout.Corner[1], dz = layout.Corner[2];
   // Position along data axis a of the centre of cell i of a row (ty, tz: the row's terms), and
   // whether it lies inside the bounds; its cell in cell.
   auto locate = [&](int a, long long i, const double* ty, const double* tz, TrilinearCell& cell)
@@ -208,8 +204,7 @@ void CartesianSAT::Build(const ClassifiedVolume& data, const SatFrame& frame, do
               }
               continue;
             }
-            const float* q = field + cell.Index[0] * stride[0] + cell.Index[1] * stride[1] +
-              cell.Index[2] * stride[2];
+            const float* q = field + layout.Offset(cell.Index);
             const auto& f = cell.Fraction;
             const float sigma = TrilinearInCellSkippingZeros(q, dx, dy, dz, f[0], f[1], f[2]);
             for (int c = 0; c < channels; ++c)
