@@ -1369,10 +1369,12 @@ size_t AllocateSliceBuffers(std::vector<SweepSource>& prepared, int channels, in
     write.emplace_back(size, 1.0f);
     bufferBytes += 2 * size * sizeof(float);
   }
-  // Each thread's row buffers: light, direction and group factor per pixel and source, and
-  // a deposit's factors per pixel.
+  // Each thread's row buffers: light per pixel and source, direction and group factor too
+  // with a point or spot source (SweepSlices::NewScratch), and a deposit's factors per pixel.
+  const bool directions = std::any_of(prepared.begin(), prepared.end(),
+    [](const SweepSource& sweep) { return !sweep.Source.Directional; });
   bufferBytes += static_cast<size_t>(vtkSMPTools::GetEstimatedNumberOfThreads()) * nb *
-    (count * (channels * sizeof(float) + 4 * sizeof(double)) + sizeof(double));
+    (count * (channels * sizeof(float) + (directions ? 4 * sizeof(double) : 0)) + sizeof(double));
   return bufferBytes;
 }
 
@@ -1592,11 +1594,14 @@ struct SweepSlices
 
   int Slice(int t) const { return this->S.Sign > 0 ? t : this->S.N[this->S.Axis] - 1 - t; }
 
+  // Directions and group factors are kept only with a point or spot source (a directional
+  // source's deposits are uniform along a row).
   Scratch NewScratch() const
   {
     const size_t pixels = static_cast<size_t>(this->S.N[this->S.B]) * this->Prepared.size();
-    return { std::vector<float>(this->S.Channels * pixels), std::vector<double>(3 * pixels),
-      std::vector<double>(pixels, 1.0), std::vector<double>(this->S.N[this->S.B]) };
+    const size_t directions = this->Anchored.empty() ? 0 : pixels;
+    return { std::vector<float>(this->S.Channels * pixels), std::vector<double>(3 * directions),
+      std::vector<double>(directions, 1.0), std::vector<double>(this->S.N[this->S.B]) };
   }
 
   // Row ic of slice t: the lattice rows, then (ic inside the slice) the row's deposits.
@@ -1620,8 +1625,10 @@ struct SweepSlices
     for (size_t j = 0; j < this->Prepared.size(); ++j)
     {
       float* light = scratch.Light.data() + s.Channels * nb * j;
-      double* direction = scratch.Direction.data() + 3 * nb * j;
-      double* groupFactor = scratch.GroupFactor.data() + nb * j;
+      double* direction =
+        scratch.Direction.empty() ? nullptr : scratch.Direction.data() + 3 * nb * j;
+      double* groupFactor =
+        scratch.GroupFactor.empty() ? nullptr : scratch.GroupFactor.data() + nb * j;
       if (this->Prepared[j].FollowsRays())
       {
         RowFromLattice(s, this->Prepared[j], LatticePhase(this->Prepared[j], t),
