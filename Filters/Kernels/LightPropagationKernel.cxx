@@ -359,6 +359,13 @@ struct LatticePhase
   }
 };
 
+// How far from a face of the box (bounds) across axis a a point still counts as on it: the
+// geometric tolerance of the box's extent.
+inline double FaceTolerance(const double bounds[6], int a)
+{
+  return GeometricTolerance * (bounds[2 * a + 1] - bounds[2 * a] + 1.0);
+}
+
 // The part [from, to] of the segment from p back along -d over `length` that lies inside
 // the box (bounds); false when none does. Light is attenuated inside the volume only.
 bool ClipToBox(const double bounds[6], const double p[3], const double d[3], double length,
@@ -369,7 +376,7 @@ bool ClipToBox(const double bounds[6], const double p[3], const double d[3], dou
   for (int a = 0; a < 3; ++a)
   {
     // Points on a face (the grid's outer points) count as inside, whatever the rounding.
-    const double tolerance = GeometricTolerance * (bounds[2 * a + 1] - bounds[2 * a] + 1.0);
+    const double tolerance = FaceTolerance(bounds, a);
     const double low = bounds[2 * a] - tolerance;
     const double high = bounds[2 * a + 1] + tolerance;
     if (d[a] == 0.0)
@@ -393,7 +400,7 @@ bool ClipToBox(const double bounds[6], const double p[3], const double d[3], dou
 // (give or take their rounding).
 inline bool OnFaceAcross(const double bounds[6], int a, double x)
 {
-  const double tolerance = 2.0 * GeometricTolerance * (bounds[2 * a + 1] - bounds[2 * a] + 1.0);
+  const double tolerance = 2.0 * FaceTolerance(bounds, a);
   return std::abs(x - bounds[2 * a]) <= tolerance || std::abs(x - bounds[2 * a + 1]) <= tolerance;
 }
 
@@ -768,8 +775,7 @@ void DivergingRowSegments(const SweepContext& s, const double* p, const double* 
       high[a] = end - GeometricTolerance * end;
       continue;
     }
-    const double tolerance =
-      2.0 * GeometricTolerance * (s.Bounds[2 * a + 1] - s.Bounds[2 * a] + 1.0) / g.Spacing[a];
+    const double tolerance = 2.0 * FaceTolerance(s.Bounds, a) / g.Spacing[a];
     low[a] = -tolerance;
     high[a] = end + tolerance;
   }
@@ -1293,7 +1299,7 @@ SweepContext MakeSweepContext(const ClassifiedVolume& volume, const EmptyBlocks*
   s.RowKernels = rowKernels;
   for (int a = 0; a < 3; ++a)
   {
-    const double tolerance = GeometricTolerance * (s.Bounds[2 * a + 1] - s.Bounds[2 * a] + 1.0);
+    const double tolerance = FaceTolerance(s.Bounds, a);
     s.RowKernels = s.RowKernels && std::abs(volumeBounds[2 * a] - s.Bounds[2 * a]) <= tolerance &&
       std::abs(volumeBounds[2 * a + 1] - s.Bounds[2 * a + 1]) <= tolerance;
   }
