@@ -3,6 +3,7 @@
 #include "IlluminationClassify.h"
 #include "IlluminationLightingMacros.h"
 #include "IlluminationParallel.h"
+#include "LargeArrays.h"
 #include "RayMarchKernel.h"
 
 #include "vtkColorTransferFunction.h"
@@ -29,38 +30,22 @@
 #include <memory>
 #include <string>
 
-#if defined(__linux__)
-#include <sys/mman.h>
-#endif
-
 volillumLightingImplementationMacro(vtkIlluminationVolumeAlgorithm);
 
 namespace
 {
-// The output array. Every update writes a new one, and the first write to each 4 KiB page of
-// new memory costs a page fault (~0.5 s for the 200 MB of a 256^3 grid on a VM). On Linux the
-// memory is aligned to 2 MiB and offered to transparent huge pages, which fault 512 times
-// less often; elsewhere, or when that allocation fails, the array allocates as usual.
+// The output array: every update writes a new one, in memory for large arrays (LargeArrays.h).
 vtkSmartPointer<vtkFloatArray> NewIlluminationArray(long long points)
 {
   auto array = vtkSmartPointer<vtkFloatArray>::New();
   array->SetName("Illumination");
   array->SetNumberOfComponents(3);
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-  constexpr size_t HugePage = size_t(1) << 21;
-  const size_t bytes = 3 * sizeof(float) * static_cast<size_t>(points);
-  if (bytes >= HugePage)
+  if (void* memory = volillum::AllocateHugePages(3 * sizeof(float) * static_cast<size_t>(points)))
   {
-    const size_t rounded = (bytes + HugePage - 1) / HugePage * HugePage;
-    if (void* memory = std::aligned_alloc(HugePage, rounded))
-    {
-      madvise(memory, rounded, MADV_HUGEPAGE);
-      array->SetArray(
-        static_cast<float*>(memory), 3 * points, 0, vtkAbstractArray::VTK_DATA_ARRAY_FREE);
-      return array;
-    }
+    array->SetArray(
+      static_cast<float*>(memory), 3 * points, 0, vtkAbstractArray::VTK_DATA_ARRAY_FREE);
+    return array;
   }
-#endif
   array->SetNumberOfTuples(points);
   return array;
 }

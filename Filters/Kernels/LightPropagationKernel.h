@@ -51,6 +51,7 @@
 
 #include "IlluminationClassification.h"
 #include "IlluminationLights.h"
+#include "LargeArrays.h"
 #include "RayMarchKernel.h"
 #include "VolIllumKernelsModule.h"
 
@@ -132,14 +133,14 @@ public:
   /// Subtract the record from the totals: exactly what the recorded tasks added.
   void SubtractRecord();
   /// Release the record's memory.
-  void DropRecord() { std::vector<std::uint32_t>().swap(this->Recorded); }
+  void DropRecord() { LargeVector<std::uint32_t>().swap(this->Recorded); }
 
   double Scale = 1.0;
-  std::vector<std::uint32_t> Values;
+  LargeVector<std::uint32_t> Values;
   /// The units the tasks marked Recorded added since StartRecord (empty when none is kept):
   /// one light's contribution, which a later change of that light removes by subtraction
   /// instead of propagating the light's old state again.
-  std::vector<std::uint32_t> Recorded;
+  LargeVector<std::uint32_t> Recorded;
 };
 
 struct PropagationStatistics

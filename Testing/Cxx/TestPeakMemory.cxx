@@ -1,7 +1,8 @@
 // Peak memory of a multi-light propagation update, measured by counting every allocation
 // of this program. It is an executable of its own: it replaces the global operator new and
-// delete (all their forms, so that every allocation and release goes through the same
-// counting pair), which a sanitizer build must not have in its other tests.
+// delete (all their forms, the aligned ones that large arrays use included, so that every
+// allocation and release goes through the same counting pair), which a sanitizer build must not
+// have in its other tests.
 #include "IlluminationTestUtilities.h"
 #include "vtkMultiLightIlluminationVolume.h"
 
@@ -55,6 +56,86 @@ void* AllocateOrThrow(std::size_t size)
   }
   return p;
 }
+
+// The aligned forms: the header takes a whole alignment.
+void* CountedAllocateAligned(std::size_t size, std::align_val_t alignment) noexcept
+{
+  const auto align = static_cast<std::size_t>(alignment);
+  auto* block =
+    static_cast<char*>(std::aligned_alloc(align, (size + 2 * align - 1) / align * align));
+  if (!block)
+  {
+    return nullptr;
+  }
+  *reinterpret_cast<std::size_t*>(block) = size;
+  const long long now = CurrentBytes += static_cast<long long>(size);
+  long long peak = PeakBytes.load();
+  while (now > peak && !PeakBytes.compare_exchange_weak(peak, now))
+  {
+  }
+  return block + align;
+}
+
+void CountedReleaseAligned(void* p, std::align_val_t alignment) noexcept
+{
+  if (p)
+  {
+    char* block = static_cast<char*>(p) - static_cast<std::size_t>(alignment);
+    CurrentBytes -= static_cast<long long>(*reinterpret_cast<std::size_t*>(block));
+    std::free(block);
+  }
+}
+
+void* AllocateAlignedOrThrow(std::size_t size, std::align_val_t alignment)
+{
+  void* p = CountedAllocateAligned(size, alignment);
+  if (!p)
+  {
+    throw std::bad_alloc();
+  }
+  return p;
+}
+}
+
+void* operator new(std::size_t size, std::align_val_t alignment)
+{
+  return AllocateAlignedOrThrow(size, alignment);
+}
+void* operator new[](std::size_t size, std::align_val_t alignment)
+{
+  return AllocateAlignedOrThrow(size, alignment);
+}
+void* operator new(std::size_t size, std::align_val_t alignment, const std::nothrow_t&) noexcept
+{
+  return CountedAllocateAligned(size, alignment);
+}
+void* operator new[](std::size_t size, std::align_val_t alignment, const std::nothrow_t&) noexcept
+{
+  return CountedAllocateAligned(size, alignment);
+}
+void operator delete(void* p, std::align_val_t alignment) noexcept
+{
+  CountedReleaseAligned(p, alignment);
+}
+void operator delete[](void* p, std::align_val_t alignment) noexcept
+{
+  CountedReleaseAligned(p, alignment);
+}
+void operator delete(void* p, std::size_t, std::align_val_t alignment) noexcept
+{
+  CountedReleaseAligned(p, alignment);
+}
+void operator delete[](void* p, std::size_t, std::align_val_t alignment) noexcept
+{
+  CountedReleaseAligned(p, alignment);
+}
+void operator delete(void* p, std::align_val_t alignment, const std::nothrow_t&) noexcept
+{
+  CountedReleaseAligned(p, alignment);
+}
+void operator delete[](void* p, std::align_val_t alignment, const std::nothrow_t&) noexcept
+{
+  CountedReleaseAligned(p, alignment);
 }
 
 void* operator new(std::size_t size)
