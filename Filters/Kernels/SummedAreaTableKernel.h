@@ -21,6 +21,7 @@
 #define SummedAreaTableKernel_h
 
 #include "IlluminationClassification.h"
+#include "LargeArrays.h"
 #include "VolIllumKernelsModule.h"
 
 #include <algorithm>
@@ -165,7 +166,7 @@ private:
 
   std::array<int, 3> N{ { 0, 0, 0 } };
   int Channels = 1;
-  std::vector<double> Values;
+  LargeVector<double> Values; // written right after allocation (LargeArrays.h)
 };
 
 class VOLILLUMKERNELS_EXPORT CartesianSAT
