@@ -16,6 +16,7 @@
 #ifndef IlluminationClassification_h
 #define IlluminationClassification_h
 
+#include "LargeArrays.h"
 #include "VolIllumKernelsModule.h"
 
 #include <algorithm>
@@ -138,7 +139,7 @@ struct VOLILLUMKERNELS_EXPORT ClassifiedVolume
 {
   GridGeometry Geometry;
   int Channels = 4;
-  std::vector<float> Properties;
+  LargeVector<float> Properties; // written right after allocation (LargeArrays.h)
 
   /// Whether k_c may differ from 1 (Channels 4).
   bool IsChromatic() const { return this->Channels == 4; }
