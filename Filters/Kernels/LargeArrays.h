@@ -1,7 +1,8 @@
 /**
  * @file LargeArrays.h
  * @brief Memory for arrays of hundreds of megabytes that are written right after they are
- * allocated (the fixed-point illumination, its record, the filters' output arrays).
+ * allocated (the classification, the fixed-point illumination and its record, summed-area
+ * tables, the filters' output arrays).
  *
  * The first write to each 4 KiB page of new memory costs a page fault: ~0.5 s for the 200 MB
  * of an illumination volume of 256^3 points on a VM (measured). On Linux such memory is
