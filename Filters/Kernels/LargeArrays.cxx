@@ -9,7 +9,7 @@
 namespace volillum
 {
 
-bool OffersHugePages(size_t bytes)
+bool OffersHugePages(std::size_t bytes)
 {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
   return bytes >= HugePageAlignment;
@@ -19,7 +19,7 @@ bool OffersHugePages(size_t bytes)
 #endif
 }
 
-void AdviseHugePages(void* memory, size_t bytes)
+void AdviseHugePages(void* memory, std::size_t bytes)
 {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
   madvise(memory, bytes / HugePageAlignment * HugePageAlignment, MADV_HUGEPAGE);
@@ -29,20 +29,26 @@ void AdviseHugePages(void* memory, size_t bytes)
 #endif
 }
 
-void* AllocateHugePages(size_t bytes)
+void* AllocateHugePages(std::size_t bytes)
 {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
   if (!OffersHugePages(bytes))
   {
     return nullptr;
   }
   // aligned_alloc wants a whole number of alignments.
-  const size_t rounded = (bytes + HugePageAlignment - 1) / HugePageAlignment * HugePageAlignment;
+  const std::size_t rounded =
+    (bytes + HugePageAlignment - 1) / HugePageAlignment * HugePageAlignment;
   void* memory = std::aligned_alloc(HugePageAlignment, rounded);
   if (memory)
   {
     AdviseHugePages(memory, rounded);
   }
   return memory;
+#else
+  (void)bytes;
+  return nullptr;
+#endif
 }
 
 }

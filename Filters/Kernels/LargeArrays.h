@@ -24,14 +24,14 @@ namespace volillum
 /// Whether an allocation of `bytes` is offered to huge pages: then it is aligned to
 /// HugePageAlignment, and AdviseHugePages offers the whole huge pages it spans before its
 /// first write (its last part, short of a huge page, keeps small pages).
-VOLILLUMKERNELS_EXPORT bool OffersHugePages(size_t bytes);
-constexpr size_t HugePageAlignment = size_t(1) << 21;
-VOLILLUMKERNELS_EXPORT void AdviseHugePages(void* memory, size_t bytes);
+VOLILLUMKERNELS_EXPORT bool OffersHugePages(std::size_t bytes);
+constexpr std::size_t HugePageAlignment = std::size_t(1) << 21;
+VOLILLUMKERNELS_EXPORT void AdviseHugePages(void* memory, std::size_t bytes);
 
 /// `bytes` of memory offered to huge pages, released with std::free (for arrays that free
 /// their memory so, as vtkDataArray's VTK_DATA_ARRAY_FREE), or null when huge pages are not
 /// offered or the allocation fails: the caller then allocates as usual.
-VOLILLUMKERNELS_EXPORT void* AllocateHugePages(size_t bytes);
+VOLILLUMKERNELS_EXPORT void* AllocateHugePages(std::size_t bytes);
 
 /// A std::vector allocator that offers large allocations to huge pages (through the aligned
 /// operator new, so that replacements of it see them).
@@ -46,9 +46,9 @@ struct LargeArrayAllocator
   {
   }
 
-  T* allocate(size_t n)
+  T* allocate(std::size_t n)
   {
-    const size_t bytes = n * sizeof(T);
+    const std::size_t bytes = n * sizeof(T);
     if (!OffersHugePages(bytes))
     {
       return static_cast<T*>(::operator new(bytes));
@@ -57,7 +57,7 @@ struct LargeArrayAllocator
     AdviseHugePages(memory, bytes);
     return static_cast<T*>(memory);
   }
-  void deallocate(T* memory, size_t n)
+  void deallocate(T* memory, std::size_t n)
   {
     if (OffersHugePages(n * sizeof(T)))
     {

@@ -1021,9 +1021,10 @@ struct AnchoredStep
 // The rays [first, last) of row j of a point or spot source's rays that may cross the box
 // over a step from slice k - Sign to slice k (step.Anchor false): the others lie beyond one
 // side of it at both ends of the step, by more than a margin far above the rounding of
-// their positions, so SegmentTransmittance would leave them unchanged. A ray's coordinate
-// along B or C is the light's plus the anchor point's offset from it scaled by the slice's
-// distance from the light, so it is affine in the ray's index along B and the same for the
+// their positions (10^-6 of the box's extent: for lights within 10^9 extents of the box, as
+// ClipToBox's tolerance assumes), so SegmentTransmittance would leave them unchanged. A ray's
+// coordinate along B or C is the light's plus the anchor point's offset from it scaled by the
+// slice's distance from the light, so it is affine in the ray's index along B and the same for the
 // whole row along C.
 void RaysCrossingBox(const SweepContext& s, const SweepSource& sweep, const AnchoredStep& step,
   int k, int j, int& first, int& last)
@@ -1057,6 +1058,11 @@ void RaysCrossingBox(const SweepContext& s, const SweepSource& sweep, const Anch
   };
   const double below = std::min(index(scales[0], low[s.B]), index(scales[1], low[s.B]));
   const double above = std::max(index(scales[0], high[s.B]), index(scales[1], high[s.B]));
+  if (!std::isfinite(below) || !std::isfinite(above))
+  {
+    last = sweep.RaysB; // keep them all
+    return;
+  }
   first = static_cast<int>(std::min<double>(sweep.RaysB, std::max(0.0, std::floor(below) - 1)));
   last = static_cast<int>(std::min<double>(sweep.RaysB, std::max(0.0, std::ceil(above) + 2)));
   last = std::max(first, last);
@@ -1098,7 +1104,8 @@ void AdvanceAnchoredRays(const SweepContext& s, SweepSource& sweep, const Anchor
     {
       RaysCrossingBox(s, sweep, step, k, j, crossing, beyond);
     }
-    for (int chunk = 0; chunk < beyond; chunk += MaximumDivergingRays)
+    for (int chunk = crossing - crossing % MaximumDivergingRays; chunk < beyond;
+         chunk += MaximumDivergingRays)
     {
       const int i0 = std::max(chunk, crossing);
       const int size = std::min(chunk + MaximumDivergingRays, beyond) - i0;

@@ -10,9 +10,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
+#include <limits>
 #include <new>
 
 namespace
@@ -57,32 +60,46 @@ void* AllocateOrThrow(std::size_t size)
   return p;
 }
 
-// The aligned forms: the header takes a whole alignment.
+// The aligned forms: the block is aligned by hand within a larger one, its size and the
+// larger block's start kept just before it.
+struct AlignedHeader
+{
+  std::size_t Size;
+  void* Base;
+};
+
 void* CountedAllocateAligned(std::size_t size, std::align_val_t alignment) noexcept
 {
-  const auto align = static_cast<std::size_t>(alignment);
-  auto* block =
-    static_cast<char*>(std::aligned_alloc(align, (size + 2 * align - 1) / align * align));
-  if (!block)
+  const std::size_t align = std::max(static_cast<std::size_t>(alignment), alignof(AlignedHeader));
+  const std::size_t extra = align + sizeof(AlignedHeader);
+  if (size > std::numeric_limits<std::size_t>::max() - extra)
   {
     return nullptr;
   }
-  *reinterpret_cast<std::size_t*>(block) = size;
+  char* base = static_cast<char*>(std::malloc(size + extra));
+  if (!base)
+  {
+    return nullptr;
+  }
+  const std::uintptr_t first = reinterpret_cast<std::uintptr_t>(base) + sizeof(AlignedHeader);
+  char* block =
+    base + ((first + align - 1) / align * align - reinterpret_cast<std::uintptr_t>(base));
+  reinterpret_cast<AlignedHeader*>(block)[-1] = { size, base };
   const long long now = CurrentBytes += static_cast<long long>(size);
   long long peak = PeakBytes.load();
   while (now > peak && !PeakBytes.compare_exchange_weak(peak, now))
   {
   }
-  return block + align;
+  return block;
 }
 
-void CountedReleaseAligned(void* p, std::align_val_t alignment) noexcept
+void CountedReleaseAligned(void* p, std::align_val_t) noexcept
 {
   if (p)
   {
-    char* block = static_cast<char*>(p) - static_cast<std::size_t>(alignment);
-    CurrentBytes -= static_cast<long long>(*reinterpret_cast<std::size_t*>(block));
-    std::free(block);
+    const AlignedHeader header = static_cast<AlignedHeader*>(p)[-1];
+    CurrentBytes -= static_cast<long long>(header.Size);
+    std::free(header.Base);
   }
 }
 
