@@ -1021,11 +1021,11 @@ struct AnchoredStep
 // The rays [first, last) of row j of a point or spot source's rays that may cross the box
 // over a step from slice k - Sign to slice k (step.Anchor false): the others lie beyond one
 // side of it at both ends of the step, by more than a margin far above the rounding of
-// their positions (10^-6 of the box's extent: for lights within 10^9 extents of the box, as
-// ClipToBox's tolerance assumes), so SegmentTransmittance would leave them unchanged. A ray's
-// coordinate along B or C is the light's plus the anchor point's offset from it scaled by the
-// slice's distance from the light, so it is affine in the ray's index along B and the same for the
-// whole row along C.
+// their positions (1000 face tolerances, 10^-6 of the box's extent: for lights within 10^9 extents
+// of the box, as ClipToBox's tolerance assumes), so SegmentTransmittance would leave them
+// unchanged. A ray's coordinate along B or C is the light's plus the anchor point's offset from it
+// scaled by the slice's distance from the light, so it is affine in the ray's index along B and the
+// same for the whole row along C.
 void RaysCrossingBox(const SweepContext& s, const SweepSource& sweep, const AnchoredStep& step,
   int k, int j, int& first, int& last)
 {
@@ -1040,7 +1040,7 @@ void RaysCrossingBox(const SweepContext& s, const SweepSource& sweep, const Anch
   double low[3], high[3];
   for (int a = 0; a < 3; ++a)
   {
-    const double margin = 1e-6 * (s.Bounds[2 * a + 1] - s.Bounds[2 * a] + 1.0);
+    const double margin = 1000.0 * FaceTolerance(s.Bounds, a);
     low[a] = s.Bounds[2 * a] - margin;
     high[a] = s.Bounds[2 * a + 1] + margin;
   }

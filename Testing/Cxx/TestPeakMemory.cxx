@@ -23,6 +23,16 @@ namespace
 std::atomic<long long> CurrentBytes(0);
 std::atomic<long long> PeakBytes(0);
 
+// Adds an allocation of `size` bytes to the count and raises the peak to it.
+void CountAllocation(std::size_t size) noexcept
+{
+  const long long now = CurrentBytes += static_cast<long long>(size);
+  long long peak = PeakBytes.load();
+  while (now > peak && !PeakBytes.compare_exchange_weak(peak, now))
+  {
+  }
+}
+
 // Every block carries its size in a header of max_align_t alignment.
 void* CountedAllocate(std::size_t size) noexcept
 {
@@ -32,11 +42,7 @@ void* CountedAllocate(std::size_t size) noexcept
     return nullptr;
   }
   *block = size;
-  const long long now = CurrentBytes += static_cast<long long>(size);
-  long long peak = PeakBytes.load();
-  while (now > peak && !PeakBytes.compare_exchange_weak(peak, now))
-  {
-  }
+  CountAllocation(size);
   return reinterpret_cast<char*>(block) + sizeof(std::max_align_t);
 }
 
@@ -85,11 +91,7 @@ void* CountedAllocateAligned(std::size_t size, std::align_val_t alignment) noexc
   char* block =
     base + ((first + align - 1) / align * align - reinterpret_cast<std::uintptr_t>(base));
   reinterpret_cast<AlignedHeader*>(block)[-1] = { size, base };
-  const long long now = CurrentBytes += static_cast<long long>(size);
-  long long peak = PeakBytes.load();
-  while (now > peak && !PeakBytes.compare_exchange_weak(peak, now))
-  {
-  }
+  CountAllocation(size);
   return block;
 }
 
