@@ -61,11 +61,26 @@ struct TransferTable
       const double a = std::min(std::max(opacity[i], 0.0), MaximumOpacity);
       // A tiny unit distance makes the extinction huge: keep it finite (it is opaque either
       // way), so that products with zero step lengths stay zero instead of NaN.
-      this->Sigma[i] = static_cast<float>(std::min(-std::log1p(-a) / s.UnitDistance, 1e30));
+      this->Sigma[i] = static_cast<float>(
+        std::min(-std::log1p(-a) / s.UnitDistance, ClassifiedVolume::MaximumSigma));
       for (int c = 0; c < 3; ++c)
       {
         const double col = std::min(std::max(rgb[3 * i + c], 0.0), 1.0);
         this->Absorb[3 * i + c] = s.Chromatic ? static_cast<float>(1.0 - col) : 1.0f;
+      }
+    }
+  }
+
+  /// The largest values Lookup gives: sigma, k_r, k_g, k_b.
+  void Largest(double largest[4]) const
+  {
+    largest[0] = *std::max_element(this->Sigma.begin(), this->Sigma.end());
+    for (int c = 0; c < 3; ++c)
+    {
+      largest[1 + c] = 0.0;
+      for (int i = 0; i < Size; ++i)
+      {
+        largest[1 + c] = std::max(largest[1 + c], static_cast<double>(this->Absorb[3 * i + c]));
       }
     }
   }
@@ -90,10 +105,11 @@ struct TransferTable
 struct ClassifyWorker
 {
   template <typename ArrayT>
-  void operator()(ArrayT* array, int component, const TransferTable& table, int channels,
-    float* out, std::atomic<long long>& nans)
+  void operator()(ArrayT* array, int component, const TransferTable& table, ClassifiedVolume& out,
+    std::atomic<long long>& nans)
   {
     const auto values = vtk::DataArrayTupleRange(array);
+    const int channels = out.Channels;
     vtkSMPTools::For(0, values.size(),
       [&](vtkIdType begin, vtkIdType end)
       {
@@ -101,15 +117,20 @@ struct ClassifyWorker
         for (vtkIdType t = begin; t < end; ++t)
         {
           const double v = static_cast<double>(values[t][component]);
-          float* o = out + channels * t;
+          float properties[4] = { 0.0f, 1.0f, 1.0f, 1.0f };
           if (std::isnan(v))
           {
             ++localNans;
-            std::fill(o, o + channels, 1.0f);
-            o[0] = 0.0f;
-            continue;
           }
-          table.Lookup(v, channels, o);
+          else
+          {
+            table.Lookup(v, channels, properties);
+          }
+          PackedValue* o = out.Properties.data() + channels * t;
+          for (int c = 0; c < channels; ++c)
+          {
+            o[c] = out.Pack(c, properties[c]);
+          }
         }
         nans += localNans;
       });
@@ -162,12 +183,14 @@ bool Classify(vtkDataArray* scalars, const GridGeometry& geometry,
   // Every value is written below: resizing keeps the memory of the last classification
   // without filling it first.
   out.Properties.resize(out.Channels * static_cast<size_t>(geometry.NumberOfPoints()));
+  double largest[4];
+  table.Largest(largest);
+  out.SetScales(largest);
   std::atomic<long long> nans(0);
   ClassifyWorker worker;
-  if (!vtkArrayDispatch::Dispatch::Execute(
-        scalars, worker, settings.Component, table, out.Channels, out.Properties.data(), nans))
+  if (!vtkArrayDispatch::Dispatch::Execute(scalars, worker, settings.Component, table, out, nans))
   {
-    worker(scalars, settings.Component, table, out.Channels, out.Properties.data(), nans);
+    worker(scalars, settings.Component, table, out, nans);
   }
   if (nanCount)
   {

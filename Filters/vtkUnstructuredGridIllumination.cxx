@@ -187,11 +187,12 @@ bool vtkUnstructuredGridIllumination::Classify(vtkDataArray* scalars)
   this->Extinction.resize(np * nc);
   for (size_t p = 0; p < np; ++p)
   {
-    const float* props = classified.Properties.data() + classified.Channels * p;
+    const size_t first = classified.Channels * p;
     for (int c = 0; c < nc; ++c)
     {
+      const double absorb = nc == 3 ? classified.Value(first + 1 + c) : 1.0;
       this->Extinction[nc * p + c] =
-        static_cast<float>(this->Absorption * props[0] * (nc == 3 ? props[1 + c] : 1.0f));
+        static_cast<float>(this->Absorption * classified.Value(first) * absorb);
     }
   }
   return true;

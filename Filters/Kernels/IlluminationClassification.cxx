@@ -48,9 +48,49 @@ void TrilinearSample(
   }
 }
 
+void ClassifiedVolume::SetScales(const double largest[4])
+{
+  for (int c = 0; c < 4; ++c)
+  {
+    // largest = m 2^e with m in [1/2, 1): scaled by 2^-(64 + e) it lies below 2^-64, and
+    // rounding its code up keeps it below 2^-63. The exponent is kept where the scale is a
+    // normal float.
+    int e = 0;
+    const double value = c == 0 ? std::min(largest[c], MaximumSigma) : largest[c];
+    if (value > 0.0 && std::isfinite(value))
+    {
+      std::frexp(value, &e);
+    }
+    this->Scale[c] = static_cast<float>(std::ldexp(1.0, 64 + std::max(e, -190)));
+  }
+}
+
+void ClassifiedVolume::Store(const std::vector<float>& values)
+{
+  double largest[4] = { 0.0, 0.0, 0.0, 0.0 };
+  for (size_t i = 0; i < values.size(); ++i)
+  {
+    double& m = largest[i % this->Channels];
+    m = std::max(m, static_cast<double>(values[i]));
+  }
+  this->SetScales(largest);
+  this->Properties.resize(values.size());
+  for (size_t i = 0; i < values.size(); ++i)
+  {
+    const int c = static_cast<int>(i % this->Channels);
+    const double v = values[i];
+    this->Properties[i] = this->Pack(c, c == 0 ? std::min(v, MaximumSigma) : v);
+  }
+}
+
 void ClassifiedVolume::Sample(const double p[3], float out[4]) const
 {
-  TrilinearSample(this->Geometry, this->Properties.data(), this->Channels, p, out);
+  const TrilinearCell cell = CellAtPosition(this->Geometry, p);
+  for (int c = 0; c < this->Channels; ++c)
+  {
+    out[c] = Interpolate(this->Geometry, this->Properties.data(), this->Channels, cell, c) *
+      this->Scale[c];
+  }
   if (this->Channels == 1)
   {
     out[1] = out[2] = out[3] = 1.0f;
@@ -59,12 +99,12 @@ void ClassifiedVolume::Sample(const double p[3], float out[4]) const
 
 float ClassifiedVolume::MaxExtinction() const
 {
-  float m = 0.0f;
+  PackedValue m = 0; // codes grow with the values
   for (size_t i = 0; i < this->Properties.size(); i += static_cast<size_t>(this->Channels))
   {
     m = std::max(m, this->Properties[i]);
   }
-  return m;
+  return Unpack(m) * this->Scale[0];
 }
 
 double DistanceToBoxExit(const double p[3], const double d[3], const double bounds[6])

@@ -22,8 +22,15 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace volillum
 {
@@ -114,40 +121,120 @@ inline TrilinearCell CellAtPosition(const GridGeometry& geometry, const double p
 /// CellAt along one axis of n points: the cell's first point and the sample's fraction in it.
 inline void AxisCell(int n, double u, int& index, float& fraction);
 
-/// Trilinear interpolation in one cell of a float field: q is the cell's first value, dx, dy
-/// and dz the offsets of the next value along each axis (0 along a flat axis), f* the
-/// fractions.
+/**
+ * A classified value packed in 16 bits (ClassifiedVolume): the exponent and 10 mantissa bits
+ * of a float below 2^-63 (its bits 13 to 28). Unpacking is a shift: 0 stays exactly 0, every
+ * other value is a normal float in [2^-126, 2^-63), and interpolated sums of such values
+ * stay normal. A volume stores each channel scaled by a power of two into that range
+ * (ClassifiedVolume::Scale undoes it): 11 significant bits (rounding within 2^-11, 0.05 %,
+ * of the value) over at least 61 binary orders of magnitude below the channel's largest
+ * value; smaller values are stored as 0.
+ */
+using PackedValue = std::uint16_t;
+
+/// The float a packed value holds (before its channel's scale).
+inline float Unpack(PackedValue code)
+{
+  const std::uint32_t bits = static_cast<std::uint32_t>(code) << 13;
+  float value;
+  std::memcpy(&value, &bits, sizeof(value));
+  return value;
+}
+/// Fields of floats read as they are.
+inline float Unpack(float value)
+{
+  return value;
+}
+
+/// Trilinear interpolation in one cell of a field of floats or packed values (unpacked, not
+/// scaled): q is the cell's first value, dx, dy and dz the offsets of the next value along
+/// each axis (0 along a flat axis), f* the fractions.
+template <typename T>
 inline float TrilinearInCell(
-  const float* q, long long dx, long long dy, long long dz, float fx, float fy, float fz);
+  const T* q, long long dx, long long dy, long long dz, float fx, float fy, float fz);
+
+/// TrilinearInCell for packed values whose next value along x follows in memory (dx 1, one
+/// channel): the same result, the eight values read as four pairs and unpacked together
+/// (with SSE2; elsewhere TrilinearInCell itself).
+inline float TrilinearInPackedCell(
+  const PackedValue* q, long long dy, long long dz, float fx, float fy, float fz);
 
 /// TrilinearInCell reading only what a zero fraction leaves: the same value for finite
 /// values (which classified volumes hold), from two values instead of eight for a sample on
 /// a grid line (cell centres of a table in the data's frame, rays along a grid axis), at the
 /// price of two branches.
+template <typename T>
 inline float TrilinearInCellSkippingZeros(
-  const float* q, long long dx, long long dy, long long dz, float fx, float fy, float fz);
+  const T* q, long long dx, long long dy, long long dz, float fx, float fy, float fz);
 
-/// Channel c of a field with `channels` floats per grid point, interpolated in a cell.
+/// Channel c of a field with `channels` values per grid point, interpolated in a cell.
+template <typename T>
 inline float Interpolate(
-  const GridGeometry& geometry, const float* field, int channels, const TrilinearCell& cell, int c);
+  const GridGeometry& geometry, const T* field, int channels, const TrilinearCell& cell, int c);
+/// Interpolate for packed values (TrilinearInPackedCell where it applies).
+inline float Interpolate(const GridGeometry& geometry, const PackedValue* field, int channels,
+  const TrilinearCell& cell, int c);
 
 /// Optical properties per data point: the extinction coefficient sigma and, with chromatic
 /// attenuation, k_c, the fraction of the step opacity that removes light of channel c
 /// (1 - colour), interleaved as {sigma, k_r, k_g, k_b} (Channels 4). Without chromatic
-/// attenuation every k_c is 1 and only sigma is stored (Channels 1: 4 bytes a point).
+/// attenuation every k_c is 1 and only sigma is stored (Channels 1). Values are packed in 16
+/// bits (PackedValue: 2 bytes a point without chromatic attenuation): channel c's value is
+/// Unpack(code) x Scale[c]. Kernels interpolate the unpacked values and fold the scale into
+/// their step lengths.
 struct VOLILLUMKERNELS_EXPORT ClassifiedVolume
 {
   GridGeometry Geometry;
   int Channels = 4;
-  LargeVector<float> Properties; // written right after allocation (LargeArrays.h)
+  LargeVector<PackedValue> Properties; // written right after allocation (LargeArrays.h)
+  /// Per channel, the power of two an unpacked value is multiplied by (SetScales).
+  std::array<float, 4> Scale{ { 1.0f, 1.0f, 1.0f, 1.0f } };
 
   /// Whether k_c may differ from 1 (Channels 4).
   bool IsChromatic() const { return this->Channels == 4; }
 
+  /// Largest sigma a volume holds: larger values are stored as this (opaque either way).
+  static constexpr double MaximumSigma = 1e18;
+  /// Smallest nonzero unpacked value (2^-126, the smallest normal float).
+  static constexpr float SmallestPacked = std::numeric_limits<float>::min();
+
+  /// Choose the scales for channel values up to largest[c] (sigma at most MaximumSigma, k_c
+  /// at most 1) before packing.
+  void SetScales(const double largest[4]);
+  /// The code of `value` of channel c (0 <= value <= the largest SetScales was given;
+  /// negative values and NaN give 0).
+  PackedValue Pack(int c, double value) const
+  {
+    const float scaled = static_cast<float>(value / this->Scale[c]);
+    if (!(scaled >= SmallestPacked))
+    {
+      return 0;
+    }
+    std::uint32_t bits;
+    std::memcpy(&bits, &scaled, sizeof(bits));
+    return static_cast<PackedValue>(std::min<std::uint32_t>((bits + 0x1000) >> 13, 0xffff));
+  }
+  /// Channel c of the value at index `index` of Properties, unpacked and scaled.
+  float Value(size_t index) const
+  {
+    return Unpack(this->Properties[index]) * this->Scale[index % this->Channels];
+  }
+  /// Set the geometry's values from floats (Channels per point, x fastest): SetScales for
+  /// their largest values, then Pack.
+  void Store(const std::vector<float>& values);
+
+  /// Step length h times Scale[0] (at most the largest float): multiplied by an unpacked,
+  /// interpolated extinction it gives the optical depth of a step h.
+  float ScaledStep(double h) const
+  {
+    return static_cast<float>(
+      std::min(h * this->Scale[0], static_cast<double>(std::numeric_limits<float>::max())));
+  }
+
   /// Extinction at grid point `point` (x fastest).
   float Extinction(long long point) const
   {
-    return this->Properties[static_cast<size_t>(this->Channels * point)];
+    return this->Value(static_cast<size_t>(this->Channels * point));
   }
 
   /// Trilinear interpolation of {sigma, k_r, k_g, k_b} at a world position (k_c 1 without
@@ -204,39 +291,91 @@ inline void volillum::AxisCell(int n, double u, int& index, float& fraction)
   fraction = n > 1 ? static_cast<float>(c - index) : 0.0f;
 }
 
+template <typename T>
 inline float volillum::Interpolate(
-  const GridGeometry& geometry, const float* field, int channels, const TrilinearCell& cell, int c)
+  const GridGeometry& geometry, const T* field, int channels, const TrilinearCell& cell, int c)
 {
   const FieldLayout layout(geometry, channels);
-  const float* q = field + layout.Offset(cell.Index) + c;
+  const T* q = field + layout.Offset(cell.Index) + c;
   return TrilinearInCell(q, layout.Corner[0], layout.Corner[1], layout.Corner[2], cell.Fraction[0],
     cell.Fraction[1], cell.Fraction[2]);
 }
 
-inline float volillum::TrilinearInCell(
-  const float* q, long long dx, long long dy, long long dz, float fx, float fy, float fz)
+inline float volillum::Interpolate(const GridGeometry& geometry, const PackedValue* field,
+  int channels, const TrilinearCell& cell, int c)
 {
-  const float c00 = q[0] + fx * (q[dx] - q[0]);
-  const float c10 = q[dy] + fx * (q[dy + dx] - q[dy]);
-  const float c01 = q[dz] + fx * (q[dz + dx] - q[dz]);
-  const float c11 = q[dz + dy] + fx * (q[dz + dy + dx] - q[dz + dy]);
+  const FieldLayout layout(geometry, channels);
+  const PackedValue* q = field + layout.Offset(cell.Index) + c;
+  if (layout.Corner[0] == 1)
+  {
+    return TrilinearInPackedCell(
+      q, layout.Corner[1], layout.Corner[2], cell.Fraction[0], cell.Fraction[1], cell.Fraction[2]);
+  }
+  return TrilinearInCell(q, layout.Corner[0], layout.Corner[1], layout.Corner[2], cell.Fraction[0],
+    cell.Fraction[1], cell.Fraction[2]);
+}
+
+template <typename T>
+inline float volillum::TrilinearInCell(
+  const T* q, long long dx, long long dy, long long dz, float fx, float fy, float fz)
+{
+  auto at = [q](long long offset) { return Unpack(q[offset]); };
+  const float c00 = at(0) + fx * (at(dx) - at(0));
+  const float c10 = at(dy) + fx * (at(dy + dx) - at(dy));
+  const float c01 = at(dz) + fx * (at(dz + dx) - at(dz));
+  const float c11 = at(dz + dy) + fx * (at(dz + dy + dx) - at(dz + dy));
   const float c0 = c00 + fy * (c10 - c00);
   const float c1 = c01 + fy * (c11 - c01);
   return c0 + fz * (c1 - c0);
 }
 
+inline float volillum::TrilinearInPackedCell(
+  const PackedValue* q, long long dy, long long dz, float fx, float fy, float fz)
+{
+#if defined(__SSE2__)
+  // Lanes hold the values TrilinearInCell combines, combined by the same operations: the
+  // same result to the bit.
+  auto pair = [q](long long offset)
+  {
+    std::int32_t both;
+    std::memcpy(&both, q + offset, sizeof(both));
+    return _mm_cvtsi32_si128(both);
+  };
+  const __m128i codes = _mm_unpacklo_epi64(
+    _mm_unpacklo_epi32(pair(0), pair(dy)), _mm_unpacklo_epi32(pair(dz), pair(dz + dy)));
+  const __m128i zero = _mm_setzero_si128();
+  // q[0], q[dx], q[dy], q[dy + dx] and the same from q[dz].
+  const __m128 near = _mm_castsi128_ps(_mm_slli_epi32(_mm_unpacklo_epi16(codes, zero), 13));
+  const __m128 far = _mm_castsi128_ps(_mm_slli_epi32(_mm_unpackhi_epi16(codes, zero), 13));
+  const __m128 first = _mm_shuffle_ps(near, far, _MM_SHUFFLE(2, 0, 2, 0));
+  const __m128 next = _mm_shuffle_ps(near, far, _MM_SHUFFLE(3, 1, 3, 1));
+  // c00, c10, c01, c11, then c0, c1.
+  const __m128 x = _mm_add_ps(first, _mm_mul_ps(_mm_set1_ps(fx), _mm_sub_ps(next, first)));
+  const __m128 low = _mm_shuffle_ps(x, x, _MM_SHUFFLE(2, 0, 2, 0));
+  const __m128 high = _mm_shuffle_ps(x, x, _MM_SHUFFLE(3, 1, 3, 1));
+  const __m128 y = _mm_add_ps(low, _mm_mul_ps(_mm_set1_ps(fy), _mm_sub_ps(high, low)));
+  const float c0 = _mm_cvtss_f32(y);
+  const float c1 = _mm_cvtss_f32(_mm_shuffle_ps(y, y, _MM_SHUFFLE(1, 1, 1, 1)));
+  return c0 + fz * (c1 - c0);
+#else
+  return TrilinearInCell(q, 1, dy, dz, fx, fy, fz);
+#endif
+}
+
+template <typename T>
 inline float volillum::TrilinearInCellSkippingZeros(
-  const float* q, long long dx, long long dy, long long dz, float fx, float fy, float fz)
+  const T* q, long long dx, long long dy, long long dz, float fx, float fy, float fz)
 {
   // Bilinear in the plane through r (linear along x where fy is 0).
-  auto plane = [=](const float* r)
+  auto plane = [=](const T* r)
   {
-    const float c0 = fx == 0.0f ? r[0] : r[0] + fx * (r[dx] - r[0]);
+    auto at = [r](long long offset) { return Unpack(r[offset]); };
+    const float c0 = fx == 0.0f ? at(0) : at(0) + fx * (at(dx) - at(0));
     if (fy == 0.0f)
     {
       return c0;
     }
-    const float c1 = fx == 0.0f ? r[dy] : r[dy] + fx * (r[dy + dx] - r[dy]);
+    const float c1 = fx == 0.0f ? at(dy) : at(dy) + fx * (at(dy + dx) - at(dy));
     return c0 + fy * (c1 - c0);
   };
   const float c0 = plane(q);

@@ -237,7 +237,7 @@ void MonotoneBicubicRow(const float* base, int width, int shiftU, int v, float f
 // Values + (i - Low) Stride[0] + j Stride[1] + k Stride[2] (Layout).
 struct ExtinctionSlab
 {
-  const float* Values = nullptr;
+  const PackedValue* Values = nullptr;
   FieldLayout Layout;
   int Low = 0, High = -1;
 
@@ -253,7 +253,7 @@ struct ExtinctionSlab
   // Whether it holds the points of a cell whose first point along x is i.
   bool HoldsCell(int i) const { return this->Low <= i && i + 1 <= this->High; }
   // The first value of a cell it holds.
-  const float* Cell(const int index[3]) const
+  const PackedValue* Cell(const int index[3]) const
   {
     return this->Values + (this->Layout.Offset(index) - this->Low * this->Layout.Stride[0]);
   }
@@ -404,9 +404,10 @@ inline bool OnFaceAcross(const double bounds[6], int a, double x)
   return std::abs(x - bounds[2 * a]) <= tolerance || std::abs(x - bounds[2 * a + 1]) <= tolerance;
 }
 
-// One midpoint sample (in `cell`, step length h) of a segment: without chromatic
-// attenuation every channel keeps exp(-sigma h), so the optical depth is summed (depth) and
-// applied once per segment (ApplyDepth); with it, out is multiplied per channel.
+// One midpoint sample (in `cell`, step length h given as ClassifiedVolume::ScaledStep) of a
+// segment: without chromatic attenuation every channel keeps exp(-sigma h), so the optical
+// depth is summed (depth) and applied once per segment (ApplyDepth); with it, out is
+// multiplied per channel.
 inline void AttenuateBySample(
   const SweepContext& s, const TrilinearCell& cell, float h, float& depth, float out[3])
 {
@@ -414,14 +415,14 @@ inline void AttenuateBySample(
   {
     return;
   }
-  const GridGeometry& g = s.Volume.Geometry;
-  const float* field = s.Volume.Properties.data();
-  const float sigma = Interpolate(g, field, s.Volume.Channels, cell, 0);
+  const ClassifiedVolume& v = s.Volume;
+  const PackedValue* field = v.Properties.data();
+  const float sigma = Interpolate(v.Geometry, field, v.Channels, cell, 0);
   if (!(sigma > 0.0f))
   {
     return;
   }
-  if (!s.Volume.IsChromatic())
+  if (!v.IsChromatic())
   {
     depth += sigma * h;
     return;
@@ -429,7 +430,7 @@ inline void AttenuateBySample(
   const float a = 1.0f - std::exp(-sigma * h);
   for (int ch = 0; ch < 3; ++ch)
   {
-    out[ch] *= 1.0f - a * Interpolate(g, field, 4, cell, 1 + ch);
+    out[ch] *= 1.0f - a * Interpolate(v.Geometry, field, 4, cell, 1 + ch) * v.Scale[1 + ch];
   }
 }
 
@@ -475,7 +476,7 @@ void SegmentTransmittance(
     first[a] = (p[a] - (from + 0.5 * h) * d[a] - g.Origin[a]) / g.Spacing[a];
     step[a] = -h * d[a] / g.Spacing[a];
   }
-  const float hf = static_cast<float>(h);
+  const float hf = s.Volume.ScaledStep(h);
   float depth = 0.0f;
   for (int m = 0; m < n; ++m)
   {
@@ -488,12 +489,13 @@ void SegmentTransmittance(
 // Most steps of a segment that RowSegments integrates as part of a row.
 constexpr int MaximumRowSteps = 64;
 
-// Adds h x sigma (sigma interpolated at the fractions fx, fy, fz of the cells whose first
-// points are q + i step, corner offsets dx, dy, dz) to depth[i] for the `count` rays of a
-// row: AttenuateBySample's sum without its branches (the extinction is 0 in an empty block
-// and never negative, so the sums are the same), a loop the compiler vectorises.
-inline void AddRowDepths(const float* q, long long step, long long dx, long long dy, long long dz,
-  float fx, float fy, float fz, float h, int count, float* depth)
+// Adds h x sigma (sigma unpacked and interpolated at the fractions fx, fy, fz of the cells
+// whose first points are q + i step, corner offsets dx, dy, dz; h a ScaledStep) to depth[i]
+// for the `count` rays of a row: AttenuateBySample's sum without its branches (the
+// extinction is 0 in an empty block and never negative, so the sums are the same), a loop
+// the compiler vectorises.
+inline void AddRowDepths(const PackedValue* q, long long step, long long dx, long long dy,
+  long long dz, float fx, float fy, float fz, float h, int count, float* depth)
 {
   for (int i = 0; i < count; ++i)
   {
@@ -504,9 +506,10 @@ inline void AddRowDepths(const float* q, long long step, long long dx, long long
 
 // AddRowDepths for rays a fractional number of cells apart along axis B: ray i samples the
 // cell `cell` except along B, where it lies at grid coordinate u0 + i ratio (never below 0
-// nor at the last point). q: the cell's first point with index 0 along B.
-template <int B>
-void AddFractionalRowDepths(const float* q, long long strideB, long long dx, long long dy,
+// nor at the last point). q: the cell's first point with index 0 along B. Adjacent: dx is 1
+// (TrilinearInPackedCell).
+template <int B, bool Adjacent>
+void AddFractionalRowDepths(const PackedValue* q, long long strideB, long long dx, long long dy,
   long long dz, const TrilinearCell& cell, double u0, double ratio, float h, int count,
   float* depth)
 {
@@ -518,27 +521,45 @@ void AddFractionalRowDepths(const float* q, long long strideB, long long dx, lon
     const float fx = B == 0 ? f : cell.Fraction[0];
     const float fy = B == 1 ? f : cell.Fraction[1];
     const float fz = B == 2 ? f : cell.Fraction[2];
-    const float sigma = TrilinearInCell(q + index * strideB, dx, dy, dz, fx, fy, fz);
+    const PackedValue* r = q + index * strideB;
+    const float sigma = Adjacent ? TrilinearInPackedCell(r, dy, dz, fx, fy, fz)
+                                 : TrilinearInCell(r, dx, dy, dz, fx, fy, fz);
     depth[i] += (sigma > 0.0f ? sigma : 0.0f) * h;
   }
 }
 
+// AddFractionalRowDepths along axis B, for adjacent values along x or not.
+template <int B>
+void AddFractionalRowDepthsAlong(const PackedValue* q, long long strideB, long long dx,
+  long long dy, long long dz, const TrilinearCell& cell, double u0, double ratio, float h,
+  int count, float* depth)
+{
+  if (dx == 1)
+  {
+    AddFractionalRowDepths<B, true>(q, strideB, dx, dy, dz, cell, u0, ratio, h, count, depth);
+  }
+  else
+  {
+    AddFractionalRowDepths<B, false>(q, strideB, dx, dy, dz, cell, u0, ratio, h, count, depth);
+  }
+}
+
 // AddFractionalRowDepths along axis b (0, 1 or 2).
-void AddFractionalRowDepthsAlong(int b, const float* q, long long strideB, long long dx,
+void AddFractionalRowDepthsAlong(int b, const PackedValue* q, long long strideB, long long dx,
   long long dy, long long dz, const TrilinearCell& cell, double u0, double ratio, float h,
   int count, float* depth)
 {
   if (b == 0)
   {
-    AddFractionalRowDepths<0>(q, strideB, dx, dy, dz, cell, u0, ratio, h, count, depth);
+    AddFractionalRowDepthsAlong<0>(q, strideB, dx, dy, dz, cell, u0, ratio, h, count, depth);
   }
   else if (b == 1)
   {
-    AddFractionalRowDepths<1>(q, strideB, dx, dy, dz, cell, u0, ratio, h, count, depth);
+    AddFractionalRowDepthsAlong<1>(q, strideB, dx, dy, dz, cell, u0, ratio, h, count, depth);
   }
   else
   {
-    AddFractionalRowDepths<2>(q, strideB, dx, dy, dz, cell, u0, ratio, h, count, depth);
+    AddFractionalRowDepthsAlong<2>(q, strideB, dx, dy, dz, cell, u0, ratio, h, count, depth);
   }
 }
 
@@ -552,9 +573,9 @@ bool RowCellsEmpty(const SweepContext& s, const int cell[3], int first, int last
 
 // AddFractionalRowDepthsAlong(s.B, ...) for rays [0, count) whose positions along B
 // increase (ratio > 0), left out when their cells all lie in empty blocks.
-void AddFractionalRowDepthsOutsideEmpty(const SweepContext& s, const float* q, long long strideB,
-  long long dx, long long dy, long long dz, const TrilinearCell& cell, double u0, double ratio,
-  float h, int count, float* depth)
+void AddFractionalRowDepthsOutsideEmpty(const SweepContext& s, const PackedValue* q,
+  long long strideB, long long dx, long long dy, long long dz, const TrilinearCell& cell, double u0,
+  double ratio, float h, int count, float* depth)
 {
   // The cells along B of the first and last rays, as AddFractionalRowDepths finds them.
   if (s.Empty && ratio > 0.0 &&
@@ -589,10 +610,10 @@ void GreyRowTransmittance(const SweepContext& s, const TrilinearCell* cells, con
                       dz = view.Layout.Corner[2];
       const long long step = shift * stride[s.B];
       // The first value of ray 0's cell.
-      const float* first = view.Cell(c.Index);
+      const PackedValue* first = view.Cell(c.Index);
       if (!whole)
       {
-        const float* q = first - c.Index[s.B] * stride[s.B]; // index 0 along B
+        const PackedValue* q = first - c.Index[s.B] * stride[s.B]; // index 0 along B
         const double u0 = alongB[m] + begin * ratio;
         AddFractionalRowDepthsOutsideEmpty(
           s, q, stride[s.B], dx, dy, dz, c, u0, ratio, h, size, depth);
@@ -604,7 +625,7 @@ void GreyRowTransmittance(const SweepContext& s, const TrilinearCell* cells, con
       {
         continue;
       }
-      const float* q = first + begin * step;
+      const PackedValue* q = first + begin * step;
       const float fx = c.Fraction[0], fy = c.Fraction[1], fz = c.Fraction[2];
       if (step == 1)
       {
@@ -695,7 +716,7 @@ void RowSegments(const SweepContext& s, const double p[3], double spacing, int c
       alongB[m] = u[s.B];
     }
   }
-  const float hf = static_cast<float>(h);
+  const float hf = s.Volume.ScaledStep(h);
   const bool grey = !s.Volume.IsChromatic();
   if (grey && first <= last)
   {
@@ -836,14 +857,14 @@ void DivergingRowSegments(const SweepContext& s, const double* p, const double* 
         v[a] = lastStart[a] + m * lastStep[a];
       }
       const TrilinearCell cell = CellAt(g, u);
-      const float* q = entire.Cell(cell.Index) - cell.Index[s.B] * layout.Stride[s.B];
+      const PackedValue* q = entire.Cell(cell.Index) - cell.Index[s.B] * layout.Stride[s.B];
       AddFractionalRowDepthsOutsideEmpty(s, q, layout.Stride[s.B], layout.Corner[0],
         layout.Corner[1], layout.Corner[2], cell, u[s.B], (v[s.B] - u[s.B]) / (size - 1), 1.0f,
         size, depth);
     }
     for (int i = 0; i < size; ++i)
     {
-      ApplyDepth(1, static_cast<float>(length[first + i] / steps[first]) * depth[i],
+      ApplyDepth(1, s.Volume.ScaledStep(length[first + i] / steps[first]) * depth[i],
         out + s.Channels * (first + i));
     }
     first = last + 1;
@@ -1494,7 +1515,7 @@ struct SweepSlices
   // A sweep along x with a directional source and without chromatic attenuation copies the
   // extinction its next slices reach into SlabValues (rows along y contiguous), so that the
   // lattice's row kernel reads the volume as it does in other sweeps (CopySlab).
-  std::vector<float> SlabValues;
+  std::vector<PackedValue> SlabValues;
 
   // A thread's row buffers, per source: the light reaching each pixel, its direction and
   // group factor (point and spot sources only); and a deposit's factors (DepositRow).
@@ -1548,7 +1569,7 @@ struct SweepSlices
       const size_t points = std::min<size_t>(
         static_cast<size_t>(std::ceil(cells)) + 4, static_cast<size_t>(v.Dimensions[0]));
       this->SlabValues.resize(points * v.Dimensions[1] * v.Dimensions[2]);
-      bytes += this->SlabValues.size() * sizeof(float);
+      bytes += this->SlabValues.size() * sizeof(PackedValue);
     }
     statistics.PeakBufferBytes = std::max(statistics.PeakBufferBytes, bytes);
   }
@@ -1587,8 +1608,8 @@ struct SweepSlices
     const GridGeometry& v = s.Volume.Geometry;
     const ExtinctionSlab& slab = s.Slab;
     const long long nx = v.Dimensions[0], ny = v.Dimensions[1];
-    const float* in = s.Volume.Properties.data() + nx * ny * z;
-    float* out = this->SlabValues.data() + ny * z;
+    const PackedValue* in = s.Volume.Properties.data() + nx * ny * z;
+    PackedValue* out = this->SlabValues.data() + ny * z;
     for (long long y = 0; y < ny; ++y)
     {
       if (y + RowsAhead < ny)

@@ -168,6 +168,7 @@ void RowSegmentOpticalDepths(const ClassifiedVolume& volume, const double* x, in
   const int n =
     std::max(1, static_cast<int>(std::ceil(length / g.MinimumSpacing() - GeometricTolerance)));
   const double h = length / n;
+  const double hs = h * volume.Scale[0]; // an unpacked extinction's optical depth over h
   // Steps in grid coordinates; only the channels asked for are interpolated.
   double step[3];
   for (int a = 0; a < 3; ++a)
@@ -200,7 +201,8 @@ void RowSegmentOpticalDepths(const ClassifiedVolume& volume, const double* x, in
       float fy, fz;
       AxisCell(g.Dimensions[1], firstY + m * step[1], iy, fy);
       AxisCell(g.Dimensions[2], firstZ + m * step[2], iz, fz);
-      const float* row = volume.Properties.data() + iy * layout.Stride[1] + iz * layout.Stride[2];
+      const PackedValue* row =
+        volume.Properties.data() + iy * layout.Stride[1] + iz * layout.Stride[2];
       const long long blocks = empty ? empty->Row(iy, iz) : 0;
       for (int i = 0; i < size; ++i)
       {
@@ -212,9 +214,9 @@ void RowSegmentOpticalDepths(const ClassifiedVolume& volume, const double* x, in
         {
           continue;
         }
-        const float* q = row + ix[i] * layout.Stride[0];
+        const PackedValue* q = row + ix[i] * layout.Stride[0];
         double* out = depth + 3 * (begin + i);
-        const double sigma = TrilinearInCellSkippingZeros(q, dx, dy, dz, fx[i], fy, fz) * h;
+        const double sigma = TrilinearInCellSkippingZeros(q, dx, dy, dz, fx[i], fy, fz) * hs;
         if (!chromatic)
         {
           out[0] += sigma;
@@ -222,7 +224,8 @@ void RowSegmentOpticalDepths(const ClassifiedVolume& volume, const double* x, in
         }
         for (int c = 0; c < 3; ++c)
         {
-          out[c] += sigma * TrilinearInCellSkippingZeros(q + 1 + c, dx, dy, dz, fx[i], fy, fz);
+          out[c] += sigma * TrilinearInCellSkippingZeros(q + 1 + c, dx, dy, dz, fx[i], fy, fz) *
+            volume.Scale[1 + c];
         }
       }
     }

@@ -151,7 +151,7 @@ void CartesianSAT::Build(const ClassifiedVolume& data, const SatFrame& frame, do
   const double eps = GeometricTolerance * std::max(bounds[1] - bounds[0], 1.0);
   const double volume = cellSize * cellSize * cellSize;
   const auto& g = data.Geometry;
-  const float* field = data.Properties.data();
+  const PackedValue* field = data.Properties.data();
   const bool chromatic = channels == 3 && data.IsChromatic();
   const FieldLayout layout(g, data.Channels);
   const long long dx = layout.Corner[0], dy = layout.Corner[1], dz = layout.Corner[2];
@@ -204,13 +204,15 @@ void CartesianSAT::Build(const ClassifiedVolume& data, const SatFrame& frame, do
               }
               continue;
             }
-            const float* q = field + layout.Offset(cell.Index);
+            const PackedValue* q = field + layout.Offset(cell.Index);
             const auto& f = cell.Fraction;
-            const float sigma = TrilinearInCellSkippingZeros(q, dx, dy, dz, f[0], f[1], f[2]);
+            const double sigma =
+              TrilinearInCellSkippingZeros(q, dx, dy, dz, f[0], f[1], f[2]) * data.Scale[0];
             for (int c = 0; c < channels; ++c)
             {
               const double absorb = chromatic
-                ? TrilinearInCellSkippingZeros(q + 1 + c, dx, dy, dz, f[0], f[1], f[2])
+                ? TrilinearInCellSkippingZeros(q + 1 + c, dx, dy, dz, f[0], f[1], f[2]) *
+                  static_cast<double>(data.Scale[1 + c])
                 : 1.0;
               this->Table.SetCell(c, i, j, k, sigma * absorb * volume);
             }

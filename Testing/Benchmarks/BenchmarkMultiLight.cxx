@@ -349,11 +349,11 @@ json AgainstReference(const Volume& v, double scale)
   const double materialRms = volillumfidelity::MaterialRms(propagated, got, exact);
   const double wholeRms = volillumtest::RmsRelative(got, exact);
 
-  // A sweep reads the classified grid (4 bytes a point, extinction only) and reads and
+  // A sweep reads the classified grid (2 bytes a point, extinction only) and reads and
   // writes the fixed-point illumination (2 x 12 bytes); the conversion to float reads 12 and
   // writes 12.
   const double points = static_cast<double>(reference->GetOutput()->GetNumberOfPoints());
-  const double bytes = points * (passes * (4.0 + 24.0) + 24.0);
+  const double bytes = points * (passes * (2.0 + 24.0) + 24.0);
   const size_t copyBytes = 256u << 20;
   std::vector<char> from(copyBytes, 1), to(copyBytes, 0);
   const double copySeconds = Seconds(

@@ -23,8 +23,9 @@ using namespace volillum;
 
 namespace
 {
-// Extinction per unit length inside the slab, and its planes (grid indices along z).
-constexpr double SlabSigma = 0.05;
+// Extinction per unit length inside the slab (13/256: stored exactly, as PackedValue keeps 11
+// significant bits), and its planes (grid indices along z).
+constexpr double SlabSigma = 0.05078125;
 constexpr int SlabBegin = 10, SlabEnd = 20;
 
 // A 9 x 9 x 33 grid of unit spacing with extinction SlabSigma at the points with
@@ -36,17 +37,18 @@ ClassifiedVolume Slab()
   v.Geometry.Spacing = { { 1.0, 1.0, 1.0 } };
   v.Geometry.Origin = { { 0.0, 0.0, 0.0 } };
   v.Channels = 1;
-  v.Properties.assign(static_cast<size_t>(v.Geometry.NumberOfPoints()), 0.0f);
+  std::vector<float> values(static_cast<size_t>(v.Geometry.NumberOfPoints()), 0.0f);
   for (int k = SlabBegin; k <= SlabEnd; ++k)
   {
     for (int j = 0; j < 9; ++j)
     {
       for (int i = 0; i < 9; ++i)
       {
-        v.Properties[i + 9 * (j + 9 * k)] = static_cast<float>(SlabSigma);
+        values[i + 9 * (j + 9 * k)] = static_cast<float>(SlabSigma);
       }
     }
   }
+  v.Store(values);
   return v;
 }
 
@@ -133,6 +135,79 @@ TEST(Kernels, ForStepsRunsDependentStepsInOrder)
               << std::endl;
   }
   vtkSMPTools::SetBackend(original.c_str());
+}
+
+TEST(Kernels, PackedClassificationKeepsElevenSignificantBits)
+{
+  // Values spread over 70 binary orders of magnitude below the largest, stored and read
+  // back: 0 exactly, within 2^-11 of the value over the 61 orders below the largest, 0 (or
+  // within 2^-11) under those, and codes ordered as the values.
+  ClassifiedVolume v;
+  v.Geometry.Dimensions = { { 64, 64, 1 } };
+  v.Channels = 4;
+  std::vector<float> values(4 * 64 * 64);
+  const double largest = 3.7e5;
+  for (size_t i = 0; i < values.size(); ++i)
+  {
+    const int c = static_cast<int>(i % 4);
+    const double top = c == 0 ? largest : 1.0;
+    values[i] = i < 4 ? 0.0f : static_cast<float>(top * std::exp2(-70.0 * (i % 1001) / 1000.0));
+  }
+  values[0] = static_cast<float>(largest);
+  values[1] = 1.0f;
+  v.Store(values);
+  double worst = 0.0;
+  for (size_t i = 1; i < values.size(); ++i)
+  {
+    const int c = static_cast<int>(i % 4);
+    const double top = c == 0 ? largest : 1.0;
+    const double got = v.Value(i), want = values[i];
+    if (want >= top * std::exp2(-61.0))
+    {
+      worst = std::max(worst, std::abs(got - want) / want);
+    }
+    else
+    {
+      EXPECT_TRUE(got == 0.0 || std::abs(got - want) <= std::exp2(-11.0) * want) << i;
+    }
+    if (i >= 4 && values[i] > values[i - 4])
+    {
+      EXPECT_GE(v.Properties[i], v.Properties[i - 4]);
+    }
+  }
+  std::cout << "packed classification: largest relative rounding " << worst << std::endl;
+  EXPECT_LE(worst, std::exp2(-11.0));
+  EXPECT_GT(worst, std::exp2(-13.0)); // values are rounded, not kept as floats
+  EXPECT_EQ(v.Value(1), 1.0f);        // k_c = 1 (no absorption colour) is exact
+  EXPECT_NEAR(v.MaxExtinction(), largest, std::exp2(-11.0) * largest);
+
+  // The paired read (TrilinearInPackedCell) equals TrilinearInCell to the bit.
+  const long long dy = 64, dz = 64 * 64;
+  std::vector<PackedValue> codes(2 * dz);
+  for (size_t i = 0; i < codes.size(); ++i)
+  {
+    codes[i] = v.Properties[(i * 7919) % v.Properties.size()];
+  }
+  int unequal = 0;
+  for (int i = 0; i < 4000; ++i)
+  {
+    const PackedValue* q = codes.data() + (i * 104729) % (dz - dy - 1);
+    const float fx = (i % 17) / 16.0f, fy = (i % 13) / 12.3f, fz = (i % 11) / 10.7f;
+    unequal +=
+      TrilinearInPackedCell(q, dy, dz, fx, fy, fz) != TrilinearInCell(q, 1, dy, dz, fx, fy, fz);
+  }
+  EXPECT_EQ(unequal, 0);
+
+  // Extinctions beyond MaximumSigma are stored as it; NaN and negative values as 0.
+  ClassifiedVolume w;
+  w.Geometry.Dimensions = { { 4, 1, 1 } };
+  w.Channels = 1;
+  w.Store({ 1e30f, std::nanf(""), -2.0f, 1.0f });
+  EXPECT_NEAR(w.Value(0), ClassifiedVolume::MaximumSigma, std::exp2(-11.0) * 1e18);
+  EXPECT_EQ(w.Value(1), 0.0f);
+  EXPECT_EQ(w.Value(2), 0.0f);
+  EXPECT_NEAR(w.Value(3), 1.0, std::exp2(-11.0));
+  EXPECT_TRUE(std::isfinite(w.ScaledStep(1e30)));
 }
 
 TEST(Kernels, RayMarchThroughASlabIsItsAnalyticTransmittance)

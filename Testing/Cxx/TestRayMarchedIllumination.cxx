@@ -608,7 +608,9 @@ TEST(RayMarchedIllumination, SegmentOpticalDepthIntegratesTheSlab)
   ASSERT_TRUE(
     volillum::Classify(slab->GetPointData()->GetScalars(), geometry, settings, classified, error));
   const volillum::EmptyBlocks empty(classified);
-  const double sigma = -std::log(1.0 - SlabOpacity);
+  // The slab's extinction as classified (11 significant bits, PackedValue).
+  const double sigma = classified.MaxExtinction();
+  EXPECT_NEAR(sigma, -std::log(1.0 - SlabOpacity), std::exp2(-11.0) * sigma);
   const double down[3] = { 0.0, 0.0, -1.0 };
   const double oblique[3] = { 0.6, 0.0, 0.8 };
   struct Segment

@@ -25,14 +25,15 @@ ClassifiedVolume RandomVolume(int nx, int ny, int nz, double spacing, int seed)
   v.Geometry.Dimensions = { { nx, ny, nz } };
   v.Geometry.Spacing = { { spacing, spacing, spacing } };
   v.Geometry.Origin = { { -1.0, 2.0, 0.5 } };
-  v.Properties.resize(4 * static_cast<size_t>(v.Geometry.NumberOfPoints()));
+  std::vector<float> values(4 * static_cast<size_t>(v.Geometry.NumberOfPoints()));
   vtkNew<vtkMinimalStandardRandomSequence> random;
   random->SetSeed(seed);
-  for (auto& x : v.Properties)
+  for (auto& x : values)
   {
     random->Next();
     x = static_cast<float>(random->GetValue());
   }
+  v.Store(values);
   return v;
 }
 
@@ -188,7 +189,7 @@ TEST(SummedAreaTable, EmptyBlocksLeaveTheTableAsItIs)
   {
     if ((point / 26) % 21 < 11)
     {
-      v.Properties[static_cast<size_t>(4 * point)] = 0.0f;
+      v.Properties[static_cast<size_t>(4 * point)] = 0; // the code of 0
     }
   }
   const EmptyBlocks empty(v);
@@ -429,7 +430,7 @@ TEST(SummedAreaTable, KernelsAgreeWhereTheMediumIsLaterallyUniform)
   const long long nx = 12, ny = 12;
   for (long long id = 0; id < v.Geometry.NumberOfPoints(); ++id)
   {
-    v.Properties[4 * id] = 0.05f * static_cast<float>(1 + (id / (nx * ny)) % 5);
+    v.Properties[4 * id] = v.Pack(0, 0.05 * (1 + (id / (nx * ny)) % 5));
   }
   const double up[3] = { 0, 0, 1 };
   CartesianSAT sat;
@@ -454,12 +455,13 @@ TEST(SummedAreaTable, SphericalTablesIntegrateAUniformMediumFromTheLight)
   // there.
   ClassifiedVolume v;
   v.Geometry.Dimensions = { { 32, 32, 32 } };
-  v.Properties.assign(4 * static_cast<size_t>(v.Geometry.NumberOfPoints()), 1.0f);
-  const double sigma = 0.05;
-  for (size_t i = 0; i < v.Properties.size(); i += 4)
+  std::vector<float> values(4 * static_cast<size_t>(v.Geometry.NumberOfPoints()), 1.0f);
+  const double sigma = 0.0625; // exactly stored (PackedValue)
+  for (size_t i = 0; i < values.size(); i += 4)
   {
-    v.Properties[i] = static_cast<float>(sigma);
+    values[i] = static_cast<float>(sigma);
   }
+  v.Store(values);
   double bounds[6];
   v.Geometry.GetBounds(bounds);
   vtkNew<vtkMinimalStandardRandomSequence> random;
