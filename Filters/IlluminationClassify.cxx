@@ -71,13 +71,13 @@ struct TransferTable
     }
   }
 
-  /// The largest values Lookup gives: sigma, k_r, k_g, k_b.
+  /// The largest values a point may get: sigma and k_c from Lookup; k_c 1 at NaN points.
   void Largest(double largest[4]) const
   {
     largest[0] = *std::max_element(this->Sigma.begin(), this->Sigma.end());
     for (int c = 0; c < 3; ++c)
     {
-      largest[1 + c] = 0.0;
+      largest[1 + c] = 1.0;
       for (int i = 0; i < Size; ++i)
       {
         largest[1 + c] = std::max(largest[1 + c], static_cast<double>(this->Absorb[3 * i + c]));

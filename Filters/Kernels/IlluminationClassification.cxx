@@ -54,14 +54,14 @@ void ClassifiedVolume::SetScales(const double largest[4])
   {
     // largest = m 2^e with m in [1/2, 1): scaled by 2^-(64 + e) it lies below 2^-64, and
     // rounding its code up keeps it below 2^-63. The exponent is kept where the scale is a
-    // normal float.
+    // normal float (larger values are clamped: MaximumSigma, k_c at most 1).
     int e = 0;
     const double value = c == 0 ? std::min(largest[c], MaximumSigma) : largest[c];
     if (value > 0.0 && std::isfinite(value))
     {
       std::frexp(value, &e);
     }
-    this->Scale[c] = static_cast<float>(std::ldexp(1.0, 64 + std::max(e, -190)));
+    this->Scale[c] = static_cast<float>(std::ldexp(1.0, 64 + std::min(std::max(e, -190), 62)));
   }
 }
 

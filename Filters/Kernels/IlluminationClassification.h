@@ -66,7 +66,7 @@ struct VOLILLUMKERNELS_EXPORT GridGeometry
 VOLILLUMKERNELS_EXPORT GridGeometry ScaledGeometry(const GridGeometry& data, double scale);
 
 /// Where the values of a point field on a grid lie: from a point to the next along each axis
-/// (Stride, in floats) and from a cell's first value to its next corner's along each axis
+/// (Stride, in values) and from a cell's first value to its next corner's along each axis
 /// (Corner: 0 along a flat axis, whose cells have one point).
 struct FieldLayout
 {
@@ -74,7 +74,7 @@ struct FieldLayout
   long long Corner[3] = { 0, 0, 0 };
 
   FieldLayout() = default;
-  /// A field with `channels` floats per grid point, x fastest.
+  /// A field with `channels` values per grid point, x fastest.
   FieldLayout(const GridGeometry& geometry, int channels)
     : FieldLayout(geometry,
         { channels, channels * static_cast<long long>(geometry.Dimensions[0]),
@@ -124,11 +124,11 @@ inline void AxisCell(int n, double u, int& index, float& fraction);
 /**
  * A classified value packed in 16 bits (ClassifiedVolume): the exponent and 10 mantissa bits
  * of a float below 2^-63 (its bits 13 to 28). Unpacking is a shift: 0 stays exactly 0, every
- * other value is a normal float in [2^-126, 2^-63), and interpolated sums of such values
- * stay normal. A volume stores each channel scaled by a power of two into that range
- * (ClassifiedVolume::Scale undoes it): 11 significant bits (rounding within 2^-11, 0.05 %,
- * of the value) over at least 61 binary orders of magnitude below the channel's largest
- * value; smaller values are stored as 0.
+ * other value is a normal float in [2^-126, 2^-63) (an interpolation near 0 may give a
+ * subnormal one, at most 2^-62 of the largest value). A volume stores each channel scaled by a
+ * power of two into that range (ClassifiedVolume::Scale undoes it): 11 significant bits (rounding
+ * within 2^-11, 0.05 %, of the value) over at least 61 binary orders of magnitude below the
+ * channel's largest value; smaller values are stored as 0.
  */
 using PackedValue = std::uint16_t;
 
@@ -193,7 +193,8 @@ struct VOLILLUMKERNELS_EXPORT ClassifiedVolume
   /// Whether k_c may differ from 1 (Channels 4).
   bool IsChromatic() const { return this->Channels == 4; }
 
-  /// Largest sigma a volume holds: larger values are stored as this (opaque either way).
+  /// Largest sigma a volume holds: larger values are stored as this (opaque over any step
+  /// longer than 1e-16: an optical depth of 100 or more).
   static constexpr double MaximumSigma = 1e18;
   /// Smallest nonzero unpacked value (2^-126, the smallest normal float).
   static constexpr float SmallestPacked = std::numeric_limits<float>::min();
@@ -345,10 +346,10 @@ inline float volillum::TrilinearInPackedCell(
     _mm_unpacklo_epi32(pair(0), pair(dy)), _mm_unpacklo_epi32(pair(dz), pair(dz + dy)));
   const __m128i zero = _mm_setzero_si128();
   // q[0], q[dx], q[dy], q[dy + dx] and the same from q[dz].
-  const __m128 near = _mm_castsi128_ps(_mm_slli_epi32(_mm_unpacklo_epi16(codes, zero), 13));
-  const __m128 far = _mm_castsi128_ps(_mm_slli_epi32(_mm_unpackhi_epi16(codes, zero), 13));
-  const __m128 first = _mm_shuffle_ps(near, far, _MM_SHUFFLE(2, 0, 2, 0));
-  const __m128 next = _mm_shuffle_ps(near, far, _MM_SHUFFLE(3, 1, 3, 1));
+  const __m128 planeZ0 = _mm_castsi128_ps(_mm_slli_epi32(_mm_unpacklo_epi16(codes, zero), 13));
+  const __m128 planeZ1 = _mm_castsi128_ps(_mm_slli_epi32(_mm_unpackhi_epi16(codes, zero), 13));
+  const __m128 first = _mm_shuffle_ps(planeZ0, planeZ1, _MM_SHUFFLE(2, 0, 2, 0));
+  const __m128 next = _mm_shuffle_ps(planeZ0, planeZ1, _MM_SHUFFLE(3, 1, 3, 1));
   // c00, c10, c01, c11, then c0, c1.
   const __m128 x = _mm_add_ps(first, _mm_mul_ps(_mm_set1_ps(fx), _mm_sub_ps(next, first)));
   const __m128 low = _mm_shuffle_ps(x, x, _MM_SHUFFLE(2, 0, 2, 0));

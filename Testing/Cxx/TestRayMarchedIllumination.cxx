@@ -451,6 +451,58 @@ TEST(RayMarchedIllumination, NaNScalarsAreEmptySpace)
   }
 }
 
+TEST(RayMarchedIllumination, ClassificationKeepsEachChannelsValues)
+{
+  // Chromatic classification of scalars 0 to 99 and NaN under a light colour map (k_c =
+  // 1 - colour at most 0.3): each channel is read back within 2^-11 of the transfer
+  // functions' values, and a NaN point has sigma 0 and k_c exactly 1 (above every k_c the
+  // map gives, which the channels' scales must still hold).
+  vtkNew<vtkFloatArray> scalars;
+  scalars->SetNumberOfTuples(101);
+  for (vtkIdType t = 0; t < 100; ++t)
+  {
+    scalars->SetValue(t, static_cast<float>(t));
+  }
+  scalars->SetValue(100, std::nanf(""));
+  vtkNew<vtkPiecewiseFunction> opacity;
+  opacity->AddPoint(0, 0.0);
+  opacity->AddPoint(99, 0.8);
+  vtkNew<vtkColorTransferFunction> colour;
+  colour->AddRGBPoint(0, 1.0, 0.9, 0.8);
+  colour->AddRGBPoint(99, 0.7, 0.9, 1.0);
+  volillum::ClassificationSettings settings;
+  settings.Opacity = opacity;
+  settings.Color = colour;
+  settings.Chromatic = true;
+  volillum::GridGeometry geometry;
+  geometry.Dimensions = { { 101, 1, 1 } };
+  volillum::ClassifiedVolume classified;
+  std::string error;
+  ASSERT_TRUE(volillum::Classify(scalars, geometry, settings, classified, error));
+  double worst = 0.0;
+  for (int t = 0; t < 100; ++t)
+  {
+    double rgb[3];
+    colour->GetColor(t, rgb);
+    const double sigma = -std::log1p(-opacity->GetValue(t));
+    // The transfer functions are tabulated (4096 entries): within 1e-4 of them.
+    const double tolerance = std::exp2(-11.0) * sigma + 1e-4;
+    EXPECT_NEAR(classified.Value(4 * t), sigma, tolerance) << t;
+    for (int c = 0; c < 3; ++c)
+    {
+      const double k = classified.Value(4 * t + 1 + c);
+      EXPECT_NEAR(k, 1.0 - rgb[c], std::exp2(-11.0) * (1.0 - rgb[c]) + 1e-4) << t;
+      worst = std::max(worst, std::abs(k - (1.0 - rgb[c])));
+    }
+  }
+  std::cout << "chromatic classification: largest k_c difference " << worst << std::endl;
+  EXPECT_EQ(classified.Value(400), 0.0f);
+  for (int c = 0; c < 3; ++c)
+  {
+    EXPECT_EQ(classified.Value(401 + c), 1.0f) << c;
+  }
+}
+
 TEST(RayMarchedIllumination, SkippingEmptyBlocksChangesNothing)
 {
   // The filter skips samples in empty blocks; marching every sample must give the same.

@@ -18,7 +18,8 @@ using namespace volillum;
 
 namespace
 {
-// A classified volume with random extinction and absorption.
+// A classified volume with random extinction (0 to 8) and absorption (0 to 1): channels of
+// different scales (ClassifiedVolume::Scale).
 ClassifiedVolume RandomVolume(int nx, int ny, int nz, double spacing, int seed)
 {
   ClassifiedVolume v;
@@ -28,10 +29,10 @@ ClassifiedVolume RandomVolume(int nx, int ny, int nz, double spacing, int seed)
   std::vector<float> values(4 * static_cast<size_t>(v.Geometry.NumberOfPoints()));
   vtkNew<vtkMinimalStandardRandomSequence> random;
   random->SetSeed(seed);
-  for (auto& x : values)
+  for (size_t i = 0; i < values.size(); ++i)
   {
     random->Next();
-    x = static_cast<float>(random->GetValue());
+    values[i] = static_cast<float>(random->GetValue() * (i % 4 == 0 ? 8.0 : 1.0));
   }
   v.Store(values);
   return v;
