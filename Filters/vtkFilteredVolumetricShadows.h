@@ -94,6 +94,7 @@ protected:
   vtkFilteredVolumetricShadows() = default;
   ~vtkFilteredVolumetricShadows() override = default;
 
+  bool LightsPointsIndependently() const override { return true; }
   bool ComputeIllumination(const volillum::ClassifiedVolume& volume,
     const std::vector<volillum::LightState>& lights, const volillum::GridGeometry& target,
     bool inputModified, float* rgb, UpdateReport& report) override;

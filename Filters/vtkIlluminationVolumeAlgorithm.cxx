@@ -255,11 +255,26 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
     this->Illuminate(input, output);
     return 1;
   }
-  // Light crosses every piece: light the whole image, output this process's part.
+  // Light crosses every piece: every process assembles the whole image. Filters that light
+  // points independently compute only this process's part of the illumination grid; the
+  // others light the whole grid and output that part.
   vtkImageData* whole = this->Distributed->Image(controller, this, input);
+  const bool piece = input && input->GetNumberOfPoints() > 0;
+  if (this->LightsPointsIndependently())
+  {
+    volillum::GridGeometry data, target;
+    if (piece && this->ValidGeometry(whole, data, target))
+    {
+      int extent[6];
+      volillum::TargetPieceExtent(
+        whole->GetExtent(), target.Dimensions.data(), input->GetExtent(), extent);
+      this->Illuminate(whole, output, extent);
+    }
+    return 1;
+  }
   vtkNew<vtkImageData> illuminated;
   this->Illuminate(whole, illuminated);
-  if (input && input->GetNumberOfPoints() > 0 && illuminated->GetNumberOfPoints() > 0)
+  if (piece && illuminated->GetNumberOfPoints() > 0)
   {
     int extent[6];
     volillum::TargetPieceExtent(
@@ -314,7 +329,8 @@ bool vtkIlluminationVolumeAlgorithm::UpdateClassification(
 }
 
 //------------------------------------------------------------------------------
-void vtkIlluminationVolumeAlgorithm::Illuminate(vtkImageData* input, vtkImageData* output)
+void vtkIlluminationVolumeAlgorithm::Illuminate(
+  vtkImageData* input, vtkImageData* output, const int* piece)
 {
   const auto start = std::chrono::steady_clock::now();
   volillum::GridGeometry data, target;
@@ -342,10 +358,24 @@ void vtkIlluminationVolumeAlgorithm::Illuminate(vtkImageData* input, vtkImageDat
     return;
   }
 
-  auto illumination = NewIlluminationArray(target.NumberOfPoints());
+  // The points lit: the illumination grid, or its part `piece`.
+  volillum::GridGeometry lit = target;
+  int extent[6] = { 0, target.Dimensions[0] - 1, 0, target.Dimensions[1] - 1, 0,
+    target.Dimensions[2] - 1 };
+  if (piece)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      extent[2 * a] = piece[2 * a];
+      extent[2 * a + 1] = piece[2 * a + 1];
+      lit.Dimensions[a] = piece[2 * a + 1] - piece[2 * a] + 1;
+      lit.Origin[a] = target.Origin[a] + piece[2 * a] * target.Spacing[a];
+    }
+  }
+  auto illumination = NewIlluminationArray(lit.NumberOfPoints());
   UpdateReport report;
   if (!this->ComputeIllumination(
-        this->Classified, lights, target, inputModified, illumination->GetPointer(0), report))
+        this->Classified, lights, lit, inputModified, illumination->GetPointer(0), report))
   {
     // Aborted: show what the last complete update produced.
     if (this->LastOutput)
@@ -355,7 +385,7 @@ void vtkIlluminationVolumeAlgorithm::Illuminate(vtkImageData* input, vtkImageDat
     return;
   }
 
-  output->SetDimensions(target.Dimensions.data());
+  output->SetExtent(extent);
   output->SetOrigin(target.Origin.data());
   output->SetSpacing(target.Spacing.data());
   output->SetDirectionMatrix(direction);

@@ -175,14 +175,22 @@ protected:
   using UpdateReport = volillum::UpdateReport;
 
   /**
-   * Compute the illumination of all lights on the illumination grid into rgb (3 floats a
-   * point, x fastest). inputModified tells whether the data or the classification changed
-   * since the last successful update. Return false when aborted: the output then stays as
-   * the last successful update left it.
+   * Compute the illumination of all lights on the illumination grid `target` (or, for filters
+   * that light points independently, on a part of it) into rgb (3 floats a point, x fastest).
+   * inputModified tells whether the data or the classification changed since the last successful
+   * update. Return false when aborted: the output then stays as the last successful update left it.
    */
   virtual bool ComputeIllumination(const volillum::ClassifiedVolume& volume,
     const std::vector<volillum::LightState>& lights, const volillum::GridGeometry& target,
     bool inputModified, float* rgb, UpdateReport& report) = 0;
+
+  /**
+   * Whether the illumination of a point depends only on its position (the classification and
+   * the lights), not on the other points of the grid (false by default: propagation sweeps
+   * the whole grid). ComputeIllumination may then be given any part of the illumination
+   * grid, and a parallel run computes only its own piece.
+   */
+  virtual bool LightsPointsIndependently() const { return false; }
 
   /// Add any further point arrays of the last computation to the output (none by default).
   virtual void AddOutputArrays(vtkPointData* vtkNotUsed(pointData)) {}
@@ -209,8 +217,10 @@ private:
   bool ValidGeometry(
     vtkImageData* input, volillum::GridGeometry& data, volillum::GridGeometry& target);
 
-  // Light the whole image input into output (the serial update).
-  void Illuminate(vtkImageData* input, vtkImageData* output);
+  // Light the whole image input into output (the serial update); with `piece` (an extent
+  // of the illumination grid, LightsPointsIndependently only) only the points of that
+  // extent.
+  void Illuminate(vtkImageData* input, vtkImageData* output, const int* piece = nullptr);
   // Classify the scalars (Scalars) on the data grid unless the cached classification was made
   // from the same input and settings (inputModified tells which); false after an error.
   bool UpdateClassification(const volillum::GridGeometry& data, bool& inputModified);

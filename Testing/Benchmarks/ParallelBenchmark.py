@@ -4,8 +4,10 @@ The engine resampled to 256^3 (../shared/data/volumes/engine.vti; --smoke: the C
 at 64^3) is lit at scale 1 by 4 oblique directional lights with pvbatch on 1 process and
 with `MPIEXEC -np 2 pvbatch`, each process single-threaded (Sequential SMP backend) so the
 comparison is fair on a 2-core machine. Printed: full update and one-light edit times on
-1 and 2 processes and their ratios (speed-up), the bytes each process receives when the
-data changes (the gathered pieces; a light edit sends only a one-integer reduction), and
+1 and 2 processes and their ratios (speed-up), the same for a full update of Filtered
+Volumetric Shadows (which lights only each process's piece), the bytes each process
+receives when the data changes (the gathered pieces; a light edit sends only a one-integer
+reduction), and
 the efficiency the planned block sweeps would reach at 8, 64 and 512 processes by the
 model of Documentation/parallel.md with this run's compute cost per voxel and light.
 Writes the figures as JSON with --json FILE.
@@ -59,11 +61,20 @@ def worker(plugin, volume):
     start = time.perf_counter()
     f.UpdatePipeline()
     edit = time.perf_counter() - start
+    # Filtered shadows light points independently: each process lights its own piece.
+    shadows = globals()["FilteredVolumetricShadows"](
+        Input=reader, ColorTransferFunction=GetColorTransferFunction(array),
+        OpacityFunction=pwf, ResolutionScale=1.0)
+    shadows.Scalars = ["POINTS", array]
+    shadows.Lights = lights(bounds, LIGHTS)
+    start = time.perf_counter()
+    shadows.UpdatePipeline()
+    filtered = time.perf_counter() - start
     from vtkmodules.vtkCommonCore import vtkDataArray
     info = reader.GetDataInformation()
     lit = info.GetPointDataInformation().GetArrayInformation(array)
     value = vtkDataArray.CreateDataArray(lit.GetDataType())
-    print("RESULT " + json.dumps({"full_s": full, "edit_s": edit,
+    print("RESULT " + json.dumps({"full_s": full, "edit_s": edit, "filtered_s": filtered,
                                   "points": info.GetNumberOfPoints(),
                                   "bytes": info.GetNumberOfPoints() *
                                   lit.GetNumberOfComponents() * value.GetDataTypeSize()}))
@@ -132,6 +143,8 @@ def main():
                "one_light_edit_s": {"1": one["edit_s"], "2": two["edit_s"]},
                "speedup_full": one["full_s"] / two["full_s"],
                "speedup_edit": one["edit_s"] / two["edit_s"],
+               "filtered_shadows_s": {"1": one["filtered_s"], "2": two["filtered_s"]},
+               "speedup_filtered_shadows": one["filtered_s"] / two["filtered_s"],
                "bytes_received_per_process_on_data_change": received,
                "compute_s_per_voxel_light_sweep": per_voxel_light,
                "model_1024_cubed": model(per_voxel_light)}
@@ -141,6 +154,8 @@ def main():
                                          results["speedup_full"]))
     print("%-22s %10.2f %10.2f %8.2f" % ("one-light edit (s)", one["edit_s"], two["edit_s"],
                                          results["speedup_edit"]))
+    print("%-22s %10.2f %10.2f %8.2f" % ("Filtered Vol. Shadows", one["filtered_s"],
+                                         two["filtered_s"], results["speedup_filtered_shadows"]))
     print("bytes each process receives when the data changes: %.1f MB (light edits: none)"
           % (received / 1e6))
     print("model of the planned block sweeps, 1024^3 (%.0f ns per voxel and light sweep):"
