@@ -1,4 +1,4 @@
-"""Benchmark of Multi-Light Illumination Volume under MPI (strong scaling), one run.
+"""Benchmark of the image filters under MPI (strong scaling), one run.
 
 The engine resampled to 256^3 (../shared/data/volumes/engine.vti; --smoke: the CT phantom
 at 64^3) is lit at scale 1 by 4 oblique directional lights with pvbatch on 1 process and
@@ -37,7 +37,8 @@ def lights(bounds, count, turn=0.0):
 
 
 def worker(plugin, volume):
-    """Times a full update and a one-light edit; prints one JSON line."""
+    """Times a full update and a one-light edit of the propagation and a full update of
+    filtered shadows; prints one JSON line."""
     from paraview.simple import (LoadPlugin, XMLImageDataReader, GetColorTransferFunction,
                                  GetOpacityTransferFunction)
     LoadPlugin(plugin, remote=False, ns=globals())
@@ -47,29 +48,28 @@ def worker(plugin, volume):
     bounds = reader.GetDataInformation().GetBounds()
     pwf = GetOpacityTransferFunction(array)
     pwf.Points = [0, 0, 0.5, 0, 80, 0, 0.5, 0, 255, 0.5, 0.5, 0]
-    f = globals()["MultiLightIlluminationVolume"](
-        Input=reader, ColorTransferFunction=GetColorTransferFunction(array),
-        OpacityFunction=pwf, ResolutionScale=1.0)
-    f.Scalars = ["POINTS", array]
-    f.Lights = lights(bounds, LIGHTS)
-    start = time.perf_counter()
-    f.UpdatePipeline()
-    full = time.perf_counter() - start
+
+    def filter_with_lights(name):
+        """The filter `name` at scale 1 with the benchmark's lights."""
+        f = globals()[name](Input=reader, ColorTransferFunction=GetColorTransferFunction(array),
+                            OpacityFunction=pwf, ResolutionScale=1.0)
+        f.Scalars = ["POINTS", array]
+        f.Lights = lights(bounds, LIGHTS)
+        return f
+
+    def seconds(f):
+        start = time.perf_counter()
+        f.UpdatePipeline()
+        return time.perf_counter() - start
+
+    f = filter_with_lights("MultiLightIlluminationVolume")
+    full = seconds(f)
     edited = lights(bounds, LIGHTS)
     edited[1:4] = lights(bounds, 1, turn=0.4)[1:4]
     f.Lights = edited
-    start = time.perf_counter()
-    f.UpdatePipeline()
-    edit = time.perf_counter() - start
+    edit = seconds(f)
     # Filtered shadows light points independently: each process lights its own piece.
-    shadows = globals()["FilteredVolumetricShadows"](
-        Input=reader, ColorTransferFunction=GetColorTransferFunction(array),
-        OpacityFunction=pwf, ResolutionScale=1.0)
-    shadows.Scalars = ["POINTS", array]
-    shadows.Lights = lights(bounds, LIGHTS)
-    start = time.perf_counter()
-    shadows.UpdatePipeline()
-    filtered = time.perf_counter() - start
+    filtered = seconds(filter_with_lights("FilteredVolumetricShadows"))
     from vtkmodules.vtkCommonCore import vtkDataArray
     info = reader.GetDataInformation()
     lit = info.GetPointDataInformation().GetArrayInformation(array)
