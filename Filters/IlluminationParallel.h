@@ -4,12 +4,15 @@
  *
  * Light crosses the whole domain: the light reaching a point depends on material held by
  * other processes. In this version every process assembles the whole input from the pieces
- * of all processes (collective calls of the filter's vtkMultiProcessController), computes
- * the whole illumination as the serial filter does, and outputs the part that belongs to
- * its own piece: the result equals the serial run's bit for bit, and selective updates
- * work as in a serial run (every process keeps the same state and does the same work).
- * Memory and time per process are those of the whole data; sweeps over the distributed
- * pieces are the planned next step (Documentation/parallel.md).
+ * of all processes (collective calls of the filter's vtkMultiProcessController) and
+ * outputs the part of the illumination that belongs to its own piece. The propagation
+ * computes the whole illumination as the serial filter does (every process keeps the same
+ * state, so selective updates work as in a serial run); filters that light points
+ * independently compute only the points of the piece. The result equals the serial run's
+ * (bit for bit in the tests; the points of a piece may differ from the serial grid's in the
+ * last bit of their coordinates). The input and its classification per process are those
+ * of the whole data; sweeps over the distributed pieces are the planned next step
+ * (Documentation/parallel.md).
  *
  * Every process must update the filter together (ParaView does: pipelines update on all
  * processes at once). A process with an empty piece takes part and outputs an empty piece.

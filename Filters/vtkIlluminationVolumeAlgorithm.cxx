@@ -262,8 +262,10 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
   const bool piece = input && input->GetNumberOfPoints() > 0;
   if (this->LightsPointsIndependently())
   {
+    // Checked on every process (an empty or invalid whole image is reported as in a
+    // serial run); lit where the piece has points.
     volillum::GridGeometry data, target;
-    if (piece && this->ValidGeometry(whole, data, target))
+    if (this->ValidGeometry(whole, data, target) && piece)
     {
       int extent[6];
       volillum::TargetPieceExtent(

@@ -148,13 +148,14 @@ def main():
                "bytes_received_per_process_on_data_change": received,
                "compute_s_per_voxel_light_sweep": per_voxel_light,
                "model_1024_cubed": model(per_voxel_light)}
-    print("Multi-Light Illumination Volume, %s, %d lights, one thread per process" % (name, LIGHTS))
+    print("Multi-Light Illumination Volume (propagation) and Filtered Volumetric Shadows, %s, "
+          "%d lights, one thread per process" % (name, LIGHTS))
     print("%-22s %10s %10s %8s" % ("", "1 process", "2", "speed-up"))
     print("%-22s %10.2f %10.2f %8.2f" % ("full update (s)", one["full_s"], two["full_s"],
                                          results["speedup_full"]))
     print("%-22s %10.2f %10.2f %8.2f" % ("one-light edit (s)", one["edit_s"], two["edit_s"],
                                          results["speedup_edit"]))
-    print("%-22s %10.2f %10.2f %8.2f" % ("Filtered Vol. Shadows", one["filtered_s"],
+    print("%-22s %10.2f %10.2f %8.2f" % ("filtered shadows (s)", one["filtered_s"],
                                          two["filtered_s"], results["speedup_filtered_shadows"]))
     print("bytes each process receives when the data changes: %.1f MB (light edits: none)"
           % (received / 1e6))
