@@ -255,21 +255,27 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
     this->Illuminate(input, output);
     return 1;
   }
-  // Light crosses every piece: every process assembles the whole image. Filters that light
-  // points independently compute only this process's part of the illumination grid; the
-  // others light the whole grid and output that part.
+  // Light crosses every piece: every process assembles the whole image (an empty or invalid
+  // one is reported as in a serial run). Filters that light points independently compute
+  // only this process's part of the illumination grid; the others light the whole grid and
+  // output that part.
   vtkImageData* whole = this->Distributed->Image(controller, this, input);
+  volillum::GridGeometry data, target;
+  if (!this->ValidGeometry(whole, data, target))
+  {
+    return 1;
+  }
   const bool piece = input && input->GetNumberOfPoints() > 0;
+  int extent[6];
+  if (piece)
+  {
+    volillum::TargetPieceExtent(
+      whole->GetExtent(), target.Dimensions.data(), input->GetExtent(), extent);
+  }
   if (this->LightsPointsIndependently())
   {
-    // Checked on every process (an empty or invalid whole image is reported as in a
-    // serial run); lit where the piece has points.
-    volillum::GridGeometry data, target;
-    if (this->ValidGeometry(whole, data, target) && piece)
+    if (piece)
     {
-      int extent[6];
-      volillum::TargetPieceExtent(
-        whole->GetExtent(), target.Dimensions.data(), input->GetExtent(), extent);
       this->Illuminate(whole, output, extent);
     }
     return 1;
@@ -278,9 +284,6 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
   this->Illuminate(whole, illuminated);
   if (piece && illuminated->GetNumberOfPoints() > 0)
   {
-    int extent[6];
-    volillum::TargetPieceExtent(
-      whole->GetExtent(), illuminated->GetDimensions(), input->GetExtent(), extent);
     output->ShallowCopy(illuminated);
     output->Crop(extent);
   }

@@ -188,11 +188,11 @@ bool vtkUnstructuredGridIllumination::Classify(vtkDataArray* scalars)
   for (size_t p = 0; p < np; ++p)
   {
     const size_t first = classified.Channels * p;
+    const double sigma = this->Absorption * classified.Value(first);
     for (int c = 0; c < nc; ++c)
     {
       const double absorb = nc == 3 ? classified.Value(first + 1 + c) : 1.0;
-      this->Extinction[nc * p + c] =
-        static_cast<float>(this->Absorption * classified.Value(first) * absorb);
+      this->Extinction[nc * p + c] = static_cast<float>(sigma * absorb);
     }
   }
   return true;

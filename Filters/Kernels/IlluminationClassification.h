@@ -232,10 +232,11 @@ struct VOLILLUMKERNELS_EXPORT ClassifiedVolume
       std::min(h * this->Scale[0], static_cast<double>(std::numeric_limits<float>::max())));
   }
 
-  /// Extinction at grid point `point` (x fastest).
+  /// Extinction at grid point `point` (x fastest): Value of channel 0, without its modulo
+  /// (EmptyBlocks reads every point).
   float Extinction(long long point) const
   {
-    return this->Value(static_cast<size_t>(this->Channels * point));
+    return Unpack(this->Properties[static_cast<size_t>(this->Channels * point)]) * this->Scale[0];
   }
 
   /// Trilinear interpolation of {sigma, k_r, k_g, k_b} at a world position (k_c 1 without
