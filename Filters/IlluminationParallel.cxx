@@ -3,6 +3,7 @@
 #include "vtkAlgorithm.h"
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
+#include "vtkCommunicator.h"
 #include "vtkDataSetAttributes.h"
 #include "vtkIdList.h"
 #include "vtkImageData.h"
@@ -21,6 +22,8 @@
 #include <cstring>
 #include <map>
 #include <unordered_map>
+#include <utility>
+#include <vector>
 
 namespace volillum
 {
@@ -203,6 +206,53 @@ void CellExtent(const int points[6], int cells[6])
     cells[2 * a + 1] = std::max(points[2 * a], points[2 * a + 1] - 1);
   }
 }
+
+// The values of a piece's attributes `from` (extent e) in the whole image's `to` (extent
+// whole, allocated by CopyAllocate from a piece with the same arrays): a block copy per row
+// along x where every array of `to` has one of the same name, type and components in
+// `from`, both in contiguous memory; else tuple by tuple (CopyStructuredData, ~40 times
+// slower for the image of 256^3 points measured).
+void CopyPiece(vtkDataSetAttributes* from, const int e[6], vtkDataSetAttributes* to,
+  const int whole[6], vtkIdType wholeTuples)
+{
+  const long long rowTuples = e[1] - e[0] + 1;
+  const long long pieceTuples = rowTuples * (e[3] - e[2] + 1) * (e[5] - e[4] + 1);
+  std::vector<std::pair<vtkDataArray*, vtkDataArray*>> pairs;
+  for (int i = 0; i < to->GetNumberOfArrays(); ++i)
+  {
+    vtkDataArray* out = to->GetArray(i);
+    const char* name = out ? out->GetName() : nullptr;
+    vtkDataArray* in = name ? from->GetArray(name) : nullptr;
+    if (!in || in->GetNumberOfTuples() != pieceTuples || in->GetDataType() != out->GetDataType() ||
+      in->GetNumberOfComponents() != out->GetNumberOfComponents() ||
+      !in->HasStandardMemoryLayout() || !out->HasStandardMemoryLayout())
+    {
+      to->CopyStructuredData(from, e, whole);
+      return;
+    }
+    pairs.emplace_back(in, out);
+  }
+  const long long nx = whole[1] - whole[0] + 1, ny = whole[3] - whole[2] + 1;
+  for (const auto& [in, out] : pairs)
+  {
+    if (out->GetNumberOfTuples() != wholeTuples)
+    {
+      out->SetNumberOfTuples(wholeTuples);
+    }
+    const size_t tuple = static_cast<size_t>(in->GetNumberOfComponents()) * in->GetDataTypeSize();
+    const auto* source = static_cast<const unsigned char*>(in->GetVoidPointer(0));
+    auto* target = static_cast<unsigned char*>(out->GetVoidPointer(0));
+    for (long long z = e[4]; z <= e[5]; ++z)
+    {
+      for (long long y = e[2]; y <= e[3]; ++y)
+      {
+        const long long at = (e[0] - whole[0]) + nx * ((y - whole[2]) + ny * (z - whole[4]));
+        std::memcpy(target + tuple * at, source, tuple * rowTuples);
+        source += tuple * rowTuples;
+      }
+    }
+  }
+}
 }
 
 //------------------------------------------------------------------------------
@@ -356,8 +406,10 @@ vtkImageData* DistributedInput::Image(
       }
       int cells[6];
       CellExtent(e, cells);
-      whole->GetPointData()->CopyStructuredData(image->GetPointData(), e, wholeExtent);
-      whole->GetCellData()->CopyStructuredData(image->GetCellData(), cells, wholeCells);
+      CopyPiece(
+        image->GetPointData(), e, whole->GetPointData(), wholeExtent, whole->GetNumberOfPoints());
+      CopyPiece(
+        image->GetCellData(), cells, whole->GetCellData(), wholeCells, whole->GetNumberOfCells());
     }
   }
   this->Whole = whole;
@@ -444,6 +496,63 @@ vtkUnstructuredGrid* DistributedInput::Grid(
   whole->Squeeze();
   this->Whole = whole;
   return whole;
+}
+
+//------------------------------------------------------------------------------
+std::vector<int> GatherExtents(vtkMultiProcessController* controller, const int* extent)
+{
+  const int none[6] = { 0, -1, 0, -1, 0, -1 };
+  std::vector<int> extents(6 * static_cast<size_t>(controller->GetNumberOfProcesses()));
+  controller->AllGather(extent ? extent : none, extents.data(), 6);
+  return extents;
+}
+
+//------------------------------------------------------------------------------
+void SumOverPieces(vtkMultiProcessController* controller, const int dimensions[3],
+  const std::vector<int>& extents, const std::uint32_t* values, std::vector<std::uint32_t>& own)
+{
+  constexpr size_t Block = size_t(1) << 22; // values a reduction carries at most
+  const int local = controller->GetLocalProcessId();
+  const size_t nx = dimensions[0], ny = dimensions[1];
+  own.clear();
+  std::vector<std::uint32_t> sent, unused;
+  for (size_t p = 0; 6 * p < extents.size(); ++p)
+  {
+    const int* e = extents.data() + 6 * p;
+    if (IsEmpty(e))
+    {
+      continue;
+    }
+    // The piece's rows along x, whole rows per block.
+    const size_t row = 3 * static_cast<size_t>(e[1] - e[0] + 1);
+    const size_t rowsY = e[3] - e[2] + 1;
+    const size_t rows = rowsY * (e[5] - e[4] + 1);
+    const size_t perBlock = std::max<size_t>(1, Block / row);
+    if (static_cast<int>(p) == local)
+    {
+      own.resize(rows * row);
+    }
+    for (size_t first = 0; first < rows; first += perBlock)
+    {
+      const size_t count = std::min(perBlock, rows - first);
+      sent.resize(count * row);
+      for (size_t r = 0; r < count; ++r)
+      {
+        const size_t y = e[2] + (first + r) % rowsY, z = e[4] + (first + r) / rowsY;
+        const std::uint32_t* from = values + 3 * (e[0] + nx * (y + ny * z));
+        std::copy(from, from + row, sent.data() + r * row);
+      }
+      // The owner receives its sums in place (the others' receive buffers are not read).
+      const bool owner = static_cast<int>(p) == local;
+      if (!owner)
+      {
+        unused.resize(sent.size());
+      }
+      std::uint32_t* sums = owner ? own.data() + first * row : unused.data();
+      controller->Reduce(sent.data(), sums, static_cast<vtkIdType>(sent.size()),
+        vtkCommunicator::SUM_OP, static_cast<int>(p));
+    }
+  }
 }
 
 }

@@ -6,8 +6,11 @@
  * other processes. In this version every process assembles the whole input from the pieces
  * of all processes (collective calls of the filter's vtkMultiProcessController) and
  * outputs the part of the illumination that belongs to its own piece. The propagation
- * computes the whole illumination as the serial filter does (every process keeps the same
- * state, so selective updates work as in a serial run); filters that light points
+ * shares its sweeps out among the processes (SweepShare): each process propagates its
+ * sweeps over the whole illumination grid into fixed-point units of its own, and the sums
+ * over the processes (SumOverPieces, exact in any order) give each process its piece.
+ * Every process keeps the same bookkeeping of lights, so selective updates work as in a
+ * serial run, each change's sweeps shared out again. Filters that light points
  * independently compute only the points of the piece. The result equals the serial run's
  * (bit for bit in the tests; the points of a piece may differ from the serial grid's in the
  * last bit of their coordinates). The input and its classification per process are those
@@ -50,6 +53,25 @@ VOLILLUMFILTERS_EXPORT vtkMultiProcessController* ParallelRun(
  */
 VOLILLUMFILTERS_EXPORT void TargetPieceExtent(
   const int whole[6], const int target[3], const int piece[6], int out[6]);
+
+/**
+ * Collective: every process's `extent` (6 values each, in process order); a process
+ * without a piece passes nullptr and gets an empty extent (its second value below its
+ * first).
+ */
+VOLILLUMFILTERS_EXPORT std::vector<int> GatherExtents(
+  vtkMultiProcessController* controller, const int* extent);
+
+/**
+ * Collective: the sums (modulo 2^32) over all processes of `values`, 3 a point of a grid of
+ * `dimensions` points (x fastest), over each process's extent of that grid (`extents`, as
+ * GatherExtents gives them): this process gets those of its own extent in `own` (3 a point,
+ * x fastest). The sums travel in blocks of at most 2^24 values (64 MiB), a reduction to the
+ * process that owns them (vtkMultiProcessController::Reduce).
+ */
+VOLILLUMFILTERS_EXPORT void SumOverPieces(vtkMultiProcessController* controller,
+  const int dimensions[3], const std::vector<int>& extents, const std::uint32_t* values,
+  std::vector<std::uint32_t>& own);
 
 /**
  * For each point of `piece`, the point of `whole` at the same place: the same point global

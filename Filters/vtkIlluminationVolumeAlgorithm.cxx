@@ -26,6 +26,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <memory>
 #include <string>
@@ -238,6 +239,38 @@ const volillum::EmptyBlocks* vtkIlluminationVolumeAlgorithm::GetEmptyBlocks()
 }
 
 //------------------------------------------------------------------------------
+volillum::SweepShare vtkIlluminationVolumeAlgorithm::GetSweepShare() const
+{
+  volillum::SweepShare share;
+  if (this->SharingController)
+  {
+    share.Process = this->SharingController->GetLocalProcessId();
+    share.Processes = this->SharingController->GetNumberOfProcesses();
+  }
+  return share;
+}
+
+//------------------------------------------------------------------------------
+void vtkIlluminationVolumeAlgorithm::OutputIllumination(
+  const volillum::FixedPointIllumination& illumination, const volillum::GridGeometry& target,
+  float* rgb)
+{
+  if (!this->SharingController)
+  {
+    illumination.ToFloat(rgb);
+    return;
+  }
+  std::vector<std::uint32_t> own;
+  volillum::SumOverPieces(this->SharingController, target.Dimensions.data(), this->PieceExtents,
+    illumination.Values.data(), own);
+  const double unit = 1.0 / illumination.Scale;
+  for (size_t i = 0; i < own.size(); ++i)
+  {
+    rgb[i] = volillum::FixedPointIllumination::ToFloat(own[i], unit);
+  }
+}
+
+//------------------------------------------------------------------------------
 int vtkIlluminationVolumeAlgorithm::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -280,13 +313,21 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
     }
     return 1;
   }
-  vtkNew<vtkImageData> illuminated;
-  this->Illuminate(whole, illuminated);
-  if (piece && illuminated->GetNumberOfPoints() > 0)
+  // The sweeps are shared out and each piece gets the sums over the processes: every
+  // process takes part, those without a piece with an empty extent and output.
+  this->PieceExtents = volillum::GatherExtents(controller, piece ? extent : nullptr);
+  this->SharingController = controller;
+  if (piece)
   {
-    output->ShallowCopy(illuminated);
-    output->Crop(extent);
+    this->Illuminate(whole, output, extent);
   }
+  else
+  {
+    vtkNew<vtkImageData> none;
+    this->Illuminate(whole, none, this->PieceExtents.data() + 6 * controller->GetLocalProcessId());
+  }
+  this->SharingController = nullptr;
+  this->PieceExtents.clear();
   return 1;
 }
 
@@ -377,10 +418,11 @@ void vtkIlluminationVolumeAlgorithm::Illuminate(
       lit.Origin[a] = target.Origin[a] + piece[2 * a] * target.Spacing[a];
     }
   }
+  // Shared sweeps propagate through the whole grid and output the piece's points.
   auto illumination = NewIlluminationArray(lit.NumberOfPoints());
   UpdateReport report;
-  if (!this->ComputeIllumination(
-        this->Classified, lights, lit, inputModified, illumination->GetPointer(0), report))
+  if (!this->ComputeIllumination(this->Classified, lights, this->SharingController ? target : lit,
+        inputModified, illumination->GetPointer(0), report))
   {
     // Aborted: show what the last complete update produced.
     if (this->LastOutput)

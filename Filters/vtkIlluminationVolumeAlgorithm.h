@@ -38,6 +38,7 @@
 #include "IlluminationClassification.h"
 #include "IlluminationFilterSupport.h"
 #include "IlluminationLightList.h"
+#include "LightPropagationKernel.h"
 #include "VolIllumFiltersModule.h"
 #include "vtkImageAlgorithm.h"
 #include "vtkImageData.h"
@@ -176,7 +177,9 @@ protected:
 
   /**
    * Compute the illumination of all lights on the illumination grid `target` (or, for filters
-   * that light points independently, on a part of it) into rgb (3 floats a point, x fastest).
+   * that light points independently, on a part of it) into rgb (3 floats a point, x fastest;
+   * in a parallel run that shares sweeps, GetSweepShare, only the points of this process's
+   * piece, which OutputIllumination writes).
    * inputModified tells whether the data or the classification changed since the last successful
    * update. Return false when aborted: the output then stays as the last successful update left it.
    */
@@ -191,6 +194,22 @@ protected:
    * grid, and a parallel run computes only its own piece.
    */
   virtual bool LightsPointsIndependently() const { return false; }
+
+  /**
+   * The sweeps this process runs: in a parallel run of a filter that does not light points
+   * independently, its share of them (ComputeIllumination then propagates only those and
+   * gives its units to OutputIllumination); otherwise all of them. Such a parallel run
+   * must not stop halfway: the other processes wait for this one's sums.
+   */
+  volillum::SweepShare GetSweepShare() const;
+
+  /**
+   * The illumination on the grid `target` into rgb (3 floats a point). Collective in a
+   * parallel run that shares sweeps (GetSweepShare): the sums over the processes at the
+   * points of this process's piece (rgb holds those only).
+   */
+  void OutputIllumination(const volillum::FixedPointIllumination& illumination,
+    const volillum::GridGeometry& target, float* rgb);
 
   /// Add any further point arrays of the last computation to the output (none by default).
   virtual void AddOutputArrays(vtkPointData* vtkNotUsed(pointData)) {}
@@ -218,8 +237,8 @@ private:
     vtkImageData* input, volillum::GridGeometry& data, volillum::GridGeometry& target);
 
   // Light the whole image input into output (the serial update); with `piece` (an extent
-  // of the illumination grid, LightsPointsIndependently only) only the points of that
-  // extent.
+  // of the illumination grid: LightsPointsIndependently, or a parallel run that shares
+  // sweeps) output only the points of that extent.
   void Illuminate(vtkImageData* input, vtkImageData* output, const int* piece = nullptr);
   // Classify the scalars (Scalars) on the data grid unless the cached classification was made
   // from the same input and settings (inputModified tells which); false after an error.
@@ -246,6 +265,10 @@ private:
   vtkSmartPointer<vtkImageData> LastOutput;
   vtkMultiProcessController* Controller = nullptr;
   std::unique_ptr<volillum::DistributedInput> Distributed; // the whole input of a parallel run
+  // During a parallel update that shares sweeps: its controller and every process's extent
+  // of the illumination grid (GatherExtents); null and empty otherwise.
+  vtkMultiProcessController* SharingController = nullptr;
+  std::vector<int> PieceExtents;
 };
 
 #endif

@@ -194,10 +194,14 @@ bool vtkMultiLightIlluminationVolume::ComputeIllumination(const volillum::Classi
   }
   this->LastStatistics = volillum::PropagationStatistics();
   std::vector<volillum::PropagationTask> remaining;
-  if (!volillum::PropagateTasks(
-        volume, target, work, this->CoherentPropagation, this->MaximumPassesPerUpdate,
-        this->Illumination, remaining, this->LastStatistics,
-        [this](double f) { return this->ReportProgress(f); }, this->GetEmptyBlocks()))
+  // In a parallel run every process propagates its share of the sweeps into its own units
+  // (OutputIllumination sums them); such a run does not stop halfway.
+  const volillum::SweepShare share = this->GetSweepShare();
+  auto progress = [this, &share](double f)
+  { return this->ReportProgress(f) || share.Processes > 1; };
+  if (!volillum::PropagateTasks(volume, target, work, this->CoherentPropagation,
+        this->MaximumPassesPerUpdate, this->Illumination, remaining, this->LastStatistics, progress,
+        this->GetEmptyBlocks(), true, share))
   {
     // The accumulated illumination is partly updated: the next update starts afresh.
     this->Pending.clear();
@@ -209,7 +213,7 @@ bool vtkMultiLightIlluminationVolume::ComputeIllumination(const volillum::Classi
   this->Pending = remaining;
   this->Applied.Commit(lights);
   this->Valid = true;
-  this->Illumination.ToFloat(rgb);
+  this->OutputIllumination(this->Illumination, target, rgb);
   report.Mode = selective ? 1 : 0;
   report.Passes = this->LastStatistics.Sweeps;
   report.PendingPasses = this->GetNumberOfPendingPasses();

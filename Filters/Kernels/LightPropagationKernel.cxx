@@ -1958,7 +1958,7 @@ void FixedPointIllumination::ToFloat(float* rgb) const
     {
       for (long long i = b; i < e; ++i)
       {
-        rgb[i] = static_cast<float>(static_cast<std::int32_t>(v[i]) * unit);
+        rgb[i] = ToFloat(v[i], unit);
       }
     });
 }
@@ -1981,7 +1981,7 @@ bool PropagateTasks(const ClassifiedVolume& volume, const GridGeometry& target,
   const std::vector<PropagationTask>& tasks, bool coherent, int maxSweeps,
   FixedPointIllumination& illumination, std::vector<PropagationTask>& remaining,
   PropagationStatistics& statistics, const ProgressCallback& progress, const EmptyBlocks* empty,
-  bool rowKernels)
+  bool rowKernels, const SweepShare& share)
 {
   remaining.clear();
   // Sweeps in group order, so the two directions of an axis run one after the other.
@@ -2014,23 +2014,63 @@ bool PropagateTasks(const ClassifiedVolume& volume, const GridGeometry& target,
   }
   const int planned = maxSweeps > 0 ? std::min<int>(maxSweeps, static_cast<int>(sweeps.size()))
                                     : static_cast<int>(sweeps.size());
+  for (size_t i = planned; i < sweeps.size(); ++i)
+  {
+    remaining.insert(remaining.end(), sweeps[i].begin(), sweeps[i].end());
+  }
+  sweeps.resize(planned);
+  const std::vector<int> process = AssignSweeps(sweeps, share.Processes);
+  std::vector<size_t> mine;
   for (size_t i = 0; i < sweeps.size(); ++i)
   {
-    if (static_cast<int>(i) >= planned)
+    statistics.Sweeps += 1;
+    statistics.LightSweeps += static_cast<long long>(sweeps[i].size());
+    if (process[i] == share.Process)
     {
-      remaining.insert(remaining.end(), sweeps[i].begin(), sweeps[i].end());
-      continue;
+      mine.push_back(i);
     }
-    auto sweepProgress = [&](double f) { return !progress || progress((i + f) / planned); };
-    if (!Sweep(volume, empty, rowKernels, target, sweeps[i][0].Group, sweeps[i], illumination,
-          statistics, sweepProgress))
+  }
+  for (size_t m = 0; m < mine.size(); ++m)
+  {
+    const auto& sweep = sweeps[mine[m]];
+    auto sweepProgress = [&](double f)
+    { return !progress || progress((m + f) / static_cast<double>(mine.size())); };
+    if (!Sweep(volume, empty, rowKernels, target, sweep[0].Group, sweep, illumination, statistics,
+          sweepProgress))
     {
       return false;
     }
-    statistics.Sweeps += 1;
-    statistics.LightSweeps += static_cast<long long>(sweeps[i].size());
   }
   return true;
+}
+
+std::vector<int> AssignSweeps(
+  const std::vector<std::vector<PropagationTask>>& sweeps, int processes)
+{
+  std::vector<double> cost(sweeps.size(), 0.0);
+  for (size_t i = 0; i < sweeps.size(); ++i)
+  {
+    for (const auto& task : sweeps[i])
+    {
+      cost[i] += task.Light.Kind == LightKind::Directional ? 1.0 : SweepShare::PointTaskCost;
+    }
+  }
+  std::vector<size_t> order(sweeps.size());
+  for (size_t i = 0; i < order.size(); ++i)
+  {
+    order[i] = i;
+  }
+  std::stable_sort(
+    order.begin(), order.end(), [&](size_t a, size_t b) { return cost[a] > cost[b]; });
+  std::vector<double> load(std::max(processes, 1), 0.0);
+  std::vector<int> process(sweeps.size(), 0);
+  for (size_t i : order)
+  {
+    const auto least = std::min_element(load.begin(), load.end());
+    process[i] = static_cast<int>(least - load.begin());
+    *least += cost[i];
+  }
+  return process;
 }
 
 }

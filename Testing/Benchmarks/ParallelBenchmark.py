@@ -6,8 +6,8 @@ with `MPIEXEC -np 2 pvbatch`, each process single-threaded (Sequential SMP backe
 comparison is fair on a 2-core machine. Printed: full update and one-light edit times on
 1 and 2 processes and their ratios (speed-up), the same for a full update of Filtered
 Volumetric Shadows (which lights only each process's piece), the bytes each process
-receives when the data changes (the gathered pieces; a light edit sends only a one-integer
-reduction), and
+receives when the data changes (the gathered pieces; a light edit gathers nothing), the
+bytes of the propagation's sums each process sends per update, and
 the efficiency the planned block sweeps would reach at 8, 64 and 512 processes by the
 model of Documentation/parallel.md with this run's compute cost per voxel and light.
 Writes the figures as JSON with --json FILE.
@@ -136,6 +136,9 @@ def main():
     two = run([mpiexec] + flags.split() + ["-np", "2", pvbatch], plugin, volume)
     # Each process receives the other pieces of the lit array: (N - 1) / N of it.
     received = two["bytes"] / 2
+    # The propagation's sums: each process sends the fixed-point units (3 x 4 bytes a point)
+    # of the other pieces, (N - 1) / N of the grid (scale 1: one point per data point).
+    summed = 12 * one["points"] / 2
     # Directional lights travel in two groups each: light sweeps of one full update.
     per_voxel_light = one["full_s"] / (one["points"] * 2 * LIGHTS)
     results = {"volume": name, "lights": LIGHTS,
@@ -146,6 +149,7 @@ def main():
                "filtered_shadows_s": {"1": one["filtered_s"], "2": two["filtered_s"]},
                "speedup_filtered_shadows": one["filtered_s"] / two["filtered_s"],
                "bytes_received_per_process_on_data_change": received,
+               "propagation_sum_bytes_sent_per_process_per_update": summed,
                "compute_s_per_voxel_light_sweep": per_voxel_light,
                "model_1024_cubed": model(per_voxel_light)}
     print("Multi-Light Illumination Volume (propagation) and Filtered Volumetric Shadows, %s, "
@@ -159,6 +163,8 @@ def main():
                                          two["filtered_s"], results["speedup_filtered_shadows"]))
     print("bytes each process receives when the data changes: %.1f MB (light edits: none)"
           % (received / 1e6))
+    print("bytes of the propagation's sums each process sends per update: %.1f MB"
+          % (summed / 1e6))
     print("model of the planned block sweeps, 1024^3 (%.0f ns per voxel and light sweep):"
           % (per_voxel_light * 1e9))
     for row in results["model_1024_cubed"]:

@@ -448,6 +448,118 @@ TEST(MultiLightIlluminationVolume, RowKernelsEqualSegmentBySegment)
   }
 }
 
+// Sweeps shared out among processes (SweepShare, as a parallel run does): every process
+// propagates its share into units of its own; the sums over the processes equal the
+// single-process illumination bit for bit, after a full update, after a selective edit
+// (the old state of a light removed and its new state added, each process its share of
+// those sweeps) and with a limit on the sweeps per update (the same tasks left on every
+// process).
+TEST(MultiLightIlluminationVolume, SharedSweepsSumToTheSingleProcessIllumination)
+{
+  auto image = PhantomScene(vtkIlluminationPhantomSource::ThreeSpheres, 32);
+  auto otf = RampOpacity(image, 0.4);
+  auto filter = ImageFilter<vtkMultiLightIlluminationVolume>(image, otf);
+  filter->Update();
+  volillum::ClassifiedVolume classified;
+  volillum::GridGeometry target;
+  ASSERT_TRUE(volillumfidelity::ClassifiedInput(filter, classified, target));
+  double bounds[6];
+  target.GetBounds(bounds);
+  auto spot = PointLight(50, -10, 20, 1, 0.6, 0.3);
+  spot->SetConeAngle(30);
+  const std::vector<vtkSmartPointer<vtkLight>> lights = { DirectionalLight(0.4, -0.3, -1),
+    DirectionalLight(-1, 0.5, 0.3), PointLight(-30, 20, 50), spot };
+  auto tasksOf = [&](vtkLight* light, int sign)
+  { return volillum::TasksForLight(volillum::CaptureLight(light), sign, bounds); };
+  std::vector<volillum::PropagationTask> full;
+  for (const auto& light : lights)
+  {
+    const auto more = tasksOf(light, +1);
+    full.insert(full.end(), more.begin(), more.end());
+  }
+  // The edit: the point light moves.
+  std::vector<volillum::PropagationTask> edit = tasksOf(lights[2], -1);
+  auto moved = PointLight(-25, 30, 45);
+  const auto added = tasksOf(moved, +1);
+  edit.insert(edit.end(), added.begin(), added.end());
+  std::vector<volillum::PropagationTask> fresh;
+  for (vtkLight* light : { lights[0].Get(), lights[1].Get(), moved.Get(), lights[3].Get() })
+  {
+    const auto more = tasksOf(light, +1);
+    fresh.insert(fresh.end(), more.begin(), more.end());
+  }
+  const double scale = volillum::FixedPointIllumination::ScaleFor(8);
+  // The units of each process after propagating `updates` in turn; remaining: the tasks a
+  // limit of maxSweeps left (the same on every process).
+  auto propagate = [&](const std::vector<std::vector<volillum::PropagationTask>>& updates,
+                     int processes, int maxSweeps,
+                     std::vector<std::vector<volillum::PropagationTask>>& remaining)
+  {
+    std::vector<volillum::FixedPointIllumination> units(processes);
+    remaining.assign(processes, {});
+    for (int p = 0; p < processes; ++p)
+    {
+      units[p].Reset(target.NumberOfPoints(), scale);
+      for (const auto& tasks : updates)
+      {
+        volillum::PropagationStatistics statistics;
+        volillum::SweepShare share;
+        share.Process = p;
+        share.Processes = processes;
+        EXPECT_TRUE(volillum::PropagateTasks(classified, target, tasks, true, maxSweeps, units[p],
+          remaining[p], statistics, nullptr, nullptr, true, share));
+        EXPECT_EQ(statistics.Sweeps,
+          std::min(volillum::CountSweeps(tasks, true), maxSweeps > 0 ? maxSweeps : 1000));
+      }
+    }
+    return units;
+  };
+  auto sum = [](const std::vector<volillum::FixedPointIllumination>& units)
+  {
+    std::vector<std::uint32_t> total(units[0].Values.begin(), units[0].Values.end());
+    for (size_t p = 1; p < units.size(); ++p)
+    {
+      for (size_t i = 0; i < total.size(); ++i)
+      {
+        total[i] += units[p].Values[i];
+      }
+    }
+    return total;
+  };
+  std::vector<std::vector<volillum::PropagationTask>> left;
+  const auto single = sum(propagate({ full }, 1, 0, left));
+  const auto singleFresh = sum(propagate({ fresh }, 1, 0, left));
+  ASSERT_GE(volillum::CountSweeps(full, true), 4);
+  for (int processes : { 2, 3 })
+  {
+    const auto shared = propagate({ full }, processes, 0, left);
+    EXPECT_TRUE(sum(shared) == single) << processes << " processes, full update";
+    for (const auto& units : shared)
+    {
+      // Each process did part of the work: its units alone are not the illumination.
+      EXPECT_FALSE(std::equal(units.Values.begin(), units.Values.end(), single.begin()));
+    }
+    EXPECT_TRUE(sum(propagate({ full, edit }, processes, 0, left)) == singleFresh)
+      << processes << " processes, selective edit";
+    propagate({ full }, processes, 2, left);
+    EXPECT_FALSE(left[0].empty());
+    for (int p = 1; p < processes; ++p)
+    {
+      ASSERT_EQ(left[p].size(), left[0].size());
+    }
+  }
+  // Every sweep has one process, the costliest first onto the least loaded.
+  std::vector<std::vector<volillum::PropagationTask>> sweeps(5);
+  for (int i = 0; i < 5; ++i)
+  {
+    volillum::PropagationTask task;
+    task.Light.Kind = i == 2 ? volillum::LightKind::Point : volillum::LightKind::Directional;
+    sweeps[i].assign(i == 4 ? 3 : 1, task);
+  }
+  EXPECT_EQ(volillum::AssignSweeps(sweeps, 2), (std::vector<int>{ 1, 1, 0, 1, 1 }));
+  EXPECT_EQ(volillum::AssignSweeps(sweeps, 1), (std::vector<int>(5, 0)));
+}
+
 TEST(MultiLightIlluminationVolume, TogglingALightRestoresTheVolume)
 {
   auto image = PhantomScene(vtkIlluminationPhantomSource::ThreeSpheres, 32);
