@@ -66,7 +66,7 @@ VOLILLUMFILTERS_EXPORT std::vector<int> GatherExtents(
  * Collective: the sums (modulo 2^32) over all processes of `values`, 3 a point of a grid of
  * `dimensions` points (x fastest), over each process's extent of that grid (`extents`, as
  * GatherExtents gives them): this process gets those of its own extent in `own` (3 a point,
- * x fastest). The sums travel in blocks of at most 2^24 values (64 MiB), a reduction to the
+ * x fastest). The sums travel in blocks of at most 2^22 values (16 MiB), a reduction to the
  * process that owns them (vtkMultiProcessController::Reduce).
  */
 VOLILLUMFILTERS_EXPORT void SumOverPieces(vtkMultiProcessController* controller,

@@ -263,6 +263,7 @@ void vtkIlluminationVolumeAlgorithm::OutputIllumination(
   std::vector<std::uint32_t> own;
   volillum::SumOverPieces(this->SharingController, target.Dimensions.data(), this->PieceExtents,
     illumination.Values.data(), own);
+  this->SumsDone = true;
   const double unit = 1.0 / illumination.Scale;
   for (size_t i = 0; i < own.size(); ++i)
   {
@@ -290,8 +291,8 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
   }
   // Light crosses every piece: every process assembles the whole image (an empty or invalid
   // one is reported as in a serial run). Filters that light points independently compute
-  // only this process's part of the illumination grid; the others light the whole grid and
-  // output that part.
+  // only this process's part of the illumination grid; the others share their sweeps out
+  // and output the sums over the processes for this process's part.
   vtkImageData* whole = this->Distributed->Image(controller, this, input);
   volillum::GridGeometry data, target;
   if (!this->ValidGeometry(whole, data, target))
@@ -421,8 +422,22 @@ void vtkIlluminationVolumeAlgorithm::Illuminate(
   // Shared sweeps propagate through the whole grid and output the piece's points.
   auto illumination = NewIlluminationArray(lit.NumberOfPoints());
   UpdateReport report;
-  if (!this->ComputeIllumination(this->Classified, lights, this->SharingController ? target : lit,
-        inputModified, illumination->GetPointer(0), report))
+  this->SumsDone = false;
+  const bool computed = this->ComputeIllumination(this->Classified, lights,
+    this->SharingController ? target : lit, inputModified, illumination->GetPointer(0), report);
+  if (this->SharingController)
+  {
+    // A shared run ignores aborts (the other processes wait for this one's sums), and a
+    // computation that did not reach its sums still takes part in them, with nothing.
+    this->SetAbortExecute(0);
+    if (!this->SumsDone)
+    {
+      volillum::FixedPointIllumination none;
+      none.Reset(target.NumberOfPoints(), 1.0);
+      this->OutputIllumination(none, target, illumination->GetPointer(0));
+    }
+  }
+  if (!computed)
   {
     // Aborted: show what the last complete update produced.
     if (this->LastOutput)

@@ -144,10 +144,11 @@ public:
   ///@{
   /**
    * The processes of a parallel run (default: the global controller). With more than one
-   * process every process assembles the whole input from the pieces and lights it, and
-   * outputs the illumination points that cover its own piece (see IlluminationParallel.h):
-   * the result equals a serial run's. Every process must update the filter together. Set
-   * nullptr to light each piece on its own.
+   * process every process assembles the whole input from the pieces, lights its share of
+   * it (its piece's points, or its share of the sweeps) and outputs the illumination points
+   * that cover its own piece (see IlluminationParallel.h): the result equals a serial
+   * run's. A parallel run of the propagation does not stop when aborted. Every process must update
+   * the filter together. Set nullptr to light each piece on its own.
    */
   virtual void SetController(vtkMultiProcessController* controller);
   vtkGetObjectMacro(Controller, vtkMultiProcessController);
@@ -179,7 +180,8 @@ protected:
    * Compute the illumination of all lights on the illumination grid `target` (or, for filters
    * that light points independently, on a part of it) into rgb (3 floats a point, x fastest;
    * in a parallel run that shares sweeps, GetSweepShare, only the points of this process's
-   * piece, which OutputIllumination writes).
+   * piece, which OutputIllumination writes: it must be called once, and the update is not
+   * aborted).
    * inputModified tells whether the data or the classification changed since the last successful
    * update. Return false when aborted: the output then stays as the last successful update left it.
    */
@@ -266,9 +268,11 @@ private:
   vtkMultiProcessController* Controller = nullptr;
   std::unique_ptr<volillum::DistributedInput> Distributed; // the whole input of a parallel run
   // During a parallel update that shares sweeps: its controller and every process's extent
-  // of the illumination grid (GatherExtents); null and empty otherwise.
+  // of the illumination grid (GatherExtents); null and empty otherwise. SumsDone: whether
+  // OutputIllumination took part in the sums of the current update.
   vtkMultiProcessController* SharingController = nullptr;
   std::vector<int> PieceExtents;
+  bool SumsDone = false;
 };
 
 #endif

@@ -34,7 +34,8 @@
  * MaximumPassesPerUpdate limits the sweeps of one update for progressive refinement: the
  * rest is kept (field array PendingPasses) and done by the next update (call Modified()
  * and Update() again, or press Apply). An aborted update keeps the previous output and
- * makes the next update a full one.
+ * makes the next update a full one; a parallel update (see
+ * vtkIlluminationVolumeAlgorithm::SetController) is not aborted.
  *
  * Method: E. Sundén and T. Ropinski, "Efficient Volume Illumination with Multiple Light Sources
  * through Selective Light Updates", IEEE Pacific Visualization Symposium (PacificVis), 2015.

@@ -7,7 +7,8 @@ comparison is fair on a 2-core machine. Printed: full update and one-light edit 
 1 and 2 processes and their ratios (speed-up), the same for a full update of Filtered
 Volumetric Shadows (which lights only each process's piece), the bytes each process
 receives when the data changes (the gathered pieces; a light edit gathers nothing), the
-bytes of the propagation's sums each process sends per update, and
+bytes of the propagation's sums each process sends per update, the propagation's peak
+memory per process (largest over the processes), and
 the efficiency the planned block sweeps would reach at 8, 64 and 512 processes by the
 model of Documentation/parallel.md with this run's compute cost per voxel and light.
 Writes the figures as JSON with --json FILE.
@@ -62,12 +63,16 @@ def worker(plugin, volume):
         f.UpdatePipeline()
         return time.perf_counter() - start
 
+    import resource
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     f = filter_with_lights("MultiLightIlluminationVolume")
     full = seconds(f)
     edited = lights(bounds, LIGHTS)
     edited[1:4] = lights(bounds, 1, turn=0.4)[1:4]
     f.Lights = edited
     edit = seconds(f)
+    # The process's peak resident memory during the propagation above what it held before.
+    peak = 1024 * (resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before)
     # Filtered shadows light points independently: each process lights its own piece.
     filtered = seconds(filter_with_lights("FilteredVolumetricShadows"))
     from vtkmodules.vtkCommonCore import vtkDataArray
@@ -75,6 +80,7 @@ def worker(plugin, volume):
     lit = info.GetPointDataInformation().GetArrayInformation(array)
     value = vtkDataArray.CreateDataArray(lit.GetDataType())
     print("RESULT " + json.dumps({"full_s": full, "edit_s": edit, "filtered_s": filtered,
+                                  "peak_bytes": peak,
                                   "points": info.GetNumberOfPoints(),
                                   "bytes": info.GetNumberOfPoints() *
                                   lit.GetNumberOfComponents() * value.GetDataTypeSize()}))
@@ -88,10 +94,13 @@ def run(command, plugin, volume):
     result = subprocess.run(command + [os.path.abspath(__file__), "--worker", plugin, volume],
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                             env=environment, timeout=3000)
-    for line in result.stdout.splitlines():
-        if line.startswith("RESULT "):
-            return json.loads(line[len("RESULT "):])
-    raise RuntimeError("the run failed:\n" + result.stdout[-3000:])
+    # Every process prints its result: the first one's times, the largest peak memory.
+    results = [json.loads(line[len("RESULT "):]) for line in result.stdout.splitlines()
+               if line.startswith("RESULT ")]
+    if not results:
+        raise RuntimeError("the run failed:\n" + result.stdout[-3000:])
+    results[0]["peak_bytes"] = max(r["peak_bytes"] for r in results)
+    return results[0]
 
 
 def prepare(data_dir, out, smoke):
@@ -150,6 +159,8 @@ def main():
                "speedup_filtered_shadows": one["filtered_s"] / two["filtered_s"],
                "bytes_received_per_process_on_data_change": received,
                "propagation_sum_bytes_sent_per_process_per_update": summed,
+               "propagation_peak_bytes_per_point_per_process": {
+                   "1": one["peak_bytes"] / one["points"], "2": two["peak_bytes"] / two["points"]},
                "compute_s_per_voxel_light_sweep": per_voxel_light,
                "model_1024_cubed": model(per_voxel_light)}
     print("Multi-Light Illumination Volume (propagation) and Filtered Volumetric Shadows, %s, "
@@ -165,6 +176,9 @@ def main():
           % (received / 1e6))
     print("bytes of the propagation's sums each process sends per update: %.1f MB"
           % (summed / 1e6))
+    print("propagation's peak memory per process above the input, bytes a point: "
+          "%.1f on 1 process, %.1f on 2" % (one["peak_bytes"] / one["points"],
+                                            two["peak_bytes"] / two["points"]))
     print("model of the planned block sweeps, 1024^3 (%.0f ns per voxel and light sweep):"
           % (per_voxel_light * 1e9))
     for row in results["model_1024_cubed"]:
