@@ -5,11 +5,14 @@
 #include "vtkDataArray.h"
 #include "vtkDataArrayRange.h"
 #include "vtkPiecewiseFunction.h"
+#include "vtkSMPThreadLocal.h"
 #include "vtkSMPTools.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 namespace volillum
@@ -137,10 +140,46 @@ struct ClassifyWorker
   }
 };
 
-// Scalar range that ignores NaN (vtkDataArray::GetRange already does) and infinities.
+// Smallest and largest value of one component, NaN left out (as vtkDataArray::GetRange
+// does), on all threads: a new array's GetRange (such as the whole image a parallel run
+// assembles) took 0.33 s for 256^3 bytes on one thread.
+struct RangeWorker
+{
+  template <typename ArrayT>
+  void operator()(ArrayT* array, int component, double range[2])
+  {
+    const auto values = vtk::DataArrayTupleRange(array);
+    const double infinity = std::numeric_limits<double>::infinity();
+    vtkSMPThreadLocal<std::array<double, 2>> local(std::array<double, 2>{ infinity, -infinity });
+    vtkSMPTools::For(0, values.size(),
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        std::array<double, 2>& r = local.Local();
+        for (vtkIdType t = begin; t < end; ++t)
+        {
+          const double v = static_cast<double>(values[t][component]);
+          r[0] = v < r[0] ? v : r[0]; // false for NaN
+          r[1] = v > r[1] ? v : r[1];
+        }
+      });
+    range[0] = infinity;
+    range[1] = -infinity;
+    for (const auto& r : local)
+    {
+      range[0] = std::min(range[0], r[0]);
+      range[1] = std::max(range[1], r[1]);
+    }
+  }
+};
+
+// The scalar range (NaN left out); false when it is empty or not finite.
 bool FiniteRange(vtkDataArray* scalars, int component, double range[2])
 {
-  scalars->GetRange(range, component);
+  RangeWorker worker;
+  if (!vtkArrayDispatch::Dispatch::Execute(scalars, worker, component, range))
+  {
+    worker(scalars, component, range);
+  }
   return std::isfinite(range[0]) && std::isfinite(range[1]) && range[0] <= range[1];
 }
 }

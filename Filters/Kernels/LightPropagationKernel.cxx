@@ -2047,7 +2047,7 @@ bool PropagateTasks(const ClassifiedVolume& volume, const GridGeometry& target,
 std::vector<int> AssignSweeps(
   const std::vector<std::vector<PropagationTask>>& sweeps, int processes)
 {
-  std::vector<double> cost(sweeps.size(), 0.0);
+  std::vector<double> cost(sweeps.size(), SweepShare::SweepCost);
   for (size_t i = 0; i < sweeps.size(); ++i)
   {
     for (const auto& task : sweeps[i])
