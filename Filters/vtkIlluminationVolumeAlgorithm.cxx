@@ -264,11 +264,7 @@ void vtkIlluminationVolumeAlgorithm::OutputIllumination(
   volillum::SumOverPieces(this->SharingController, target.Dimensions.data(), this->PieceExtents,
     illumination.Values.data(), own);
   this->SumsDone = true;
-  const double unit = 1.0 / illumination.Scale;
-  for (size_t i = 0; i < own.size(); ++i)
-  {
-    rgb[i] = volillum::FixedPointIllumination::ToFloat(own[i], unit);
-  }
+  volillum::FixedPointIllumination::ToFloat(own.data(), own.size(), illumination.Scale, rgb);
 }
 
 //------------------------------------------------------------------------------
@@ -315,18 +311,12 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
     return 1;
   }
   // The sweeps are shared out and each piece gets the sums over the processes: every
-  // process takes part, those without a piece with an empty extent and output.
+  // process takes part, those without a piece with their empty extent and an unused output.
   this->PieceExtents = volillum::GatherExtents(controller, piece ? extent : nullptr);
   this->SharingController = controller;
-  if (piece)
-  {
-    this->Illuminate(whole, output, extent);
-  }
-  else
-  {
-    vtkNew<vtkImageData> none;
-    this->Illuminate(whole, none, this->PieceExtents.data() + 6 * controller->GetLocalProcessId());
-  }
+  vtkNew<vtkImageData> unused;
+  this->Illuminate(whole, piece ? output : unused.Get(),
+    this->PieceExtents.data() + 6 * controller->GetLocalProcessId());
   this->SharingController = nullptr;
   this->PieceExtents.clear();
   return 1;

@@ -1949,16 +1949,16 @@ bool FixedPointIllumination::Holds(double largest, double final) const
     final * this->Scale >= std::ldexp(1.0, 20);
 }
 
-void FixedPointIllumination::ToFloat(float* rgb) const
+void FixedPointIllumination::ToFloat(
+  const std::uint32_t* units, size_t count, double scale, float* rgb)
 {
-  const std::uint32_t* v = this->Values.data();
-  const double unit = 1.0 / this->Scale;
-  vtkSMPTools::For(0, static_cast<long long>(this->Values.size()),
+  const double unit = 1.0 / scale;
+  vtkSMPTools::For(0, static_cast<long long>(count),
     [&](long long b, long long e)
     {
       for (long long i = b; i < e; ++i)
       {
-        rgb[i] = ToFloat(v[i], unit);
+        rgb[i] = static_cast<float>(static_cast<std::int32_t>(units[i]) * unit);
       }
     });
 }

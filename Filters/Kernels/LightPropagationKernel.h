@@ -126,12 +126,12 @@ public:
   }
   long long NumberOfPoints() const { return static_cast<long long>(this->Values.size() / 3); }
   /// Convert to float RGB (3 floats a point).
-  void ToFloat(float* rgb) const;
-  /// The light `units` hold, unit = 1 / Scale (as ToFloat converts every value).
-  static float ToFloat(std::uint32_t units, double unit)
+  void ToFloat(float* rgb) const
   {
-    return static_cast<float>(static_cast<std::int32_t>(units) * unit);
+    ToFloat(this->Values.data(), this->Values.size(), this->Scale, rgb);
   }
+  /// Convert `count` values in units of an illumination of this `scale` to float.
+  static void ToFloat(const std::uint32_t* units, size_t count, double scale, float* rgb);
 
   /// Start a record (all 0, the layout of Values) for the tasks marked Recorded.
   void StartRecord() { this->Recorded.assign(this->Values.size(), 0); }
