@@ -172,7 +172,9 @@ struct RangeWorker
   }
 };
 
-// The scalar range (NaN left out); false when it is empty or not finite.
+}
+
+//------------------------------------------------------------------------------
 bool FiniteRange(vtkDataArray* scalars, int component, double range[2])
 {
   RangeWorker worker;
@@ -182,8 +184,8 @@ bool FiniteRange(vtkDataArray* scalars, int component, double range[2])
   }
   return std::isfinite(range[0]) && std::isfinite(range[1]) && range[0] <= range[1];
 }
-}
 
+//------------------------------------------------------------------------------
 bool Classify(vtkDataArray* scalars, const GridGeometry& geometry,
   const ClassificationSettings& settings, ClassifiedVolume& out, std::string& error,
   long long* nanCount)
@@ -209,7 +211,11 @@ bool Classify(vtkDataArray* scalars, const GridGeometry& geometry,
     return false;
   }
   double range[2];
-  if (!FiniteRange(scalars, settings.Component, range))
+  if (settings.Range)
+  {
+    std::copy_n(settings.Range, 2, range);
+  }
+  else if (!FiniteRange(scalars, settings.Component, range))
   {
     error = "the scalars have no finite values";
     return false;

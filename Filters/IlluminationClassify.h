@@ -26,7 +26,14 @@ struct ClassificationSettings
   double UnitDistance = 1.0;
   bool Chromatic = true;
   int Component = 0;
+  /// The scalar range the default ramp and the transfer functions' tables span (a parallel
+  /// run's range over all pieces); nullptr: the scalars' own (FiniteRange).
+  const double* Range = nullptr;
 };
+
+/// The range of a component of the scalars (NaN left out); false when it is empty or not
+/// finite.
+VOLILLUMFILTERS_EXPORT bool FiniteRange(vtkDataArray* scalars, int component, double range[2]);
 
 /**
  * Classify the scalars (any numeric type; NaN counts as empty space). Without transfer

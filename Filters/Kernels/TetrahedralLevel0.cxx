@@ -29,7 +29,7 @@ void IndexRange(const GridGeometry& g, double lo, double hi, int a, int& first, 
 void BucketByPlane(const TetrahedralMesh& mesh, const GridGeometry& g,
   std::vector<std::array<double, 6>>& boxes, std::vector<std::vector<int>>& planes)
 {
-  const int nTets = mesh.NumberOfTets();
+  const int nTets = mesh.OwnTets;
   boxes.resize(nTets);
   planes.assign(g.Dimensions[2], {});
   for (int t = 0; t < nTets; ++t)
@@ -214,18 +214,33 @@ void UpwindPoint(const Level0Grid& grid, bool directional, const Vec3& d, const 
 }
 
 //------------------------------------------------------------------------------
-void ResampleLevel0(const TetrahedralMesh& mesh, const std::vector<float>& extinction, int channels,
-  const std::array<int, 3>& dimensions, Level0Grid& grid)
+GridGeometry Level0Geometry(const double bounds[6], const std::array<int, 3>& dimensions)
 {
-  grid.Channels = channels;
-  auto& g = grid.Geometry;
+  GridGeometry g;
   for (int a = 0; a < 3; ++a)
   {
     g.Dimensions[a] = std::max(dimensions[a], 2);
-    g.Origin[a] = mesh.Bounds[2 * a];
-    const double extent = mesh.Bounds[2 * a + 1] - mesh.Bounds[2 * a];
+    g.Origin[a] = bounds[2 * a];
+    const double extent = bounds[2 * a + 1] - bounds[2 * a];
     g.Spacing[a] = extent > 0.0 ? extent / (g.Dimensions[a] - 1) : 1.0;
   }
+  return g;
+}
+
+//------------------------------------------------------------------------------
+void ResampleLevel0(const TetrahedralMesh& mesh, const std::vector<float>& extinction, int channels,
+  const std::array<int, 3>& dimensions, Level0Grid& grid)
+{
+  ResampleLevel0Onto(mesh, extinction, channels, Level0Geometry(mesh.Bounds, dimensions), grid);
+}
+
+//------------------------------------------------------------------------------
+void ResampleLevel0Onto(const TetrahedralMesh& mesh, const std::vector<float>& extinction,
+  int channels, const GridGeometry& geometry, Level0Grid& grid)
+{
+  grid.Channels = channels;
+  grid.Geometry = geometry;
+  const auto& g = grid.Geometry;
   const long long n = g.NumberOfPoints();
   grid.Extinction.assign(static_cast<size_t>(n) * channels, 0.0f);
   grid.Inside.assign(static_cast<size_t>(n), 0);

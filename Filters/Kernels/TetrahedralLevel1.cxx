@@ -186,7 +186,8 @@ Departure FindDeparture(const TetrahedralMesh& mesh, const std::vector<float>& e
 //------------------------------------------------------------------------------
 void PropagateLevel1(const TetrahedralMesh& mesh, const std::vector<float>& extinction,
   const Level0Grid& grid, const std::vector<float>& level0, const LightState& light,
-  double stepLength, int iterations, std::vector<float>& rho)
+  double stepLength, int iterations, std::vector<float>& rho,
+  const std::function<void(std::vector<float>& rho)>& afterStep)
 {
   const int np = mesh.NumberOfPoints();
   const int nc = grid.Channels;
@@ -255,6 +256,10 @@ void PropagateLevel1(const TetrahedralMesh& mesh, const std::vector<float>& exti
         }
       });
     rho.swap(next);
+    if (afterStep)
+    {
+      afterStep(rho);
+    }
   }
 }
 

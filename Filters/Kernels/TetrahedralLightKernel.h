@@ -38,6 +38,13 @@
  *   Vertices are greedily coloured so that no two neighbours share a colour; one colour
  *   at a time is updated in parallel, which is exactly a sequential Gauss-Seidel sweep in
  *   colour order.
+ *
+ * Distributed meshes (a process's piece and the tetrahedra of other pieces near it): the
+ * level-0 grid is global (ResampleLevel0Onto of the piece's own tetrahedra, combined over
+ * the processes by the caller); a level-1 step at a vertex reads the mesh within one step
+ * length of it and the vertices of the tetrahedron it departs from, whose values the
+ * caller takes from the other processes after each step (PropagateLevel1's afterStep), as
+ * it does between the rounds of the colouring and the colours of the scattering.
  */
 #ifndef TetrahedralLightKernel_h
 #define TetrahedralLightKernel_h
@@ -47,6 +54,7 @@
 #include "VolIllumKernelsModule.h"
 
 #include <array>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -63,8 +71,9 @@ struct VOLILLUMKERNELS_EXPORT TetrahedralMesh
   std::vector<int> EdgeOffsets, EdgeNeighbors; // mesh neighbours of each point
   std::vector<float> EdgeWeights;              // (mean edge / length)^2 per neighbour entry
   std::vector<unsigned char> Interior;         // 1: used and not on a boundary face
-  double Bounds[6] = { 0, 0, 0, 0, 0, 0 };
+  double Bounds[6] = { 0, 0, 0, 0, 0, 0 };     // of the points of the own tetrahedra
   double MeanEdgeLength = 0.0;
+  int OwnTets = 0; // usable tetrahedra among the first `own` given (the first OwnTets here)
   long long Degenerate = 0; // tetrahedra dropped for (near) zero volume
   long long Inverted = 0;   // tetrahedra reoriented
 
@@ -76,10 +85,17 @@ struct VOLILLUMKERNELS_EXPORT TetrahedralMesh
  * Build the mesh from points (3 doubles each) and tetrahedra (4 point ids each).
  * Tetrahedra with |volume| <= 1e-9 x (longest edge)^3 are dropped (their faces become
  * boundary); inverted ones are reoriented. Returns false with a message when nothing
- * usable remains.
+ * usable remains. The first `own` tetrahedra (all when negative) are the mesh's own (a
+ * process's piece; the others are its neighbours'): Bounds cover their points. A mesh with
+ * own tetrahedra given (own >= 0) may have none (a process with nothing to light).
  */
 VOLILLUMKERNELS_EXPORT bool BuildTetrahedralMesh(std::vector<double> points,
-  const std::vector<long long>& tets, TetrahedralMesh& mesh, std::string& error);
+  const std::vector<long long>& tets, TetrahedralMesh& mesh, std::string& error,
+  long long own = -1);
+
+/// Replace the mean edge length (that of the whole distributed mesh) and the scattering
+/// weights that depend on it.
+VOLILLUMKERNELS_EXPORT void SetMeanEdgeLength(TetrahedralMesh& mesh, double mean);
 
 /// Level-0 grid: per-channel extinction (0 where blank) on a regular grid over the mesh.
 struct VOLILLUMKERNELS_EXPORT Level0Grid
@@ -90,10 +106,20 @@ struct VOLILLUMKERNELS_EXPORT Level0Grid
   std::vector<unsigned char> Inside; // 1 inside a tetrahedron
 };
 
+/// The level-0 grid of the given dimensions (at least 2 per axis) spanning bounds.
+VOLILLUMKERNELS_EXPORT GridGeometry Level0Geometry(
+  const double bounds[6], const std::array<int, 3>& dimensions);
+
 /// Resample per-vertex extinction (channels per vertex) onto a grid of the given
 /// dimensions spanning the mesh bounds.
 VOLILLUMKERNELS_EXPORT void ResampleLevel0(const TetrahedralMesh& mesh,
   const std::vector<float>& extinction, int channels, const std::array<int, 3>& dimensions,
+  Level0Grid& grid);
+
+/// Resample the extinction inside the mesh's own tetrahedra onto `geometry`; points in no
+/// own tetrahedron get 0 and are not marked inside.
+VOLILLUMKERNELS_EXPORT void ResampleLevel0Onto(const TetrahedralMesh& mesh,
+  const std::vector<float>& extinction, int channels, const GridGeometry& geometry,
   Level0Grid& grid);
 
 /// Upwind solution of one light on the level-0 grid: transmittance, Channels per point.
@@ -102,9 +128,12 @@ VOLILLUMKERNELS_EXPORT void PropagateLevel0(
 
 /// Level-1 semi-Lagrangian solution of one light from its level-0 solution.
 /// stepLength <= 0 means the mean edge length; iterations < 0 means none (level 0 only).
+/// afterStep(rho), when given, runs after each step (a parallel run replaces the values of
+/// other processes' vertices with theirs).
 VOLILLUMKERNELS_EXPORT void PropagateLevel1(const TetrahedralMesh& mesh,
   const std::vector<float>& extinction, const Level0Grid& grid, const std::vector<float>& level0,
-  const LightState& light, double stepLength, int iterations, std::vector<float>& rho);
+  const LightState& light, double stepLength, int iterations, std::vector<float>& rho,
+  const std::function<void(std::vector<float>& rho)>& afterStep = {});
 
 /// Number of level-1 steps that carry light across one level-0 cell (at least 1).
 VOLILLUMKERNELS_EXPORT int AutomaticLevel1Iterations(
@@ -124,12 +153,31 @@ struct VertexColoring
   int NumberOfColors() const { return static_cast<int>(this->Offsets.size()) - 1; }
 };
 
-VOLILLUMKERNELS_EXPORT VertexColoring ColorVertices(const TetrahedralMesh& mesh);
+/**
+ * Greedy colouring: vertices in an order fixed by their coordinates alone (a hash of them,
+ * then the coordinates, then the ids of coincident vertices), each given the smallest
+ * colour none of its mesh neighbours earlier in that order has. The order does not follow
+ * the mesh's numbering or its pieces, so every process of a parallel run colours its
+ * vertices as a single process colours the whole mesh.
+ *
+ * Parallel: `owned` (1 per vertex) marks the vertices this process colours; the others are
+ * other processes'. A vertex is coloured once its earlier neighbours are; between rounds
+ * `exchange(color)` fills the colours (-1 when not yet coloured) of the others' vertices
+ * from their owners and returns whether any process still has an uncoloured vertex. The
+ * order is pseudo-random, so chains of earlier neighbours are short and few rounds run.
+ * Only owned vertices are listed in the colouring.
+ */
+VOLILLUMKERNELS_EXPORT VertexColoring ColorVertices(const TetrahedralMesh& mesh,
+  const std::vector<unsigned char>* owned = nullptr,
+  const std::function<bool(std::vector<int>& color)>& exchange = {});
 
 /// Eq. 12: one implicit diffusion step of strength[c] per channel, solved by iterations
 /// of coloured Gauss-Seidel. rgb holds 3 values per vertex and is updated in place.
+/// afterColor(c), when given, runs after the vertices of colour c are updated (a parallel
+/// run passes the new values of its vertices to the processes that read them).
 VOLILLUMKERNELS_EXPORT void Scatter(const TetrahedralMesh& mesh, const VertexColoring& coloring,
-  const std::array<double, 3>& strength, int iterations, std::vector<float>& rgb);
+  const std::array<double, 3>& strength, int iterations, std::vector<float>& rgb,
+  const std::function<void(int color)>& afterColor = {});
 
 }
 

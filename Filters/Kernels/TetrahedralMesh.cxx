@@ -23,7 +23,7 @@ constexpr double DegenerateDeterminant = 6e-9;
 // The usable tetrahedra, positively oriented: those with valid point ids and a non-degenerate
 // volume (in parallel), then compacted in their order (counting the dropped and
 // reoriented ones).
-void KeepUsableTetrahedra(const std::vector<long long>& tets, TetrahedralMesh& mesh)
+void KeepUsableTetrahedra(const std::vector<long long>& tets, long long own, TetrahedralMesh& mesh)
 {
   const long long nPoints = mesh.NumberOfPoints();
   const int nTets = static_cast<int>(tets.size() / 4);
@@ -84,6 +84,10 @@ void KeepUsableTetrahedra(const std::vector<long long>& tets, TetrahedralMesh& m
       ++mesh.Inverted;
     }
     mesh.Tets.insert(mesh.Tets.end(), ids, ids + 4);
+    if (own < 0 || t < own)
+    {
+      ++mesh.OwnTets;
+    }
   }
 }
 
@@ -231,20 +235,17 @@ void FindEdgeNeighbors(TetrahedralMesh& mesh)
     {
       const Vec3 d = Sub(PointOf(mesh.Points, mesh.EdgeNeighbors[k]), x);
       const double len2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-      mesh.EdgeWeights[k] = static_cast<float>(len2);
+      mesh.EdgeWeights[k] = static_cast<float>(1.0 / std::max(len2, 1e-300));
       lengthSum += std::sqrt(len2);
       ++edges;
     }
   }
-  mesh.MeanEdgeLength = lengthSum / static_cast<double>(std::max<long long>(edges, 1));
-  const double mean2 = mesh.MeanEdgeLength * mesh.MeanEdgeLength;
-  for (float& w : mesh.EdgeWeights)
-  {
-    w = static_cast<float>(mean2 / std::max(static_cast<double>(w), 1e-300));
-  }
+  // The weights are those of a mean edge of 1 until SetMeanEdgeLength scales them.
+  mesh.MeanEdgeLength = 1.0;
+  SetMeanEdgeLength(mesh, lengthSum / static_cast<double>(std::max<long long>(edges, 1)));
 }
 
-// Bounds of the points used by a tetrahedron.
+// Bounds of the points used by an own tetrahedron.
 void ComputeBounds(TetrahedralMesh& mesh)
 {
   for (int a = 0; a < 3; ++a)
@@ -252,8 +253,9 @@ void ComputeBounds(TetrahedralMesh& mesh)
     mesh.Bounds[2 * a] = std::numeric_limits<double>::max();
     mesh.Bounds[2 * a + 1] = -std::numeric_limits<double>::max();
   }
-  for (int id : mesh.Tets)
+  for (size_t k = 0; k < 4 * static_cast<size_t>(mesh.OwnTets); ++k)
   {
+    const int id = mesh.Tets[k];
     for (int a = 0; a < 3; ++a)
     {
       mesh.Bounds[2 * a] = std::min(mesh.Bounds[2 * a], mesh.Points[3 * id + a]);
@@ -265,7 +267,7 @@ void ComputeBounds(TetrahedralMesh& mesh)
 
 //------------------------------------------------------------------------------
 bool BuildTetrahedralMesh(std::vector<double> points, const std::vector<long long>& tets,
-  TetrahedralMesh& mesh, std::string& error)
+  TetrahedralMesh& mesh, std::string& error, long long own)
 {
   mesh = TetrahedralMesh();
   if (static_cast<long long>(points.size() / 3) >= std::numeric_limits<int>::max() ||
@@ -275,8 +277,8 @@ bool BuildTetrahedralMesh(std::vector<double> points, const std::vector<long lon
     return false;
   }
   mesh.Points = std::move(points);
-  KeepUsableTetrahedra(tets, mesh);
-  if (mesh.NumberOfTets() == 0)
+  KeepUsableTetrahedra(tets, own, mesh);
+  if (mesh.NumberOfTets() == 0 && own < 0)
   {
     error = "the mesh has no tetrahedron with a non-zero volume";
     return false;
@@ -287,6 +289,19 @@ bool BuildTetrahedralMesh(std::vector<double> points, const std::vector<long lon
   FindEdgeNeighbors(mesh);
   ComputeBounds(mesh);
   return true;
+}
+
+//------------------------------------------------------------------------------
+void SetMeanEdgeLength(TetrahedralMesh& mesh, double mean)
+{
+  // A weight is (mean edge / length)^2: scaled by the square of the ratio of the means.
+  const double ratio = mean / mesh.MeanEdgeLength;
+  const double factor = std::isfinite(ratio) ? ratio * ratio : 1.0;
+  for (float& w : mesh.EdgeWeights)
+  {
+    w = static_cast<float>(factor * w);
+  }
+  mesh.MeanEdgeLength = mean;
 }
 
 }

@@ -4,6 +4,8 @@
 #include "vtkSMPTools.h"
 
 #include <algorithm>
+#include <cstdint>
+#include <cstring>
 #include <numeric>
 
 namespace volillum
@@ -42,55 +44,116 @@ void CombineLights(const TetrahedralMesh& mesh, const std::vector<LightState>& l
     });
 }
 
+namespace
+{
+// A 64-bit mix of a point's coordinates (their bits): the pseudo-random rank of the
+// colouring order.
+std::uint64_t CoordinateHash(const double* x)
+{
+  std::uint64_t h = 0x9e3779b97f4a7c15ULL;
+  for (int a = 0; a < 3; ++a)
+  {
+    std::uint64_t bits;
+    std::memcpy(&bits, x + a, sizeof bits);
+    h ^= bits + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
+    h ^= h >> 31;
+    h *= 0xbf58476d1ce4e5b9ULL;
+    h ^= h >> 29;
+  }
+  return h;
+}
+}
+
 //------------------------------------------------------------------------------
-VertexColoring ColorVertices(const TetrahedralMesh& mesh)
+VertexColoring ColorVertices(const TetrahedralMesh& mesh, const std::vector<unsigned char>* owned,
+  const std::function<bool(std::vector<int>& color)>& exchange)
 {
   const int np = mesh.NumberOfPoints();
-  // Greedy colouring in the order of the vertices' coordinates (ids break ties between
-  // coincident vertices): the colours, and so the Gauss-Seidel iterations of Scatter, depend
-  // on the mesh's geometry, not on how its points are numbered (a grid assembled from
-  // parallel pieces is lit as the serial one).
+  const double* x = mesh.Points.data();
+  std::vector<std::uint64_t> hash(np);
+  vtkSMPTools::For(0, np,
+    [&](int begin, int end)
+    {
+      for (int p = begin; p < end; ++p)
+      {
+        hash[p] = CoordinateHash(x + 3 * static_cast<size_t>(p));
+      }
+    });
   std::vector<int> visit(np);
   std::iota(visit.begin(), visit.end(), 0);
-  const double* x = mesh.Points.data();
   std::sort(visit.begin(), visit.end(),
-    [x](int a, int b)
+    [&hash, x](int a, int b)
     {
+      if (hash[a] != hash[b])
+      {
+        return hash[a] < hash[b];
+      }
       return std::lexicographical_compare(x + 3 * a, x + 3 * a + 3, x + 3 * b, x + 3 * b + 3) ||
         (std::equal(x + 3 * a, x + 3 * a + 3, x + 3 * b) && a < b);
     });
+  std::vector<int> position(np);
+  for (int k = 0; k < np; ++k)
+  {
+    position[visit[k]] = k;
+  }
+  // The vertices to colour here, in order; each round colours those whose earlier
+  // neighbours all have their colours.
+  std::vector<int> pending;
+  pending.reserve(np);
+  for (int p : visit)
+  {
+    if (!owned || (*owned)[p])
+    {
+      pending.push_back(p);
+    }
+  }
+  const std::vector<int> mine = pending;
   std::vector<int> color(np, -1);
   std::vector<char> taken;
   int colors = 0;
-  for (int p : visit)
+  for (bool more = true; more;)
   {
-    taken.assign(colors + 1, 0);
-    for (int k = mesh.EdgeOffsets[p]; k < mesh.EdgeOffsets[p + 1]; ++k)
+    size_t waiting = 0;
+    for (int p : pending)
     {
-      const int c = color[mesh.EdgeNeighbors[k]];
-      if (c >= 0)
+      taken.assign(colors + 1, 0);
+      bool ready = true;
+      for (int k = mesh.EdgeOffsets[p]; k < mesh.EdgeOffsets[p + 1] && ready; ++k)
       {
-        taken[c] = 1;
+        const int q = mesh.EdgeNeighbors[k];
+        if (position[q] < position[p])
+        {
+          ready = color[q] >= 0;
+          if (ready)
+          {
+            // Another process's vertex may have a colour this one has not used yet.
+            taken.resize(std::max(taken.size(), static_cast<size_t>(color[q]) + 2), 0);
+            taken[color[q]] = 1;
+          }
+        }
       }
+      if (!ready)
+      {
+        pending[waiting++] = p;
+        continue;
+      }
+      const int c = static_cast<int>(std::find(taken.begin(), taken.end(), 0) - taken.begin());
+      color[p] = c;
+      colors = std::max(colors, c + 1);
     }
-    int c = 0;
-    while (taken[c])
-    {
-      ++c;
-    }
-    color[p] = c;
-    colors = std::max(colors, c + 1);
+    pending.resize(waiting);
+    more = exchange ? exchange(color) : false;
   }
   VertexColoring coloring;
   coloring.Offsets.assign(colors + 1, 0);
-  for (int c : color)
+  for (int p : mine)
   {
-    ++coloring.Offsets[c + 1];
+    ++coloring.Offsets[color[p] + 1];
   }
   std::partial_sum(coloring.Offsets.begin(), coloring.Offsets.end(), coloring.Offsets.begin());
-  coloring.Order.resize(np);
+  coloring.Order.resize(mine.size());
   std::vector<int> fill(coloring.Offsets.begin(), coloring.Offsets.end() - 1);
-  for (int p : visit)
+  for (int p : mine)
   {
     coloring.Order[fill[color[p]]++] = p;
   }
@@ -99,7 +162,8 @@ VertexColoring ColorVertices(const TetrahedralMesh& mesh)
 
 //------------------------------------------------------------------------------
 void Scatter(const TetrahedralMesh& mesh, const VertexColoring& coloring,
-  const std::array<double, 3>& strength, int iterations, std::vector<float>& rgb)
+  const std::array<double, 3>& strength, int iterations, std::vector<float>& rgb,
+  const std::function<void(int color)>& afterColor)
 {
   if (iterations <= 0 || (strength[0] <= 0.0 && strength[1] <= 0.0 && strength[2] <= 0.0))
   {
@@ -135,6 +199,10 @@ void Scatter(const TetrahedralMesh& mesh, const VertexColoring& coloring,
             }
           }
         });
+      if (afterColor)
+      {
+        afterColor(c);
+      }
     }
   }
 }
