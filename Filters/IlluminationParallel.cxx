@@ -20,6 +20,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <unordered_map>
 #include <utility>
@@ -258,6 +259,208 @@ void CopyPiece(vtkDataSetAttributes* from, const int e[6], vtkDataSetAttributes*
       }
     }
   }
+}
+}
+
+namespace
+{
+// Message tags of NeighborhoodGrid.
+constexpr int CellsTag = 8270, CountTag = 8271, KeysTag = 8272, ValuesTag = 8273;
+
+// Where the cells of the pieces lie: bins over the bounds of all pieces, about `depth`
+// wide (at most 64 a side), a bit per bin.
+class BinMask
+{
+public:
+  BinMask(const double bounds[6], double depth)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      const double extent = bounds[2 * a + 1] - bounds[2 * a];
+      this->Origin[a] = bounds[2 * a];
+      this->Bins[a] = extent > 0.0 && depth > 0.0
+        ? static_cast<int>(std::min(64.0, std::max(1.0, std::ceil(extent / depth))))
+        : 1;
+      this->Size[a] = extent > 0.0 ? extent / this->Bins[a] : 1.0;
+    }
+    this->Bits.assign((this->Count() + 7) / 8, 0);
+  }
+
+  size_t Count() const
+  {
+    return static_cast<size_t>(this->Bins[0]) * this->Bins[1] * this->Bins[2];
+  }
+
+  // Calls visit(bin) for each bin the box overlaps until it returns true; returns whether it
+  // did.
+  template <typename Visit>
+  bool AnyBin(const double box[6], Visit&& visit) const
+  {
+    int lo[3], hi[3];
+    for (int a = 0; a < 3; ++a)
+    {
+      const auto at = [&](double x)
+      {
+        const double f = std::floor((x - this->Origin[a]) / this->Size[a]);
+        return static_cast<int>(std::min(std::max(f, 0.0), this->Bins[a] - 1.0));
+      };
+      lo[a] = at(box[2 * a]);
+      hi[a] = at(box[2 * a + 1]);
+    }
+    for (int k = lo[2]; k <= hi[2]; ++k)
+    {
+      for (int j = lo[1]; j <= hi[1]; ++j)
+      {
+        for (int i = lo[0]; i <= hi[0]; ++i)
+        {
+          if (visit(i +
+                static_cast<size_t>(this->Bins[0]) * (j + static_cast<size_t>(this->Bins[1]) * k)))
+          {
+            return true;
+          }
+        }
+      }
+    }
+    return false;
+  }
+
+  // Marks the bins the box overlaps.
+  void Mark(const double box[6])
+  {
+    this->AnyBin(box,
+      [this](size_t bin)
+      {
+        this->Bits[bin / 8] |= static_cast<unsigned char>(1u << (bin % 8));
+        return false;
+      });
+  }
+
+  // Whether the box grown by depth overlaps a bin marked in `bits` (another mask's).
+  bool Meets(const unsigned char* bits, const double box[6], double depth) const
+  {
+    const double grown[6] = { box[0] - depth, box[1] + depth, box[2] - depth, box[3] + depth,
+      box[4] - depth, box[5] + depth };
+    return this->AnyBin(
+      grown, [bits](size_t bin) { return ((bits[bin / 8] >> (bin % 8)) & 1) != 0; });
+  }
+
+  // Whether a bin marked in `a` lies within depth (in whole bins) of one marked in `b`: the
+  // same answer for (a, b) as for (b, a).
+  bool Near(const unsigned char* a, const unsigned char* b, double depth) const
+  {
+    int reach[3];
+    for (int d = 0; d < 3; ++d)
+    {
+      reach[d] = static_cast<int>(std::ceil(depth / this->Size[d]));
+    }
+    const auto marked = [](const unsigned char* bits, size_t bin)
+    { return ((bits[bin / 8] >> (bin % 8)) & 1) != 0; };
+    const size_t nx = this->Bins[0], ny = this->Bins[1];
+    for (int k = 0; k < this->Bins[2]; ++k)
+    {
+      for (int j = 0; j < this->Bins[1]; ++j)
+      {
+        for (int i = 0; i < this->Bins[0]; ++i)
+        {
+          if (!marked(a, i + nx * (j + ny * k)))
+          {
+            continue;
+          }
+          for (int kk = std::max(0, k - reach[2]); kk <= std::min(this->Bins[2] - 1, k + reach[2]);
+               ++kk)
+          {
+            for (int jj = std::max(0, j - reach[1]);
+                 jj <= std::min(this->Bins[1] - 1, j + reach[1]); ++jj)
+            {
+              for (int ii = std::max(0, i - reach[0]);
+                   ii <= std::min(this->Bins[0] - 1, i + reach[0]); ++ii)
+              {
+                if (marked(b, ii + nx * (jj + ny * kk)))
+                {
+                  return true;
+                }
+              }
+            }
+          }
+        }
+      }
+    }
+    return false;
+  }
+
+  double Origin[3];
+  double Size[3];
+  int Bins[3];
+  std::vector<unsigned char> Bits;
+};
+
+// The cells of grid whose bounding boxes grown by depth meet the bins marked in `bits`, with
+// their points and arrays.
+vtkSmartPointer<vtkUnstructuredGrid> CellsNear(
+  vtkUnstructuredGrid* grid, const BinMask& mask, const unsigned char* bits, double depth)
+{
+  auto near = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  near->SetPoints(points);
+  near->GetPointData()->CopyGlobalIdsOn();
+  near->GetPointData()->CopyAllocate(grid->GetPointData());
+  near->GetCellData()->CopyAllocate(grid->GetCellData());
+  std::vector<vtkIdType> ids(static_cast<size_t>(grid->GetNumberOfPoints()), -1);
+  vtkNew<vtkIdList> cell;
+  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
+  {
+    double bounds[6];
+    grid->GetCellBounds(c, bounds);
+    if (!mask.Meets(bits, bounds, depth))
+    {
+      continue;
+    }
+    grid->GetCellPoints(c, cell);
+    for (vtkIdType k = 0; k < cell->GetNumberOfIds(); ++k)
+    {
+      vtkIdType& id = ids[cell->GetId(k)];
+      if (id < 0)
+      {
+        id = points->InsertNextPoint(grid->GetPoint(cell->GetId(k)));
+        near->GetPointData()->CopyData(grid->GetPointData(), cell->GetId(k), id);
+      }
+      cell->SetId(k, id);
+    }
+    const vtkIdType added = near->InsertNextCell(grid->GetCellType(c), cell);
+    near->GetCellData()->CopyData(grid->GetCellData(), c, added);
+  }
+  near->Squeeze();
+  return near;
+}
+
+// Runs exchange(k, send) with each peer k in order, this process sending first to higher
+// processes and last to lower ones: every process meets its peers in the same global order
+// of pairs, so blocking sends cannot wait on each other in a cycle.
+template <typename Exchange>
+void WithEachPeer(int local, const std::vector<int>& peers, Exchange&& exchange)
+{
+  for (size_t k = 0; k < peers.size(); ++k)
+  {
+    const bool sendFirst = local < peers[k];
+    exchange(k, sendFirst);
+    exchange(k, !sendFirst);
+  }
+}
+
+// A point's key: its global id (first value) or its coordinates.
+std::array<double, 3> PointKey(vtkDataSet* grid, vtkIdType i, bool byId)
+{
+  std::array<double, 3> key = { 0.0, 0.0, 0.0 };
+  if (byId)
+  {
+    key[0] = grid->GetPointData()->GetGlobalIds()->GetTuple1(i);
+  }
+  else
+  {
+    grid->GetPoint(i, key.data());
+  }
+  return key;
 }
 }
 
@@ -502,6 +705,295 @@ vtkUnstructuredGrid* DistributedInput::Grid(
   whole->Squeeze();
   this->Whole = whole;
   return whole;
+}
+
+//------------------------------------------------------------------------------
+vtkSmartPointer<vtkUnstructuredGrid> PieceWithoutGhostCells(
+  vtkAlgorithm* algorithm, vtkUnstructuredGrid* piece)
+{
+  if (!piece || piece->GetNumberOfCells() == 0)
+  {
+    return nullptr;
+  }
+  vtkNew<vtkUnstructuredGrid> travelling;
+  CopyLitArrays(algorithm, piece, travelling);
+  auto own = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  own->SetPoints(piece->GetPoints());
+  own->GetPointData()->ShallowCopy(travelling->GetPointData());
+  own->GetCellData()->CopyAllocate(travelling->GetCellData());
+  own->AllocateEstimate(piece->GetNumberOfCells(), 4);
+  vtkUnsignedCharArray* ghosts = piece->GetCellGhostArray();
+  vtkNew<vtkIdList> cell;
+  for (vtkIdType c = 0; c < piece->GetNumberOfCells(); ++c)
+  {
+    if (ghosts && (ghosts->GetValue(c) & vtkDataSetAttributes::DUPLICATECELL))
+    {
+      continue; // owned by another piece
+    }
+    piece->GetCellPoints(c, cell);
+    const vtkIdType id = own->InsertNextCell(piece->GetCellType(c), cell);
+    own->GetCellData()->CopyData(travelling->GetCellData(), c, id);
+  }
+  own->Squeeze();
+  return own->GetNumberOfCells() > 0 ? own : nullptr;
+}
+
+//------------------------------------------------------------------------------
+bool NeighborhoodGrid::Update(
+  vtkMultiProcessController* controller, vtkUnstructuredGrid* piece, double depth)
+{
+  vtkNew<vtkUnstructuredGrid> empty;
+  const std::uint64_t fingerprint = volillum::Fingerprint(piece ? piece : empty.Get());
+  int changed = !this->Grid || this->Fingerprint == 0 || fingerprint != this->Fingerprint ||
+    depth != this->Depth;
+  int any = 0;
+  controller->AllReduce(&changed, &any, 1, vtkCommunicator::LOGICAL_OR_OP);
+  if (!any)
+  {
+    return false;
+  }
+  this->Build(controller, piece, depth);
+  this->Fingerprint = fingerprint;
+  this->Depth = depth;
+  return true;
+}
+
+//------------------------------------------------------------------------------
+vtkUnstructuredGrid* NeighborhoodGrid::Build(
+  vtkMultiProcessController* controller, vtkUnstructuredGrid* piece, double depth)
+{
+  this->Controller = controller;
+  const int local = controller->GetLocalProcessId();
+  const int processes = controller->GetNumberOfProcesses();
+  const bool has = piece && piece->GetNumberOfCells() > 0;
+  // Bins over the bounds of all pieces: where this piece's cells lie.
+  double whole[6];
+  UnionOfBounds(controller, has ? piece : nullptr, whole);
+  BinMask mask(whole, depth);
+  for (vtkIdType c = 0; has && c < piece->GetNumberOfCells(); ++c)
+  {
+    double bounds[6];
+    piece->GetCellBounds(c, bounds);
+    mask.Mark(bounds);
+  }
+  const size_t bytes = mask.Bits.size();
+  std::vector<unsigned char> masks(bytes * processes);
+  controller->AllGather(mask.Bits.data(), masks.data(), static_cast<vtkIdType>(bytes));
+  // Peers: the processes with cells in bins within depth of this piece's (the same relation
+  // seen from both: no process waits for a peer that does not count it as one).
+  this->Peers.clear();
+  for (int q = 0; q < processes && has; ++q)
+  {
+    if (q != local && mask.Near(mask.Bits.data(), masks.data() + bytes * q, depth))
+    {
+      this->Peers.push_back(q);
+    }
+  }
+
+  // The cells of each peer near this piece.
+  std::vector<vtkSmartPointer<vtkUnstructuredGrid>> received(this->Peers.size());
+  WithEachPeer(local, this->Peers,
+    [&](size_t k, bool send)
+    {
+      const int q = this->Peers[k];
+      if (send)
+      {
+        controller->Send(CellsNear(piece, mask, masks.data() + bytes * q, depth), q, CellsTag);
+      }
+      else
+      {
+        received[k] = vtkSmartPointer<vtkUnstructuredGrid>::New();
+        controller->Receive(received[k], q, CellsTag);
+      }
+    });
+
+  // The piece, then the others' cells; a point of a later grid at the place (or with the
+  // global id) of an earlier one is that point.
+  this->Grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  this->PiecePoints = has ? piece->GetNumberOfPoints() : 0;
+  this->PieceCells = has ? piece->GetNumberOfCells() : 0;
+  this->Owned.clear();
+  vtkUnstructuredGrid* grid = this->Grid;
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  grid->SetPoints(points);
+  if (!has)
+  {
+    grid->AllocateEstimate(0, 4);
+    return this->Grid;
+  }
+  grid->GetPointData()->CopyGlobalIdsOn();
+  grid->GetPointData()->CopyAllocate(piece->GetPointData());
+  grid->GetCellData()->CopyAllocate(piece->GetCellData());
+  const bool byId = piece->GetPointData()->GetGlobalIds() != nullptr;
+  std::map<std::array<double, 3>, vtkIdType> known;
+  std::vector<int> owner;
+  this->Reads.assign(this->Peers.size(), {});
+  vtkNew<vtkIdList> cell;
+  // `from`: the piece (peer -1) or the cells of peer k.
+  const auto append = [&](vtkUnstructuredGrid* from, int process, int peer)
+  {
+    std::vector<vtkIdType> ids(static_cast<size_t>(from->GetNumberOfPoints()));
+    std::vector<std::pair<std::array<double, 3>, vtkIdType>> added;
+    for (vtkIdType i = 0; i < from->GetNumberOfPoints(); ++i)
+    {
+      const auto key = PointKey(from, i, byId);
+      const auto found = process == local ? known.end() : known.find(key);
+      if (found != known.end())
+      {
+        ids[i] = found->second;
+        continue;
+      }
+      ids[i] = points->InsertNextPoint(from->GetPoint(i));
+      grid->GetPointData()->CopyData(from->GetPointData(), i, ids[i]);
+      added.emplace_back(key, ids[i]);
+      if (peer >= 0)
+      {
+        this->Reads[peer].push_back(ids[i]); // a point of that peer's piece
+      }
+    }
+    known.insert(added.begin(), added.end()); // the first point at a place is kept
+    owner.resize(static_cast<size_t>(points->GetNumberOfPoints()), processes);
+    for (vtkIdType c = 0; c < from->GetNumberOfCells(); ++c)
+    {
+      from->GetCellPoints(c, cell);
+      for (vtkIdType k = 0; k < cell->GetNumberOfIds(); ++k)
+      {
+        cell->SetId(k, ids[cell->GetId(k)]);
+        owner[cell->GetId(k)] = std::min(owner[cell->GetId(k)], process);
+      }
+      const vtkIdType id = grid->InsertNextCell(from->GetCellType(c), cell);
+      grid->GetCellData()->CopyData(from->GetCellData(), c, id);
+    }
+  };
+  append(piece, local, -1);
+  for (size_t k = 0; k < this->Peers.size(); ++k)
+  {
+    append(received[k], this->Peers[k], static_cast<int>(k));
+  }
+  received.clear();
+  grid->Squeeze();
+
+  // Owned points: of the piece, and not of a lower process's piece (all the cells around a
+  // point of the piece are here, so the lowest process whose piece has it is known).
+  const vtkIdType np = grid->GetNumberOfPoints();
+  this->Owned.assign(static_cast<size_t>(np), 0);
+  for (vtkIdType p = 0; p < this->PiecePoints; ++p)
+  {
+    this->Owned[p] = owner[p] >= local;
+  }
+  this->Sends.assign(this->Peers.size(), {});
+  // Tell each peer which points of its piece are read here (by key), in the order of Reads.
+  WithEachPeer(local, this->Peers,
+    [&](size_t k, bool send)
+    {
+      const int q = this->Peers[k];
+      if (send)
+      {
+        std::vector<double> keys;
+        keys.reserve(3 * this->Reads[k].size());
+        for (vtkIdType p : this->Reads[k])
+        {
+          const auto key = PointKey(grid, p, byId);
+          keys.insert(keys.end(), key.begin(), key.end());
+        }
+        const vtkIdType count = static_cast<vtkIdType>(this->Reads[k].size());
+        controller->Send(&count, 1, q, CountTag);
+        controller->Send(keys.data(), 3 * count, q, KeysTag);
+        return;
+      }
+      vtkIdType count = 0;
+      controller->Receive(&count, 1, q, CountTag);
+      std::vector<double> keys(3 * static_cast<size_t>(count));
+      controller->Receive(keys.data(), 3 * count, q, KeysTag);
+      auto& sends = this->Sends[k];
+      sends.resize(static_cast<size_t>(count));
+      for (vtkIdType i = 0; i < count; ++i)
+      {
+        const std::array<double, 3> key = { keys[3 * i], keys[3 * i + 1], keys[3 * i + 2] };
+        const auto found = known.find(key);
+        sends[i] = found == known.end() ? -1 : found->second;
+      }
+    });
+  return this->Grid;
+}
+
+//------------------------------------------------------------------------------
+vtkUnstructuredGrid* NeighborhoodGrid::GetGrid() const
+{
+  return this->Grid;
+}
+
+//------------------------------------------------------------------------------
+template <typename T>
+void NeighborhoodGrid::ExchangeValues(T* values, int components) const
+{
+  if (!this->Controller)
+  {
+    return;
+  }
+  const int local = this->Controller->GetLocalProcessId();
+  std::vector<T> buffer;
+  WithEachPeer(local, this->Peers,
+    [&](size_t k, bool send)
+    {
+      const int q = this->Peers[k];
+      const auto& points = send ? this->Sends[k] : this->Reads[k];
+      buffer.assign(points.size() * components, T(0));
+      if (send)
+      {
+        for (size_t i = 0; i < points.size(); ++i)
+        {
+          if (points[i] >= 0)
+          {
+            std::copy_n(values + components * points[i], components, &buffer[components * i]);
+          }
+        }
+        this->Controller->Send(buffer.data(), static_cast<vtkIdType>(buffer.size()), q, ValuesTag);
+        return;
+      }
+      this->Controller->Receive(buffer.data(), static_cast<vtkIdType>(buffer.size()), q, ValuesTag);
+      for (size_t i = 0; i < points.size(); ++i)
+      {
+        std::copy_n(&buffer[components * i], components, values + components * points[i]);
+      }
+    });
+}
+
+//------------------------------------------------------------------------------
+void NeighborhoodGrid::Exchange(float* values, int components) const
+{
+  this->ExchangeValues(values, components);
+}
+
+//------------------------------------------------------------------------------
+void NeighborhoodGrid::Exchange(int* values, int components) const
+{
+  this->ExchangeValues(values, components);
+}
+
+//------------------------------------------------------------------------------
+void UnionOfBounds(vtkMultiProcessController* controller, vtkDataSet* piece, double bounds[6])
+{
+  const double huge = std::numeric_limits<double>::max();
+  double low[3] = { huge, huge, huge }, high[3] = { -huge, -huge, -huge };
+  if (piece && piece->GetNumberOfPoints() > 0)
+  {
+    const double* b = piece->GetBounds();
+    for (int a = 0; a < 3; ++a)
+    {
+      low[a] = b[2 * a];
+      high[a] = b[2 * a + 1];
+    }
+  }
+  double wholeLow[3], wholeHigh[3];
+  controller->AllReduce(low, wholeLow, 3, vtkCommunicator::MIN_OP);
+  controller->AllReduce(high, wholeHigh, 3, vtkCommunicator::MAX_OP);
+  for (int a = 0; a < 3; ++a)
+  {
+    bounds[2 * a] = wholeLow[a];
+    bounds[2 * a + 1] = wholeHigh[a];
+  }
 }
 
 //------------------------------------------------------------------------------

@@ -3,7 +3,9 @@
  * @brief The illumination filters on distributed data (pvbatch and pvserver under MPI).
  *
  * Light crosses the whole domain: the light reaching a point depends on material held by
- * other processes. In this version every process assembles the whole input from the pieces
+ * other processes. Unstructured grids: each process keeps its piece and the cells of other
+ * pieces near it (NeighborhoodGrid), and values cross between processes as the solver
+ * steps. Images: in this version every process assembles the whole input from the pieces
  * of all processes (collective calls of the filter's vtkMultiProcessController) and
  * outputs the part of the illumination that belongs to its own piece. The propagation
  * shares its sweeps out among the processes (SweepShare): each process propagates its
@@ -54,6 +56,10 @@ VOLILLUMFILTERS_EXPORT vtkMultiProcessController* ParallelRun(
 VOLILLUMFILTERS_EXPORT void TargetPieceExtent(
   const int whole[6], const int target[3], const int piece[6], int out[6]);
 
+/// Collective: the bounds of the points of all processes' pieces (piece may be nullptr).
+VOLILLUMFILTERS_EXPORT void UnionOfBounds(
+  vtkMultiProcessController* controller, vtkDataSet* piece, double bounds[6]);
+
 /**
  * Collective: every process's `extent` (6 values each, in process order); a process
  * without a piece passes nullptr and gets an empty extent (its second value below its
@@ -85,6 +91,75 @@ VOLILLUMFILTERS_EXPORT std::vector<vtkIdType> MatchPoints(vtkDataSet* whole, vtk
  */
 VOLILLUMFILTERS_EXPORT void AddPointValues(vtkDataSet* whole, const std::vector<vtkIdType>& ids,
   const std::vector<const char*>& names, vtkDataSet* piece);
+
+/**
+ * Collective: the cells of `piece` that are not ghost cells (DUPLICATECELL), its points
+ * (their ids unchanged) and the arrays that travel (see DistributedInput): nullptr when the
+ * piece has no cell.
+ */
+VOLILLUMFILTERS_EXPORT vtkSmartPointer<vtkUnstructuredGrid> PieceWithoutGhostCells(
+  vtkAlgorithm* algorithm, vtkUnstructuredGrid* piece);
+
+/**
+ * A process's neighbourhood of a distributed unstructured grid: its piece's cells followed
+ * by the cells of other processes' pieces whose bounding boxes come within `depth` of the
+ * piece's bounds (each process sends the others what lies near them: no process holds the
+ * whole grid unless the depth spans it). Points of the piece keep their ids; points of the
+ * other pieces follow, one per place (point global ids when the pieces have them, else
+ * coordinates: without global ids, coincident points of a seam near a piece's boundary are
+ * taken for one point there, as in DistributedInput::Grid). All the cells around a point of
+ * the piece are in the grid. Each process computes the values of its piece's points;
+ * Exchange gives it those of the other points of its grid, each from a process whose piece
+ * has the point. A point of several pieces is owned by the lowest of their processes
+ * (GetOwned: sums over points count each once).
+ */
+class VOLILLUMFILTERS_EXPORT NeighborhoodGrid
+{
+public:
+  /**
+   * Collective. `piece`: this process's cells without ghost cells (nullptr or empty for
+   * none), with the arrays to carry. Returns the grid: the piece's cells, then the others'
+   * (their processes in GetCellProcesses).
+   */
+  vtkUnstructuredGrid* Build(
+    vtkMultiProcessController* controller, vtkUnstructuredGrid* piece, double depth);
+
+  /// Collective: Build unless no process's piece (structure and arrays) changed since the
+  /// last Build with this depth; returns whether it built.
+  bool Update(vtkMultiProcessController* controller, vtkUnstructuredGrid* piece, double depth);
+
+  /// Forget the grid: the next Update builds.
+  void Reset() { this->Fingerprint = 0; }
+
+  vtkUnstructuredGrid* GetGrid() const;
+  /// Points of the piece (the first ones of the grid).
+  vtkIdType GetNumberOfPiecePoints() const { return this->PiecePoints; }
+  /// Cells of the piece (the first ones of the grid).
+  vtkIdType GetNumberOfPieceCells() const { return this->PieceCells; }
+  /// Per point of the grid: 1 where this process owns it.
+  const std::vector<unsigned char>& GetOwned() const { return this->Owned; }
+
+  /// Collective: the values (`components` a point) of the points of other pieces in the
+  /// grid, replaced by those the processes of those pieces hold.
+  void Exchange(float* values, int components) const;
+  void Exchange(int* values, int components) const;
+
+private:
+  template <typename T>
+  void ExchangeValues(T* values, int components) const;
+
+  vtkMultiProcessController* Controller = nullptr;
+  vtkSmartPointer<vtkUnstructuredGrid> Grid;
+  std::uint64_t Fingerprint = 0;
+  double Depth = 0.0;
+  vtkIdType PiecePoints = 0, PieceCells = 0;
+  std::vector<unsigned char> Owned;
+  // Per peer process (one whose piece lies within the depth): the points of its piece this
+  // process reads from it, and the points of this piece it sends it, in the order both
+  // agreed on.
+  std::vector<int> Peers;
+  std::vector<std::vector<vtkIdType>> Reads, Sends;
+};
 
 /**
  * The whole input of a filter assembled from the pieces of all processes, kept until the

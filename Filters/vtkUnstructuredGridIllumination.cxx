@@ -7,14 +7,18 @@
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
 #include "vtkColorTransferFunction.h"
+#include "vtkCommunicator.h"
 #include "vtkDataArray.h"
 #include "vtkDataSetTriangleFilter.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
+#include "vtkIdList.h"
+#include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkLight.h"
+#include "vtkMath.h"
 #include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
 #include "vtkPiecewiseFunction.h"
@@ -24,8 +28,12 @@
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <functional>
+#include <limits>
 
 vtkStandardNewMacro(vtkUnstructuredGridIllumination);
 volillumLightingImplementationMacro(vtkUnstructuredGridIllumination);
@@ -58,11 +66,49 @@ void AddSeconds(vtkFieldData* fieldData, const char* name, double seconds)
   array->InsertNextValue(seconds);
   fieldData->AddArray(array);
 }
+
+// Collective: whether `ok` holds on every process.
+bool AllOk(vtkMultiProcessController* controller, bool ok)
+{
+  int mine = ok ? 1 : 0;
+  int all = 0;
+  controller->AllReduce(&mine, &all, 1, vtkCommunicator::MIN_OP);
+  return all != 0;
+}
+
+// The tetrahedra of grid: grid itself when all its cells are tetrahedra, else
+// vtkDataSetTriangleFilter's split of its 3D cells (the same points, the arrays passed on);
+// nullptr with the reason in error when the split changed the points.
+vtkSmartPointer<vtkUnstructuredGrid> SplitIntoTetrahedra(
+  vtkUnstructuredGrid* grid, std::string& error)
+{
+  bool onlyTetrahedra = true;
+  for (vtkIdType c = 0; c < grid->GetNumberOfCells() && onlyTetrahedra; ++c)
+  {
+    onlyTetrahedra = grid->GetCellType(c) == VTK_TETRA;
+  }
+  if (onlyTetrahedra)
+  {
+    return grid;
+  }
+  vtkNew<vtkDataSetTriangleFilter> split;
+  split->TetrahedraOnlyOn();
+  split->SetInputData(grid);
+  split->Update();
+  vtkSmartPointer<vtkUnstructuredGrid> tetrahedra = split->GetOutput();
+  if (tetrahedra->GetNumberOfPoints() != grid->GetNumberOfPoints())
+  {
+    error = "Splitting the cells into tetrahedra changed the points; cannot light this grid.";
+    return nullptr;
+  }
+  tetrahedra->GetPointData()->ShallowCopy(grid->GetPointData()); // global ids included
+  return tetrahedra;
+}
 }
 
 //------------------------------------------------------------------------------
 vtkUnstructuredGridIllumination::vtkUnstructuredGridIllumination()
-  : Distributed(new volillum::DistributedInput)
+  : Neighborhood(new volillum::NeighborhoodGrid)
 {
   this->SetController(vtkMultiProcessController::GetGlobalController());
   this->SetInputArrayToProcess(
@@ -81,7 +127,7 @@ vtkUnstructuredGridIllumination::~vtkUnstructuredGridIllumination()
 vtkCxxSetObjectMacro(vtkUnstructuredGridIllumination, Controller, vtkMultiProcessController);
 
 //------------------------------------------------------------------------------
-bool vtkUnstructuredGridIllumination::PrepareMesh(vtkUnstructuredGrid* input)
+bool vtkUnstructuredGridIllumination::PrepareMesh(vtkUnstructuredGrid* input, vtkIdType own)
 {
   const vtkMTimeType key = std::max(input->GetPoints()->GetMTime(), input->GetCells()->GetMTime());
   if (key == this->MeshKey && this->Mesh.NumberOfPoints() == input->GetNumberOfPoints())
@@ -99,33 +145,19 @@ bool vtkUnstructuredGridIllumination::PrepareMesh(vtkUnstructuredGrid* input)
     vtkErrorMacro(<< badIds);
     return false;
   }
-
-  vtkSmartPointer<vtkUnstructuredGrid> tetrahedra = input;
-  bool onlyTetrahedra = true;
-  for (vtkIdType c = 0; c < input->GetNumberOfCells() && onlyTetrahedra; ++c)
-  {
-    onlyTetrahedra = input->GetCellType(c) == VTK_TETRA;
-  }
-  if (!volillum::HasSolidCells(input))
+  if (own < 0 && !volillum::HasSolidCells(input))
   {
     vtkErrorMacro("The input has no 3D cells to light.");
     return false;
   }
-  if (!onlyTetrahedra)
+  vtkNew<vtkUnstructuredGrid> structure;
+  structure->CopyStructure(input);
+  std::string error;
+  vtkSmartPointer<vtkUnstructuredGrid> tetrahedra = SplitIntoTetrahedra(structure, error);
+  if (!tetrahedra)
   {
-    vtkNew<vtkUnstructuredGrid> copy;
-    copy->CopyStructure(input);
-    vtkNew<vtkDataSetTriangleFilter> split;
-    split->TetrahedraOnlyOn();
-    split->SetInputData(copy);
-    split->Update();
-    tetrahedra = split->GetOutput();
-    if (tetrahedra->GetNumberOfPoints() != input->GetNumberOfPoints())
-    {
-      vtkErrorMacro("Splitting the cells into tetrahedra changed the points; cannot light "
-                    "this grid.");
-      return false;
-    }
+    vtkErrorMacro(<< error);
+    return false;
   }
 
   std::vector<double> points(3 * static_cast<size_t>(input->GetNumberOfPoints()));
@@ -147,21 +179,163 @@ bool vtkUnstructuredGridIllumination::PrepareMesh(vtkUnstructuredGrid* input)
       tets.insert(tets.end(), ids, ids + 4);
     }
   }
-  std::string error;
-  if (!volillum::BuildTetrahedralMesh(std::move(points), tets, this->Mesh, error))
+  if (!volillum::BuildTetrahedralMesh(std::move(points), tets, this->Mesh, error, own))
   {
     vtkErrorMacro("Cannot light the grid: " << error << ".");
     return false;
   }
-  this->Coloring = volillum::ColorVertices(this->Mesh);
+  if (own < 0)
+  {
+    this->Coloring = volillum::ColorVertices(this->Mesh);
+  }
   this->MeshKey = key;
   return true;
 }
 
 //------------------------------------------------------------------------------
-bool vtkUnstructuredGridIllumination::Classify(vtkDataArray* scalars)
+bool vtkUnstructuredGridIllumination::PrepareDistributedMesh(
+  vtkMultiProcessController* controller, vtkUnstructuredGrid* input)
+{
+  // This piece's tetrahedra with the arrays that light them.
+  vtkSmartPointer<vtkUnstructuredGrid> own = volillum::PieceWithoutGhostCells(this, input);
+  std::string error;
+  if (own)
+  {
+    error = volillum::CheckPointIds(own);
+    own = error.empty() ? SplitIntoTetrahedra(own, error) : nullptr;
+    if (!error.empty())
+    {
+      vtkErrorMacro(<< error);
+    }
+    else if (own->GetNumberOfCells() == 0)
+    {
+      own = nullptr; // no 3D cell: nothing to light here
+    }
+  }
+  if (!AllOk(controller, error.empty()))
+  {
+    return false;
+  }
+
+  // How deep the cells of other pieces are needed: a level-1 step from a point of the piece
+  // walks one mean edge length. Estimated from the tetrahedra's edges, checked below with
+  // the whole mesh's mean edge.
+  double edges[2] = { 0.0, 0.0 }, wholeEdges[2]; // sum of lengths, count (each tetrahedron's)
+  vtkNew<vtkIdList> cell;
+  for (vtkIdType c = 0; own && c < own->GetNumberOfCells(); ++c)
+  {
+    own->GetCellPoints(c, cell);
+    double x[4][3];
+    for (int i = 0; i < 4; ++i)
+    {
+      own->GetPoint(cell->GetId(i), x[i]);
+    }
+    for (int i = 0; i < 4; ++i)
+    {
+      for (int j = i + 1; j < 4; ++j)
+      {
+        edges[0] += std::sqrt(vtkMath::Distance2BetweenPoints(x[i], x[j]));
+        edges[1] += 1.0;
+      }
+    }
+  }
+  controller->AllReduce(edges, wholeEdges, 2, vtkCommunicator::SUM_OP);
+  if (wholeEdges[1] == 0.0)
+  {
+    if (controller->GetLocalProcessId() == 0)
+    {
+      vtkErrorMacro("The input has no 3D cells to light.");
+    }
+    return false;
+  }
+  const auto reach = [](double meanEdge) { return 1.01 * meanEdge; };
+  double depth = 1.5 * reach(wholeEdges[0] / wholeEdges[1]);
+  for (;;)
+  {
+    if (!this->Neighborhood->Update(controller, own, depth) && this->MeshKey != 0)
+    {
+      return true; // nothing changed
+    }
+    vtkUnstructuredGrid* grid = this->Neighborhood->GetGrid();
+    if (!AllOk(controller, this->PrepareMesh(grid, this->Neighborhood->GetNumberOfPieceCells())))
+    {
+      this->Neighborhood->Reset();
+      this->MeshKey = 0;
+      return false;
+    }
+    // The whole mesh's bounds (of all pieces' own usable tetrahedra: the level-0 grid spans
+    // them) and mean edge length (each point's edges counted by its owner).
+    volillum::TetrahedralMesh& mesh = this->Mesh;
+    const std::vector<unsigned char>& owned = this->Neighborhood->GetOwned();
+    double local[3] = { 0.0, 0.0, static_cast<double>(mesh.OwnTets) }, sums[3];
+    for (int p = 0; p < mesh.NumberOfPoints(); ++p)
+    {
+      for (int k = mesh.EdgeOffsets[p]; owned[p] && k < mesh.EdgeOffsets[p + 1]; ++k)
+      {
+        const double* x = mesh.Points.data() + 3 * static_cast<size_t>(p);
+        const double* y = mesh.Points.data() + 3 * static_cast<size_t>(mesh.EdgeNeighbors[k]);
+        local[0] += std::sqrt(vtkMath::Distance2BetweenPoints(x, y));
+        local[1] += 1.0;
+      }
+    }
+    controller->AllReduce(local, sums, 3, vtkCommunicator::SUM_OP);
+    double lows[3] = { mesh.Bounds[0], mesh.Bounds[2], mesh.Bounds[4] };
+    double highs[3] = { mesh.Bounds[1], mesh.Bounds[3], mesh.Bounds[5] };
+    double wholeLows[3], wholeHighs[3];
+    controller->AllReduce(lows, wholeLows, 3, vtkCommunicator::MIN_OP);
+    controller->AllReduce(highs, wholeHighs, 3, vtkCommunicator::MAX_OP);
+    if (sums[2] == 0.0)
+    {
+      if (controller->GetLocalProcessId() == 0)
+      {
+        vtkErrorMacro("Cannot light the grid: the mesh has no tetrahedron with a non-zero volume.");
+      }
+      this->Neighborhood->Reset();
+      this->MeshKey = 0;
+      return false;
+    }
+    for (int a = 0; a < 3; ++a)
+    {
+      mesh.Bounds[2 * a] = wholeLows[a];
+      mesh.Bounds[2 * a + 1] = wholeHighs[a];
+    }
+    volillum::SetMeanEdgeLength(mesh, sums[0] / std::max(sums[1], 1.0));
+    if (reach(mesh.MeanEdgeLength) > depth)
+    {
+      depth = 1.2 * reach(mesh.MeanEdgeLength); // the estimate fell short: gather deeper
+      continue;
+    }
+    // Colours as a single process gives them: this process colours its piece's points, in
+    // rounds between which the colours of the other pieces' points come from their processes.
+    const int piecePoints = static_cast<int>(this->Neighborhood->GetNumberOfPiecePoints());
+    std::vector<unsigned char> ofPiece(static_cast<size_t>(mesh.NumberOfPoints()), 0);
+    std::fill_n(ofPiece.begin(), piecePoints, 1);
+    this->Coloring = volillum::ColorVertices(mesh, &ofPiece,
+      [&](std::vector<int>& color)
+      {
+        this->Neighborhood->Exchange(color.data(), 1);
+        int waiting = 0;
+        for (int p = 0; p < piecePoints && !waiting; ++p)
+        {
+          waiting = color[p] < 0;
+        }
+        int any = 0;
+        controller->AllReduce(&waiting, &any, 1, vtkCommunicator::LOGICAL_OR_OP);
+        return any != 0;
+      });
+    // Every process scatters (and passes values) colour by colour: as many colours on all.
+    int colors = this->Coloring.NumberOfColors(), wholeColors = 0;
+    controller->AllReduce(&colors, &wholeColors, 1, vtkCommunicator::MAX_OP);
+    this->Coloring.Offsets.resize(wholeColors + 1, this->Coloring.Offsets.back());
+    return true;
+  }
+}
+
+//------------------------------------------------------------------------------
+bool vtkUnstructuredGridIllumination::Classify(vtkDataArray* scalars, const double* range)
 {
   volillum::ClassificationSettings settings;
+  settings.Range = range;
   settings.Color = this->ColorTransferFunction;
   settings.Opacity = this->OpacityFunction;
   settings.UnitDistance = this->ScalarOpacityUnitDistance;
@@ -200,18 +374,25 @@ bool vtkUnstructuredGridIllumination::Classify(vtkDataArray* scalars)
 
 //------------------------------------------------------------------------------
 vtkSmartPointer<vtkUnsignedCharArray> vtkUnstructuredGridIllumination::ShadeVertices(
-  vtkDataArray* scalars, const std::vector<float>& rgb)
+  vtkDataArray* scalars, const std::vector<float>& rgb, vtkIdType points)
 {
   double range[2];
-  scalars->GetRange(range);
+  if (volillum::ParallelRun(this->Controller))
+  {
+    std::copy_n(this->WholeRange, 2, range);
+  }
+  else
+  {
+    scalars->GetRange(range);
+  }
   const double width = range[1] > range[0] ? range[1] - range[0] : 1.0;
   auto colors = vtkSmartPointer<vtkUnsignedCharArray>::New();
   colors->SetName("LitColors");
   colors->SetNumberOfComponents(4);
-  colors->SetNumberOfTuples(scalars->GetNumberOfTuples());
+  colors->SetNumberOfTuples(points);
   const auto toByte = [](double v)
   { return static_cast<unsigned char>(std::lround(255.0 * std::min(std::max(v, 0.0), 1.0))); };
-  for (vtkIdType p = 0; p < scalars->GetNumberOfTuples(); ++p)
+  for (vtkIdType p = 0; p < points; ++p)
   {
     const double s = scalars->GetComponent(p, 0);
     double color[3];
@@ -249,25 +430,14 @@ int vtkUnstructuredGridIllumination::RequestData(
   vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector);
   output->Initialize();
   vtkMultiProcessController* controller = volillum::ParallelRun(this->Controller);
-  if (!controller)
+  if (controller)
+  {
+    this->IlluminatePiece(controller, input, output);
+  }
+  else
   {
     this->Illuminate(input, output);
-    return 1;
   }
-  // Light crosses every piece: light the whole grid, give this piece its points' values.
-  vtkUnstructuredGrid* whole = this->Distributed->Grid(controller, this, input);
-  vtkNew<vtkUnstructuredGrid> illuminated;
-  this->Illuminate(whole, illuminated);
-  if (!input || input->GetNumberOfPoints() == 0 || illuminated->GetNumberOfPoints() == 0)
-  {
-    return 1;
-  }
-  output->ShallowCopy(input);
-  volillum::AddPointValues(
-    illuminated, this->Distributed->PiecePoints(), { "Illumination", "LitColors" }, output);
-  vtkNew<vtkFieldData> fieldData;
-  fieldData->ShallowCopy(illuminated->GetFieldData());
-  output->SetFieldData(fieldData);
   return 1;
 }
 
@@ -276,7 +446,7 @@ void vtkUnstructuredGridIllumination::Illuminate(
   vtkUnstructuredGrid* input, vtkUnstructuredGrid* output)
 {
   const auto start = Clock::now();
-  if (!this->CheckInput(input))
+  if (!this->CheckSettings() || !this->CheckInput(input))
   {
     return;
   }
@@ -299,7 +469,7 @@ void vtkUnstructuredGridIllumination::Illuminate(
 
   const std::vector<volillum::LightState> lights =
     volillum::ForBounds(this->Lights.States(), input->GetBounds());
-  if (!this->PropagateChangedLights(lights, report, seconds))
+  if (!this->PropagateChangedLights(lights, report, seconds, nullptr))
   {
     if (this->LastOutput)
     {
@@ -307,6 +477,68 @@ void vtkUnstructuredGridIllumination::Illuminate(
     }
     return;
   }
+  const std::vector<float> rgb = this->CombineAndScatter(lights, seconds, {});
+  seconds.Update = SecondsSince(start);
+  this->FillOutput(input, rgb, report, seconds, output);
+  this->UpdateProgress(1.0);
+}
+
+//------------------------------------------------------------------------------
+void vtkUnstructuredGridIllumination::IlluminatePiece(
+  vtkMultiProcessController* controller, vtkUnstructuredGrid* input, vtkUnstructuredGrid* output)
+{
+  const auto start = Clock::now();
+  if (!AllOk(controller, this->CheckSettings()))
+  {
+    return;
+  }
+  PhaseSeconds seconds;
+  if (!this->PrepareDistributedMesh(controller, input))
+  {
+    return;
+  }
+  seconds.Mesh = SecondsSince(start);
+  vtkUnstructuredGrid* grid = this->Neighborhood->GetGrid();
+  const bool lit = grid->GetNumberOfPoints() > 0;
+  if (!lit)
+  {
+    this->Scalars = volillum::PointScalars();
+  }
+  if (!AllOk(controller, !lit || this->CheckInput(grid)))
+  {
+    return;
+  }
+  this->UpdateProgress(0.1);
+  volillum::UpdateReport report;
+  report.Mode = 1;
+  const auto resampleStart = Clock::now();
+  if (!this->UpdateLevel0Grid(report, controller))
+  {
+    return;
+  }
+  seconds.Resample = SecondsSince(resampleStart);
+
+  // The lights placed for the bounds of the whole grid (of all pieces' points).
+  volillum::UnionOfBounds(controller, input, this->WholeBounds);
+  const std::vector<volillum::LightState> lights =
+    volillum::ForBounds(this->Lights.States(), this->WholeBounds);
+  this->PropagateChangedLights(lights, report, seconds, this->Neighborhood.get());
+  // After each colour, the new values of this process's points go to those that read them.
+  const std::vector<float> rgb = this->CombineAndScatter(lights, seconds,
+    [this](std::vector<float>& values) { this->Neighborhood->Exchange(values.data(), 3); });
+  seconds.Update = SecondsSince(start);
+  if (lit && input->GetNumberOfPoints() == this->Neighborhood->GetNumberOfPiecePoints())
+  {
+    this->FillOutput(input, rgb, report, seconds, output);
+  }
+  this->UpdateProgress(1.0);
+}
+
+//------------------------------------------------------------------------------
+std::vector<float> vtkUnstructuredGridIllumination::CombineAndScatter(
+  const std::vector<volillum::LightState>& lights, PhaseSeconds& seconds,
+  const std::function<void(std::vector<float>&)>& afterColor)
+{
   std::vector<const std::vector<float>*> rho(lights.size(), nullptr);
   for (size_t l = 0; l < lights.size(); ++l)
   {
@@ -318,13 +550,16 @@ void vtkUnstructuredGridIllumination::Illuminate(
   std::vector<float> rgb;
   volillum::CombineLights(this->Mesh, lights, rho, this->Channels, rgb);
   const auto scatterStart = Clock::now();
+  std::function<void(int)> exchange;
+  if (afterColor)
+  {
+    exchange = [&](int) { afterColor(rgb); };
+  }
   volillum::Scatter(this->Mesh, this->Coloring,
     { { this->ScatteringStrength[0], this->ScatteringStrength[1], this->ScatteringStrength[2] } },
-    this->ScatteringIterations, rgb);
+    this->ScatteringIterations, rgb, exchange);
   seconds.Scattering = SecondsSince(scatterStart);
-  seconds.Update = SecondsSince(start);
-  this->FillOutput(input, rgb, report, seconds, output);
-  this->UpdateProgress(1.0);
+  return rgb;
 }
 
 //------------------------------------------------------------------------------
@@ -344,6 +579,12 @@ bool vtkUnstructuredGridIllumination::CheckInput(vtkUnstructuredGrid* input)
     vtkErrorMacro(<< error);
     return false;
   }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkUnstructuredGridIllumination::CheckSettings()
+{
   if (!std::isfinite(this->Absorption) || !std::isfinite(this->ScatteringStrength[0]) ||
     !std::isfinite(this->ScatteringStrength[1]) || !std::isfinite(this->ScatteringStrength[2]))
   {
@@ -365,7 +606,8 @@ bool vtkUnstructuredGridIllumination::CheckInput(vtkUnstructuredGrid* input)
 }
 
 //------------------------------------------------------------------------------
-bool vtkUnstructuredGridIllumination::UpdateLevel0Grid(volillum::UpdateReport& report)
+bool vtkUnstructuredGridIllumination::UpdateLevel0Grid(
+  volillum::UpdateReport& report, vtkMultiProcessController* controller)
 {
   const std::vector<double> solutionKey = { static_cast<double>(this->MeshKey),
     static_cast<double>(this->Scalars.Time), static_cast<double>(this->ScalarComponent),
@@ -374,27 +616,74 @@ bool vtkUnstructuredGridIllumination::UpdateLevel0Grid(volillum::UpdateReport& r
     this->ScalarOpacityUnitDistance, this->ChromaticAttenuation ? 1.0 : 0.0, this->Absorption,
     static_cast<double>(this->Level0Resolution[0]), static_cast<double>(this->Level0Resolution[1]),
     static_cast<double>(this->Level0Resolution[2]), static_cast<double>(this->Level1Iterations) };
-  if (solutionKey != this->SolutionKey)
+  int changed = solutionKey != this->SolutionKey;
+  if (controller)
   {
-    this->SolutionKey.clear();
-    this->Cache.clear();
-    report.Mode = 0;
-    if (!this->Classify(this->Scalars.Array))
+    int any = 0;
+    controller->AllReduce(&changed, &any, 1, vtkCommunicator::LOGICAL_OR_OP);
+    changed = any;
+  }
+  if (!changed)
+  {
+    return true;
+  }
+  this->SolutionKey.clear();
+  this->Cache.clear();
+  report.Mode = 0;
+  const double* range = nullptr;
+  if (controller)
+  {
+    // The transfer functions span the range of all pieces, as they do for the whole grid.
+    const double huge = std::numeric_limits<double>::max();
+    double local[2] = { huge, -huge };
+    const int component = std::max(this->Scalars.Component, 0);
+    if (this->Scalars.Array && !volillum::FiniteRange(this->Scalars.Array, component, local))
     {
+      local[0] = huge;
+      local[1] = -huge;
+    }
+    controller->AllReduce(local, this->WholeRange, 1, vtkCommunicator::MIN_OP);
+    controller->AllReduce(local + 1, this->WholeRange + 1, 1, vtkCommunicator::MAX_OP);
+    if (!(this->WholeRange[0] <= this->WholeRange[1]))
+    {
+      if (controller->GetLocalProcessId() == 0)
+      {
+        vtkErrorMacro("Cannot classify the input: the scalars have no finite values.");
+      }
       return false;
     }
-    const std::array<int, 3> dims = { { this->Level0Resolution[0], this->Level0Resolution[1],
-      this->Level0Resolution[2] } };
-    volillum::ResampleLevel0(this->Mesh, this->Extinction, this->Channels, dims, this->Level0);
-    this->SolutionKey = solutionKey;
+    range = this->WholeRange;
   }
+  const bool classified = !this->Scalars.Array || this->Classify(this->Scalars.Array, range);
+  if (controller ? !AllOk(controller, classified) : !classified)
+  {
+    return false;
+  }
+  const std::array<int, 3> dims = { { this->Level0Resolution[0], this->Level0Resolution[1],
+    this->Level0Resolution[2] } };
+  volillum::ResampleLevel0(this->Mesh, this->Extinction, this->Channels, dims, this->Level0);
+  if (controller)
+  {
+    // Each process filled the points inside its own tetrahedra: the grid of the whole mesh
+    // is the largest value at each point (a point on a face between pieces has the same
+    // interpolated value on both sides, up to rounding).
+    std::vector<float> extinction(this->Level0.Extinction.size());
+    controller->AllReduce(this->Level0.Extinction.data(), extinction.data(),
+      static_cast<vtkIdType>(extinction.size()), vtkCommunicator::MAX_OP);
+    this->Level0.Extinction.swap(extinction);
+    std::vector<unsigned char> inside(this->Level0.Inside.size());
+    controller->AllReduce(this->Level0.Inside.data(), inside.data(),
+      static_cast<vtkIdType>(inside.size()), vtkCommunicator::MAX_OP);
+    this->Level0.Inside.swap(inside);
+  }
+  this->SolutionKey = solutionKey;
   return true;
 }
 
 //------------------------------------------------------------------------------
 bool vtkUnstructuredGridIllumination::PropagateChangedLights(
   const std::vector<volillum::LightState>& lights, volillum::UpdateReport& report,
-  PhaseSeconds& seconds)
+  PhaseSeconds& seconds, const volillum::NeighborhoodGrid* neighborhood)
 {
   // Lights whose transmittance is missing or was computed for another geometry.
   this->Cache.resize(lights.size());
@@ -438,14 +727,21 @@ bool vtkUnstructuredGridIllumination::PropagateChangedLights(
     for (int b = 0; b < count; ++b)
     {
       this->UpdateProgress(0.1 + 0.8 * (first + b) / stale.size());
-      if (this->GetAbortExecute())
+      // A parallel run does not stop: the other processes would wait for this one's values.
+      if (!neighborhood && this->GetAbortExecute())
       {
         return false;
       }
       LightCache& cache = this->Cache[stale[first + b]];
       cache.Valid = false;
+      std::function<void(std::vector<float>&)> exchange;
+      if (neighborhood)
+      {
+        exchange = [&](std::vector<float>& rho)
+        { neighborhood->Exchange(rho.data(), this->Channels); };
+      }
       volillum::PropagateLevel1(this->Mesh, this->Extinction, this->Level0, level0[b],
-        lights[stale[first + b]], 0.0, iterations, cache.Rho);
+        lights[stale[first + b]], 0.0, iterations, cache.Rho, exchange);
       cache.State = lights[stale[first + b]];
       cache.Valid = true;
     }
@@ -463,12 +759,13 @@ void vtkUnstructuredGridIllumination::FillOutput(vtkUnstructuredGrid* input,
   illumination->SetName("Illumination");
   illumination->SetNumberOfComponents(3);
   illumination->SetNumberOfTuples(input->GetNumberOfPoints());
-  std::copy(rgb.begin(), rgb.end(), illumination->GetPointer(0));
+  std::copy_n(rgb.begin(), 3 * input->GetNumberOfPoints(), illumination->GetPointer(0));
   output->ShallowCopy(input);
   output->GetPointData()->AddArray(illumination);
   if (this->LitColors)
   {
-    output->GetPointData()->AddArray(this->ShadeVertices(this->Scalars.Array, rgb));
+    output->GetPointData()->AddArray(
+      this->ShadeVertices(this->Scalars.Array, rgb, input->GetNumberOfPoints()));
   }
   vtkFieldData* fieldData = vtkFieldData::New();
   fieldData->ShallowCopy(input->GetFieldData());
@@ -480,6 +777,10 @@ void vtkUnstructuredGridIllumination::FillOutput(vtkUnstructuredGrid* input,
   AddSeconds(output->GetFieldData(), "Level0Seconds", seconds.Level0);
   AddSeconds(output->GetFieldData(), "Level1Seconds", seconds.Level1);
   AddSeconds(output->GetFieldData(), "ScatteringSeconds", seconds.Scattering);
+  vtkNew<vtkIdTypeArray> litPoints;
+  litPoints->SetName("LitPoints");
+  litPoints->InsertNextValue(this->Mesh.NumberOfPoints());
+  output->GetFieldData()->AddArray(litPoints);
   this->LastOutput = vtkSmartPointer<vtkUnstructuredGrid>::New();
   this->LastOutput->ShallowCopy(output);
 }

@@ -13,7 +13,8 @@
  * "Illumination" (3-component float, the units of the image filters: an unoccluded white light of
  * intensity 1 gives (1,1,1)), optionally "LitColors" (see SetLitColors), and the field arrays
  * UpdateMode (0 full, 1 selective), PropagationPasses (lights propagated), PendingPasses (0),
- * UpdateSeconds, Level0Seconds, Level1Seconds and ScatteringSeconds.
+ * UpdateSeconds, Level0Seconds, Level1Seconds, ScatteringSeconds and LitPoints (the points
+ * lit: the grid's, or in parallel those of the piece and the cells near it).
  *
  * Per light: level 0 resamples the classified extinction onto a Level0Resolution grid
  * over the mesh bounds (blank points transparent) and solves light transport there by
@@ -48,12 +49,13 @@
 #include "vtkSmartPointer.h"
 #include "vtkUnstructuredGridAlgorithm.h"
 
+#include <functional>
 #include <memory> // for std::unique_ptr
 #include <vector>
 
 namespace volillum
 {
-class DistributedInput;
+class NeighborhoodGrid;
 }
 
 class vtkColorTransferFunction;
@@ -175,10 +177,12 @@ public:
   ///@{
   /**
    * The processes of a parallel run (default: the global controller). With more than one
-   * process every process assembles the whole grid from the pieces (ghost cells dropped,
-   * coincident points merged) and lights it; each piece gets its points' values (see
-   * IlluminationParallel.h). Every process must update the filter together; an empty piece
-   * is normal and gives an empty output. Set nullptr to light each piece on its own.
+   * process each lights its piece (ghost cells dropped) with the cells of other pieces near
+   * it, exchanging values with their processes (volillum::NeighborhoodGrid); no process
+   * holds the whole grid. Each piece gets its points' values, those of a serial run up to
+   * rounding. Every process must update the filter together (a parallel update is not
+   * aborted); an empty piece is normal and gives an empty output. Set nullptr to light
+   * each piece on its own.
    */
   virtual void SetController(vtkMultiProcessController* controller);
   vtkGetObjectMacro(Controller, vtkMultiProcessController);
@@ -209,23 +213,41 @@ private:
 
   // Light the whole grid input into output (the serial update).
   void Illuminate(vtkUnstructuredGrid* input, vtkUnstructuredGrid* output);
-  // Check the input, the scalars (kept in Scalars), the lights and the settings; false
-  // after an error.
+  // Collective: light this process's piece of a distributed grid (input) into output.
+  void IlluminatePiece(
+    vtkMultiProcessController* controller, vtkUnstructuredGrid* input, vtkUnstructuredGrid* output);
+  // Collective: the mesh of the piece and its neighbours (Neighborhood) with the whole
+  // grid's bounds, mean edge length and colouring; false after an error anywhere.
+  bool PrepareDistributedMesh(vtkMultiProcessController* controller, vtkUnstructuredGrid* input);
+  // Check the input, the scalars (kept in Scalars) and the lights; false after an error.
   bool CheckInput(vtkUnstructuredGrid* input);
+  // Check the settings; false after an error.
+  bool CheckSettings();
   // Classify and resample onto the level-0 grid when anything but the lights changed (a
-  // full update: report.Mode 0); false after an error.
-  bool UpdateLevel0Grid(volillum::UpdateReport& report);
+  // full update: report.Mode 0); false after an error. With a controller (collective) the
+  // classification spans the range of all pieces and the level-0 grid combines them.
+  bool UpdateLevel0Grid(
+    volillum::UpdateReport& report, vtkMultiProcessController* controller = nullptr);
   // Propagate the lights whose transmittance is missing or was computed for another light
-  // geometry; false when aborted.
+  // geometry; false when aborted. With a neighbourhood (collective: a parallel run, never
+  // aborted) the values of other pieces' points come from their processes after each step.
   bool PropagateChangedLights(const std::vector<volillum::LightState>& lights,
-    volillum::UpdateReport& report, PhaseSeconds& seconds);
-  // The input with the illumination rgb (3 per point), the lit colours and the field data.
+    volillum::UpdateReport& report, PhaseSeconds& seconds,
+    const volillum::NeighborhoodGrid* neighborhood);
+  // The lights summed with their colours (eq. 9) and scattered; afterColor(rgb), when given,
+  // runs after each colour of the scattering.
+  std::vector<float> CombineAndScatter(const std::vector<volillum::LightState>& lights,
+    PhaseSeconds& seconds, const std::function<void(std::vector<float>&)>& afterColor);
+  // The input with the illumination rgb (3 per point, the first of rgb for the input's
+  // points), the lit colours and the field data.
   void FillOutput(vtkUnstructuredGrid* input, const std::vector<float>& rgb,
     const volillum::UpdateReport& report, const PhaseSeconds& seconds, vtkUnstructuredGrid* output);
-  bool PrepareMesh(vtkUnstructuredGrid* input);
-  bool Classify(vtkDataArray* scalars);
+  // The mesh of the tetrahedra of input (split from other cells); the first `own` of them
+  // are its own (all when negative).
+  bool PrepareMesh(vtkUnstructuredGrid* input, vtkIdType own = -1);
+  bool Classify(vtkDataArray* scalars, const double* range);
   vtkSmartPointer<vtkUnsignedCharArray> ShadeVertices(
-    vtkDataArray* scalars, const std::vector<float>& rgb);
+    vtkDataArray* scalars, const std::vector<float>& rgb, vtkIdType points);
 
   volillum::LightList Lights;
   vtkColorTransferFunction* ColorTransferFunction = nullptr;
@@ -261,7 +283,11 @@ private:
   std::vector<LightCache> Cache;
   vtkSmartPointer<vtkUnstructuredGrid> LastOutput;
   vtkMultiProcessController* Controller = nullptr;
-  std::unique_ptr<volillum::DistributedInput> Distributed; // the whole input of a parallel run
+  // A parallel run's piece with the cells of other pieces near it, the scalar range of all
+  // pieces, and the bounds of all pieces' points.
+  std::unique_ptr<volillum::NeighborhoodGrid> Neighborhood;
+  double WholeRange[2] = { 0.0, 1.0 };
+  double WholeBounds[6] = { 0, 0, 0, 0, 0, 0 };
 };
 
 #endif

@@ -14,6 +14,10 @@ and checks, against the serial run:
 - a one-light change in parallel is a selective update (UpdateMode 1) and equals a fresh
   parallel filter with the new lights;
 - the files read back whole (the image pieces cover the illumination grid);
+- a tetrahedralised Wavelet (thin layers of other pieces' cells, eight level-1 steps,
+  strong scattering) on redistributed pieces equals the serial run too;
+- Unstructured Grid Illumination on redistributed pieces: no process lit the whole grid
+  (its piece and the cells near it: the LitPoints field of each piece);
 - no process prints an error (an empty piece is normal in parallel).
 Usage: pvpython TestParallelIllumination.py PLUGIN OUTPUT_DIR PVBATCH MPIEXEC "MPI_FLAGS"
        GRID NPROCS...
@@ -25,7 +29,7 @@ import sys
 TOLERANCE = 1e-5  # largest difference relative to the largest value
 FILES = ["multilight.pvti", "selective.pvti", "fresh.pvti", "filtered.pvti", "raymarched.pvti",
          "tiny.pvti",
-         "unstructured.pvtu", "unstructured_pieces.pvtu"]
+         "unstructured.pvtu", "unstructured_pieces.pvtu", "wavelet.pvtu"]
 HEAD = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Data", "headsq.vti")
 
 # Two lights (14 numbers each, see the filters' Lights property): an orange directional
@@ -108,6 +112,21 @@ out.GetPointData().SetGlobalIds(ids)
         u.Lights = grid_lights
         save(u, name)
 
+    # A uniform tetrahedral grid (written by the driver: tetrahedralising each process's piece
+    # of a source would split its cells differently): thin layers of other pieces' cells,
+    # across which eight level-1 steps carry light (values exchanged after each step) and
+    # scattering spreads it.
+    cube = XMLUnstructuredGridReader(FileName=[os.path.join(os.path.dirname(tiny_file),
+                                                            "wavelet_tets.vtu")])
+    w = ns["UnstructuredGridIllumination"](Input=RedistributeDataSet(Input=cube) if parallel
+                                           else cube, Level0Resolution=[16, 16, 16],
+                                           Level1Iterations=8, Absorption=0.05,
+                                           ScatteringStrength=[0.5, 0.5, 0.5])
+    w.Scalars = ["POINTS", "RTData"]
+    w.Lights = [0, -1, -2, -3, 12, 12, 12, 1.0, 0.8, 0.6, 1.0, 90, 1, 1,
+                1, 30, 12, 12, 12, 12, 12, 0.5, 0.7, 1.0, 1.0, 90, 1, 1]
+    save(w, "wavelet.pvtu")
+
 
 def read_whole(path):
     from paraview.simple import OpenDataFile
@@ -137,6 +156,20 @@ def compare(serial, parallel, name="Illumination"):
     return difference / largest
 
 
+def lit_points(directory):
+    """The LitPoints field value of each piece file written in directory."""
+    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+    counts = []
+    for name in sorted(os.listdir(directory)):
+        reader = vtkXMLUnstructuredGridReader()
+        reader.SetFileName(os.path.join(directory, name))
+        reader.Update()
+        array = reader.GetOutput().GetFieldData().GetArray("LitPoints")
+        if array:
+            counts.append(int(array.GetValue(0)))
+    return counts
+
+
 def update_mode(data):
     return int(data.GetFieldData().GetArray("UpdateMode").GetValue(0))
 
@@ -160,6 +193,21 @@ def write_tiny_image(path):
     writer.Write()
 
 
+def write_wavelet_tetrahedra(path):
+    """VTK's Wavelet on 25^3 points split into tetrahedra."""
+    from vtkmodules.vtkImagingCore import vtkRTAnalyticSource
+    from vtkmodules.vtkFiltersGeneral import vtkDataSetTriangleFilter
+    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridWriter
+    source = vtkRTAnalyticSource()
+    source.SetWholeExtent(0, 24, 0, 24, 0, 24)
+    split = vtkDataSetTriangleFilter()
+    split.SetInputConnection(source.GetOutputPort())
+    writer = vtkXMLUnstructuredGridWriter()
+    writer.SetInputConnection(split.GetOutputPort())
+    writer.SetFileName(path)
+    writer.Write()
+
+
 def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
     from IlluminatedVolumeTestUtilities import environment_for_mpiexec
@@ -170,6 +218,7 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
     os.makedirs(out, exist_ok=True)
     tiny_file = os.path.join(out, "tiny.vti")
     write_tiny_image(tiny_file)
+    write_wavelet_tetrahedra(os.path.join(out, "wavelet_tets.vtu"))
     for run, command in runs.items():
         directory = os.path.join(out, run)
         os.makedirs(directory, exist_ok=True)
@@ -199,6 +248,13 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
                 failures.append("%s/%s: difference %s" % (run, f, error))
             if f.startswith("unstructured") and compare(serial[f], data, "LitColors") is None:
                 failures.append("%s/%s: LitColors missing" % (run, f))
+            if f in ("unstructured.pvtu", "wavelet.pvtu"):
+                # Each process lit its piece and the cells near it, not the whole grid.
+                whole = serial[f].GetNumberOfPoints()
+                lit = lit_points(os.path.join(out, run, f[:-len(".pvtu")]))
+                print("%-5s %-26s points lit by each process %s of %d" % (run, f, lit, whole))
+                if not lit or max(lit) >= whole:
+                    failures.append("%s/%s: a process lit the whole grid" % (run, f))
         selective = read_whole(os.path.join(out, run, "selective.pvti"))
         fresh = read_whole(os.path.join(out, run, "fresh.pvti"))
         edit_error = compare(fresh, selective)
