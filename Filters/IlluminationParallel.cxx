@@ -739,23 +739,15 @@ vtkSmartPointer<vtkUnstructuredGrid> PieceWithoutGhostCells(
 }
 
 //------------------------------------------------------------------------------
-bool NeighborhoodGrid::Update(
-  vtkMultiProcessController* controller, vtkUnstructuredGrid* piece, double depth)
+bool NeighborhoodGrid::Changed(
+  vtkMultiProcessController* controller, vtkUnstructuredGrid* piece) const
 {
   vtkNew<vtkUnstructuredGrid> empty;
-  const std::uint64_t fingerprint = volillum::Fingerprint(piece ? piece : empty.Get());
-  int changed = !this->Grid || this->Fingerprint == 0 || fingerprint != this->Fingerprint ||
-    depth != this->Depth;
+  int changed = !this->Grid || this->Fingerprint == 0 ||
+    volillum::Fingerprint(piece ? piece : empty.Get()) != this->Fingerprint;
   int any = 0;
   controller->AllReduce(&changed, &any, 1, vtkCommunicator::LOGICAL_OR_OP);
-  if (!any)
-  {
-    return false;
-  }
-  this->Build(controller, piece, depth);
-  this->Fingerprint = fingerprint;
-  this->Depth = depth;
-  return true;
+  return any != 0;
 }
 
 //------------------------------------------------------------------------------
@@ -766,6 +758,8 @@ vtkUnstructuredGrid* NeighborhoodGrid::Build(
   const int local = controller->GetLocalProcessId();
   const int processes = controller->GetNumberOfProcesses();
   const bool has = piece && piece->GetNumberOfCells() > 0;
+  vtkNew<vtkUnstructuredGrid> empty;
+  this->Fingerprint = volillum::Fingerprint(piece ? piece : empty.Get());
   // Bins over the bounds of all pieces: where this piece's cells lie.
   double whole[6];
   UnionOfBounds(controller, has ? piece : nullptr, whole);

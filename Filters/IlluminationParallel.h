@@ -118,17 +118,16 @@ class VOLILLUMFILTERS_EXPORT NeighborhoodGrid
 public:
   /**
    * Collective. `piece`: this process's cells without ghost cells (nullptr or empty for
-   * none), with the arrays to carry. Returns the grid: the piece's cells, then the others'
-   * (their processes in GetCellProcesses).
+   * none), with the arrays to carry. Returns the grid: the piece's cells, then the others'.
    */
   vtkUnstructuredGrid* Build(
     vtkMultiProcessController* controller, vtkUnstructuredGrid* piece, double depth);
 
-  /// Collective: Build unless no process's piece (structure and arrays) changed since the
-  /// last Build with this depth; returns whether it built.
-  bool Update(vtkMultiProcessController* controller, vtkUnstructuredGrid* piece, double depth);
+  /// Collective: whether any process's piece (structure and arrays) changed since the last
+  /// Build, or Reset was called since.
+  bool Changed(vtkMultiProcessController* controller, vtkUnstructuredGrid* piece) const;
 
-  /// Forget the grid: the next Update builds.
+  /// Forget the grid: Changed answers true until the next Build.
   void Reset() { this->Fingerprint = 0; }
 
   vtkUnstructuredGrid* GetGrid() const;
@@ -150,8 +149,7 @@ private:
 
   vtkMultiProcessController* Controller = nullptr;
   vtkSmartPointer<vtkUnstructuredGrid> Grid;
-  std::uint64_t Fingerprint = 0;
-  double Depth = 0.0;
+  std::uint64_t Fingerprint = 0; // of the piece of the last Build
   vtkIdType PiecePoints = 0, PieceCells = 0;
   std::vector<unsigned char> Owned;
   // Per peer process (one whose piece lies within the depth): the points of its piece this

@@ -216,6 +216,10 @@ bool vtkUnstructuredGridIllumination::PrepareDistributedMesh(
   {
     return false;
   }
+  if (!this->Neighborhood->Changed(controller, own) && this->MeshKey != 0)
+  {
+    return true; // no piece changed: the mesh and its colours stand
+  }
 
   // How deep the cells of other pieces are needed: a level-1 step from a point of the piece
   // walks one mean edge length. Estimated from the tetrahedra's edges, checked below with
@@ -252,11 +256,7 @@ bool vtkUnstructuredGridIllumination::PrepareDistributedMesh(
   double depth = 1.5 * reach(wholeEdges[0] / wholeEdges[1]);
   for (;;)
   {
-    if (!this->Neighborhood->Update(controller, own, depth) && this->MeshKey != 0)
-    {
-      return true; // nothing changed
-    }
-    vtkUnstructuredGrid* grid = this->Neighborhood->GetGrid();
+    vtkUnstructuredGrid* grid = this->Neighborhood->Build(controller, own, depth);
     if (!AllOk(controller, this->PrepareMesh(grid, this->Neighborhood->GetNumberOfPieceCells())))
     {
       this->Neighborhood->Reset();
