@@ -1000,14 +1000,17 @@ std::vector<int> GatherExtents(vtkMultiProcessController* controller, const int*
 }
 
 //------------------------------------------------------------------------------
-void SumOverPieces(vtkMultiProcessController* controller, const int dimensions[3],
-  const std::vector<int>& extents, const std::uint32_t* values, std::vector<std::uint32_t>& own)
+namespace
+{
+// ReduceOverPieces for values of type T: each block's values from `fill`, reduced with `op`
+// to the piece's process, which gets them through `receive`.
+template <typename T>
+void ReduceOverPieces(vtkMultiProcessController* controller, const std::vector<int>& extents,
+  int components, int op, const PieceRows<T>& fill, const PieceRows<const T>& receive)
 {
   constexpr size_t Block = size_t(1) << 22; // values a reduction carries at most
   const int local = controller->GetLocalProcessId();
-  const size_t nx = dimensions[0], ny = dimensions[1];
-  own.clear();
-  std::vector<std::uint32_t> sent, unused;
+  std::vector<T> sent, reduced;
   for (size_t p = 0; 6 * p < extents.size(); ++p)
   {
     const int* e = extents.data() + 6 * p;
@@ -1016,35 +1019,71 @@ void SumOverPieces(vtkMultiProcessController* controller, const int dimensions[3
       continue;
     }
     // The piece's rows along x, whole rows per block.
-    const size_t row = 3 * static_cast<size_t>(e[1] - e[0] + 1);
-    const size_t rowsY = e[3] - e[2] + 1;
-    const size_t rows = rowsY * (e[5] - e[4] + 1);
+    const size_t row = components * static_cast<size_t>(e[1] - e[0] + 1);
+    const size_t rows = static_cast<size_t>(e[3] - e[2] + 1) * (e[5] - e[4] + 1);
     const size_t perBlock = std::max<size_t>(1, Block / row);
-    if (static_cast<int>(p) == local)
-    {
-      own.resize(rows * row);
-    }
     for (size_t first = 0; first < rows; first += perBlock)
     {
       const size_t count = std::min(perBlock, rows - first);
       sent.resize(count * row);
+      reduced.resize(sent.size());
+      fill(e, first, count, sent.data());
+      // Only the owner reads the reduced values.
+      controller->Reduce(
+        sent.data(), reduced.data(), static_cast<vtkIdType>(sent.size()), op, static_cast<int>(p));
+      if (static_cast<int>(p) == local)
+      {
+        receive(e, first, count, reduced.data());
+      }
+    }
+  }
+}
+}
+
+void SumOverPieces(vtkMultiProcessController* controller, const int dimensions[3],
+  const std::vector<int>& extents, const std::uint32_t* values, std::vector<std::uint32_t>& own)
+{
+  const size_t nx = dimensions[0], ny = dimensions[1];
+  own.clear();
+  const int local = controller->GetLocalProcessId();
+  if (6 * static_cast<size_t>(local) < extents.size() && !IsEmpty(extents.data() + 6 * local))
+  {
+    const int* e = extents.data() + 6 * local;
+    own.resize(3 * static_cast<size_t>(e[1] - e[0] + 1) * (e[3] - e[2] + 1) * (e[5] - e[4] + 1));
+  }
+  ReduceOverPieces<std::uint32_t>(
+    controller, extents, 3, vtkCommunicator::SUM_OP,
+    [&](const int* e, size_t first, size_t count, std::uint32_t* block)
+    {
+      const size_t row = 3 * static_cast<size_t>(e[1] - e[0] + 1);
+      const size_t rowsY = e[3] - e[2] + 1;
       for (size_t r = 0; r < count; ++r)
       {
         const size_t y = e[2] + (first + r) % rowsY, z = e[4] + (first + r) / rowsY;
         const std::uint32_t* from = values + 3 * (e[0] + nx * (y + ny * z));
-        std::copy(from, from + row, sent.data() + r * row);
+        std::copy(from, from + row, block + r * row);
       }
-      // The owner receives its sums in place (the others' receive buffers are not read).
-      const bool owner = static_cast<int>(p) == local;
-      if (!owner)
-      {
-        unused.resize(sent.size());
-      }
-      std::uint32_t* sums = owner ? own.data() + first * row : unused.data();
-      controller->Reduce(sent.data(), sums, static_cast<vtkIdType>(sent.size()),
-        vtkCommunicator::SUM_OP, static_cast<int>(p));
-    }
-  }
+    },
+    [&](const int* e, size_t first, size_t count, const std::uint32_t* sums)
+    {
+      const size_t row = 3 * static_cast<size_t>(e[1] - e[0] + 1);
+      std::copy(sums, sums + count * row, own.data() + first * row);
+    });
+}
+
+void MultiplyOverPieces(vtkMultiProcessController* controller, const std::vector<int>& extents,
+  int components, const PieceRows<double>& fill, const PieceRows<const double>& receive)
+{
+  ReduceOverPieces<double>(
+    controller, extents, components, vtkCommunicator::PRODUCT_OP, fill, receive);
+}
+
+bool AllOk(vtkMultiProcessController* controller, bool ok)
+{
+  int mine = ok ? 1 : 0;
+  int all = 0;
+  controller->AllReduce(&mine, &all, 1, vtkCommunicator::MIN_OP);
+  return all != 0;
 }
 
 }

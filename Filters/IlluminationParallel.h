@@ -5,9 +5,11 @@
  * Light crosses the whole domain: the light reaching a point depends on material held by
  * other processes. Unstructured grids: each process keeps its piece and the cells of other
  * pieces near it (NeighborhoodGrid), and values cross between processes as the solver
- * steps. Images: in this version every process assembles the whole input from the pieces
- * of all processes (collective calls of the filter's vtkMultiProcessController) and
- * outputs the part of the illumination that belongs to its own piece. The propagation
+ * steps. Images: Ray-Marched Illumination marches the parts of the rays in each process's
+ * block and multiplies them at the process that holds the point (MultiplyOverPieces); for
+ * the other image filters every process assembles the whole input from the pieces of all
+ * processes (collective calls of the filter's vtkMultiProcessController) and outputs the
+ * part of the illumination that belongs to its own piece. The propagation
  * shares its sweeps out among the processes (SweepShare): each process propagates its
  * sweeps over the whole illumination grid into fixed-point units of its own, and the sums
  * over the processes (SumOverPieces, exact in any order) give each process its piece.
@@ -30,6 +32,7 @@
 #include "vtkType.h"
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 class vtkAlgorithm;
@@ -78,6 +81,26 @@ VOLILLUMFILTERS_EXPORT std::vector<int> GatherExtents(
 VOLILLUMFILTERS_EXPORT void SumOverPieces(vtkMultiProcessController* controller,
   const int dimensions[3], const std::vector<int>& extents, const std::uint32_t* values,
   std::vector<std::uint32_t>& own);
+
+/// Values of `rows` rows along x of an extent of a grid, from row `firstRow` (rows counted
+/// along y, then z, within the extent), a fixed number of values a point, x fastest.
+template <typename T>
+using PieceRows = std::function<void(const int* extent, size_t firstRow, size_t rows, T* values)>;
+
+/**
+ * Collective: per point of each process's extent of a grid (`extents`, as GatherExtents
+ * gives them), the products over all processes of `components` values: `fill` gives this
+ * process's values for a block of rows of an extent (whole rows, at most 2^22 values,
+ * every process the same blocks in the same order), and the process that owns the extent
+ * gets the products of each of its blocks through `receive` (a reduction to it,
+ * vtkMultiProcessController::Reduce).
+ */
+VOLILLUMFILTERS_EXPORT void MultiplyOverPieces(vtkMultiProcessController* controller,
+  const std::vector<int>& extents, int components, const PieceRows<double>& fill,
+  const PieceRows<const double>& receive);
+
+/// Collective: whether `ok` holds on every process.
+VOLILLUMFILTERS_EXPORT bool AllOk(vtkMultiProcessController* controller, bool ok);
 
 /**
  * For each point of `piece`, the point of `whole` at the same place: the same point global

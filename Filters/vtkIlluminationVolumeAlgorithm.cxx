@@ -12,6 +12,7 @@
 #include "vtkExtentTranslator.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
+#include "vtkIdTypeArray.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
@@ -57,7 +58,8 @@ bool vtkIlluminationVolumeAlgorithm::ClassificationKey::operator==(const Classif
 {
   return this->Scalars == o.Scalars && this->Component == o.Component && this->Color == o.Color &&
     this->Opacity == o.Opacity && this->Scale == o.Scale && this->UnitDistance == o.UnitDistance &&
-    this->Chromatic == o.Chromatic;
+    this->Chromatic == o.Chromatic && this->HasRange == o.HasRange &&
+    (!this->HasRange || (this->Range[0] == o.Range[0] && this->Range[1] == o.Range[1]));
 }
 
 //------------------------------------------------------------------------------
@@ -188,6 +190,21 @@ int vtkIlluminationVolumeAlgorithm::RequestInformation(
   return 1;
 }
 
+namespace
+{
+// The block of the data's extent `whole` that process p of N reads in a parallel run (block
+// p of N, vtkExtentTranslator); false when there are more processes than blocks.
+bool ProcessBlock(vtkMultiProcessController* controller, const int whole[6], int block[6])
+{
+  vtkNew<vtkExtentTranslator> translator;
+  int extent[6];
+  std::copy(whole, whole + 6, extent);
+  return translator->PieceToExtentThreadSafe(controller->GetLocalProcessId(),
+           controller->GetNumberOfProcesses(), 0, extent, block, vtkExtentTranslator::BLOCK_MODE,
+           0) != 0;
+}
+}
+
 //------------------------------------------------------------------------------
 int vtkIlluminationVolumeAlgorithm::RequestUpdateExtent(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
@@ -203,9 +220,7 @@ int vtkIlluminationVolumeAlgorithm::RequestUpdateExtent(
   {
     int whole[6];
     std::copy(extent, extent + 6, whole);
-    vtkNew<vtkExtentTranslator> translator;
-    if (!translator->PieceToExtentThreadSafe(controller->GetLocalProcessId(),
-          controller->GetNumberOfProcesses(), 0, whole, extent, vtkExtentTranslator::BLOCK_MODE, 0))
+    if (!ProcessBlock(controller, whole, extent))
     {
       std::fill(extent, extent + 6, 0); // more processes than blocks: nothing to read
       extent[1] = extent[3] = extent[5] = -1;
@@ -285,6 +300,11 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
     this->Illuminate(input, output);
     return 1;
   }
+  if (this->LightsDistributedPieces() &&
+    this->IlluminateDistributed(controller, inputVector[0]->GetInformationObject(0), input, output))
+  {
+    return 1;
+  }
   // Light crosses every piece: every process assembles the whole image (an empty or invalid
   // one is reported as in a serial run). Filters that light points independently compute
   // only this process's part of the illumination grid; the others share their sweeps out
@@ -324,7 +344,7 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
 
 //------------------------------------------------------------------------------
 bool vtkIlluminationVolumeAlgorithm::UpdateClassification(
-  const volillum::GridGeometry& data, bool& inputModified)
+  const volillum::GridGeometry& data, bool& inputModified, const double* range)
 {
   vtkDataArray* scalars = this->Scalars.Array;
   std::string error;
@@ -336,6 +356,11 @@ bool vtkIlluminationVolumeAlgorithm::UpdateClassification(
   key.Scale = this->ResolutionScale;
   key.UnitDistance = this->ScalarOpacityUnitDistance;
   key.Chromatic = this->ChromaticAttenuation;
+  key.HasRange = range != nullptr;
+  if (range)
+  {
+    std::copy_n(range, 2, key.Range);
+  }
   inputModified = !this->HasClassification || !(key == this->ClassifiedKey) ||
     this->Classified.Geometry.Dimensions != data.Dimensions ||
     this->Classified.Geometry.Spacing != data.Spacing ||
@@ -347,6 +372,7 @@ bool vtkIlluminationVolumeAlgorithm::UpdateClassification(
     settings.Opacity = this->OpacityFunction;
     settings.UnitDistance = this->ScalarOpacityUnitDistance;
     settings.Chromatic = this->ChromaticAttenuation;
+    settings.Range = range;
     long long nans = 0;
     this->HasClassification = false;
     this->Empty.reset();
@@ -437,18 +463,159 @@ void vtkIlluminationVolumeAlgorithm::Illuminate(
     return;
   }
 
-  output->SetExtent(extent);
+  this->FinishOutput(output, extent, target, direction, illumination, report,
+    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+}
+
+//------------------------------------------------------------------------------
+void vtkIlluminationVolumeAlgorithm::FinishOutput(vtkImageData* output, const int extent[6],
+  const volillum::GridGeometry& target, vtkMatrix3x3* direction, vtkFloatArray* illumination,
+  const UpdateReport& report, double seconds)
+{
+  output->SetExtent(const_cast<int*>(extent));
   output->SetOrigin(target.Origin.data());
   output->SetSpacing(target.Spacing.data());
   output->SetDirectionMatrix(direction);
   output->GetPointData()->SetScalars(illumination);
   this->AddOutputArrays(output->GetPointData());
-
-  const double seconds =
-    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   volillum::AddUpdateFieldData(output->GetFieldData(), report, seconds);
+  vtkNew<vtkIdTypeArray> classified;
+  classified->SetName("ClassifiedPoints");
+  classified->InsertNextValue(this->Classified.Geometry.NumberOfPoints());
+  output->GetFieldData()->AddArray(classified);
   this->LastOutput = vtkSmartPointer<vtkImageData>::New();
   this->LastOutput->ShallowCopy(output);
+}
+
+//------------------------------------------------------------------------------
+bool vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessController* controller,
+  vtkInformation* inInfo, vtkImageData* input, vtkImageData* output)
+{
+  const auto start = std::chrono::steady_clock::now();
+  // The whole grid, from the pipeline information (the same on every process).
+  int whole[6];
+  double origin[3], spacing[3];
+  inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
+  inInfo->Get(vtkDataObject::ORIGIN(), origin);
+  inInfo->Get(vtkDataObject::SPACING(), spacing);
+  vtkNew<vtkImageData> shape;
+  shape->SetExtent(whole);
+  shape->SetOrigin(origin);
+  shape->SetSpacing(spacing);
+  volillum::GridGeometry data, target;
+  if (!this->ValidGeometry(shape, data, target))
+  {
+    return true;
+  }
+  // This process takes the samples in the cells of its block of the data (the blocks share
+  // their boundary planes, so each cell is taken once); its input must hold the block.
+  int block[6];
+  const bool piece = ProcessBlock(controller, whole, block);
+  bool ok = true;
+  if (piece)
+  {
+    const int* e = input ? input->GetExtent() : nullptr;
+    for (int a = 0; a < 3 && ok; ++a)
+    {
+      ok = e && e[2 * a] <= block[2 * a] && block[2 * a + 1] <= e[2 * a + 1];
+    }
+    if (!ok)
+    {
+      vtkErrorMacro("The input piece does not hold the block of the data this process lights.");
+    }
+    else
+    {
+      std::string error;
+      this->Scalars = volillum::CheckScalarsAndLights(
+        this, input, this->ScalarComponent, this->Scalars, this->Lights, error);
+      ok = this->Scalars.Array != nullptr;
+      if (!ok)
+      {
+        vtkErrorMacro(<< error);
+      }
+    }
+  }
+  if (!volillum::AllOk(controller, ok))
+  {
+    return true;
+  }
+  // Cell scalars become point values by averaging the cells around a point, which differs
+  // at a block's boundary: they are lit from the assembled input.
+  if (!volillum::AllOk(controller, !piece || !this->Scalars.OnCells))
+  {
+    return false;
+  }
+  // The transfer functions span the scalar range of all pieces.
+  double local[2] = { VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX }, range[2];
+  if (piece && !volillum::FiniteRange(this->Scalars.Array, 0, local))
+  {
+    local[0] = VTK_DOUBLE_MAX;
+    local[1] = -VTK_DOUBLE_MAX;
+  }
+  controller->AllReduce(local, range, 1, vtkCommunicator::MIN_OP);
+  controller->AllReduce(local + 1, range + 1, 1, vtkCommunicator::MAX_OP);
+  if (!(range[0] <= range[1]))
+  {
+    if (controller->GetLocalProcessId() == 0)
+    {
+      vtkErrorMacro("Cannot classify the input: the scalars have no finite values.");
+    }
+    return true;
+  }
+  volillum::VolumePiece where;
+  where.Whole = data;
+  volillum::ClassifiedVolume none;
+  bool inputModified = false;
+  std::vector<volillum::LightState> lights;
+  int extent[6];
+  if (piece)
+  {
+    const int* e = input->GetExtent();
+    volillum::GridGeometry own = data;
+    for (int a = 0; a < 3; ++a)
+    {
+      own.Dimensions[a] = e[2 * a + 1] - e[2 * a] + 1;
+      own.Origin[a] = data.Origin[a] + (e[2 * a] - whole[2 * a]) * data.Spacing[a];
+      where.Offset[a] = e[2 * a] - whole[2 * a];
+      where.FirstCell[a] = block[2 * a] - whole[2 * a];
+      where.LastCell[a] = std::min(block[2 * a + 1] - whole[2 * a], data.Dimensions[a] - 1) - 1;
+    }
+    ok = this->UpdateClassification(own, inputModified, range);
+    double bounds[6];
+    data.GetBounds(bounds);
+    lights = volillum::ForBounds(
+      volillum::InImageFrame(this->GetLightStates(), input->GetDirectionMatrix(), origin), bounds);
+    volillum::TargetPieceExtent(whole, target.Dimensions.data(), e, extent);
+  }
+  if (!volillum::AllOk(controller, ok))
+  {
+    return true;
+  }
+  const std::vector<int> extents = volillum::GatherExtents(controller, piece ? extent : nullptr);
+  volillum::GridGeometry lit = target;
+  for (int a = 0; piece && a < 3; ++a)
+  {
+    lit.Dimensions[a] = extent[2 * a + 1] - extent[2 * a] + 1;
+  }
+  auto illumination = NewIlluminationArray(piece ? lit.NumberOfPoints() : 0);
+  UpdateReport report;
+  this->ComputeDistributedIllumination(controller, piece ? this->Classified : none, where, lights,
+    target, extents, illumination->GetPointer(0), report);
+  if (piece)
+  {
+    this->FinishOutput(output, extent, target, input->GetDirectionMatrix(), illumination, report,
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkIlluminationVolumeAlgorithm::ComputeDistributedIllumination(vtkMultiProcessController*,
+  const volillum::ClassifiedVolume&, const volillum::VolumePiece&,
+  const std::vector<volillum::LightState>&, const volillum::GridGeometry&, const std::vector<int>&,
+  float*, UpdateReport&)
+{
+  // Filters that light distributed pieces override this; the others never call it.
 }
 
 //------------------------------------------------------------------------------

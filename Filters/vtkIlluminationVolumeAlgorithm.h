@@ -11,8 +11,10 @@
  * covering the input's bounds at ResolutionScale (1, 0.5 or 0.25 per axis) with the point array
  * "Illumination" (3-component float, linear HDR: an unoccluded white light of intensity 1 gives
  * (1,1,1)), and the field arrays UpdateMode (0 full, 1 selective), PropagationPasses (passes or
- * sweeps the last update did), PendingPasses (passes left for a later update) and UpdateSeconds
- * (its wall time). An aborted update leaves the previous output in place.
+ * sweeps the last update did), PendingPasses (passes left for a later update), UpdateSeconds
+ * (its wall time) and ClassifiedPoints (the input points the process classified: all of them,
+ * or its block in a parallel run of a filter that LightsDistributedPieces). An aborted update
+ * leaves the previous output in place.
  *
  * Lights are vtkLight objects (see IlluminationLightList.h for how they are read). The same
  * lights can be given as a flat list of 14 numbers per light, which is how ParaView's
@@ -54,7 +56,9 @@ class EmptyBlocks;
 }
 
 class vtkColorTransferFunction;
+class vtkFloatArray;
 class vtkLight;
+class vtkMatrix3x3;
 class vtkMultiProcessController;
 class vtkPiecewiseFunction;
 class vtkPointData;
@@ -144,11 +148,13 @@ public:
   ///@{
   /**
    * The processes of a parallel run (default: the global controller). With more than one
-   * process every process assembles the whole input from the pieces, lights its share of
-   * it (its piece's points, or its share of the sweeps) and outputs the illumination points
-   * that cover its own piece (see IlluminationParallel.h): the result equals a serial
-   * run's. A parallel run of the propagation does not stop when aborted. Every process must update
-   * the filter together. Set nullptr to light each piece on its own.
+   * process, each process outputs the illumination points that cover its own piece (see
+   * IlluminationParallel.h) and the result equals a serial run's: filters that light
+   * distributed pieces (LightsDistributedPieces) march through the piece each process holds
+   * and combine the parts of the rays; the others assemble the whole input on every process
+   * and light their share of it (their piece's points, or their share of the sweeps). A parallel
+   * run of the propagation does not stop when aborted. Every process must update the filter
+   * together. Set nullptr to light each piece on its own.
    */
   virtual void SetController(vtkMultiProcessController* controller);
   vtkGetObjectMacro(Controller, vtkMultiProcessController);
@@ -198,6 +204,28 @@ protected:
   virtual bool LightsPointsIndependently() const { return false; }
 
   /**
+   * Whether a parallel run lights each process's piece of the input where it is
+   * (ComputeDistributedIllumination) instead of assembling the whole input on every
+   * process (false by default). Used for point scalars; cell scalars, which become point
+   * values by averaging the cells around a point (different at a piece's boundary), are
+   * assembled.
+   */
+  virtual bool LightsDistributedPieces() const { return false; }
+
+  /**
+   * The illumination of a parallel run of a filter that LightsDistributedPieces. `volume`:
+   * this process's piece of the classification (no points where the process has no piece);
+   * `piece`: where it lies in the whole data grid and which cells it takes; `extents`: every
+   * process's extent of the illumination grid `target` (GatherExtents). Collective: rgb gets
+   * the illumination at the points of this process's extent (3 floats a point, x fastest).
+   * Not aborted (the other processes wait for this one).
+   */
+  virtual void ComputeDistributedIllumination(vtkMultiProcessController* controller,
+    const volillum::ClassifiedVolume& volume, const volillum::VolumePiece& piece,
+    const std::vector<volillum::LightState>& lights, const volillum::GridGeometry& target,
+    const std::vector<int>& extents, float* rgb, UpdateReport& report);
+
+  /**
    * The sweeps this process runs: in a parallel run of a filter that does not light points
    * independently, its share of them (ComputeIllumination then propagates only those and
    * gives its units to OutputIllumination); otherwise all of them. Such a parallel run
@@ -242,9 +270,23 @@ private:
   // of the illumination grid: LightsPointsIndependently, or a parallel run that shares
   // sweeps) output only the points of that extent.
   void Illuminate(vtkImageData* input, vtkImageData* output, const int* piece = nullptr);
+  // A parallel update of a filter that LightsDistributedPieces: each process classifies its
+  // piece (the transfer functions over the scalar range of all pieces) and
+  // ComputeDistributedIllumination gives it its part of the illumination grid. `inInfo`:
+  // the input's pipeline information (the whole extent and geometry). Returns false, before
+  // any output, where the input must be assembled instead (cell scalars).
+  bool IlluminateDistributed(vtkMultiProcessController* controller, vtkInformation* inInfo,
+    vtkImageData* input, vtkImageData* output);
+  // The end of a successful update: the output's geometry (the illumination grid `target`,
+  // or its part `extent`), its arrays and the update's report.
+  void FinishOutput(vtkImageData* output, const int extent[6], const volillum::GridGeometry& target,
+    vtkMatrix3x3* direction, vtkFloatArray* illumination, const UpdateReport& report,
+    double seconds);
   // Classify the scalars (Scalars) on the data grid unless the cached classification was made
   // from the same input and settings (inputModified tells which); false after an error.
-  bool UpdateClassification(const volillum::GridGeometry& data, bool& inputModified);
+  // `range`: the scalar range of the transfer functions (nullptr: the scalars' own).
+  bool UpdateClassification(
+    const volillum::GridGeometry& data, bool& inputModified, const double* range = nullptr);
 
   // What the last successful classification was made from; equal keys mean the cached
   // classification is still valid.
@@ -257,6 +299,8 @@ private:
     double Scale = 0.0;
     double UnitDistance = 0.0;
     bool Chromatic = false;
+    bool HasRange = false;
+    double Range[2] = { 0.0, 0.0 };
     bool operator==(const ClassificationKey& o) const;
   };
   ClassificationKey ClassifiedKey;

@@ -1,8 +1,14 @@
 #include "vtkRayMarchedIllumination.h"
 
 #include "IlluminationFilterSupport.h"
+#include "IlluminationParallel.h"
 #include "RayMarchKernel.h"
+#include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
+#include "vtkSMPTools.h"
+
+#include <algorithm>
+#include <array>
 
 vtkStandardNewMacro(vtkRayMarchedIllumination);
 
@@ -21,6 +27,121 @@ bool vtkRayMarchedIllumination::ComputeIllumination(const volillum::ClassifiedVo
   }
   return volillum::RayMarchIllumination(
     volume, lights, target, settings, rgb, [this](double f) { return this->ReportProgress(f); });
+}
+
+//------------------------------------------------------------------------------
+void vtkRayMarchedIllumination::ComputeDistributedIllumination(
+  vtkMultiProcessController* controller, const volillum::ClassifiedVolume& volume,
+  const volillum::VolumePiece& piece, const std::vector<volillum::LightState>& lights,
+  const volillum::GridGeometry& target, const std::vector<int>& extents, float* rgb,
+  UpdateReport& report)
+{
+  volillum::RayMarchSettings settings;
+  settings.StepFraction = this->StepFraction;
+  // The lights that are on: the same on every process (`lights`, in the data's frame, is
+  // empty where the process has no piece).
+  std::vector<size_t> on;
+  const std::vector<volillum::LightState> states = this->GetLightStates();
+  for (size_t l = 0; l < states.size(); ++l)
+  {
+    if (states[l].On)
+    {
+      on.push_back(l);
+    }
+  }
+  report.Mode = 0;
+  report.Passes = static_cast<int>(on.size());
+  const int* own = extents.data() + 6 * controller->GetLocalProcessId();
+  if (on.empty())
+  {
+    long long points = 1;
+    for (int a = 0; a < 3; ++a)
+    {
+      points *= std::max(0, own[2 * a + 1] - own[2 * a] + 1);
+    }
+    std::fill(rgb, rgb + 3 * points, 0.0f);
+    return;
+  }
+  const bool marches = volume.Geometry.NumberOfPoints() > 0;
+  const volillum::EmptyBlocks* empty = marches ? this->GetEmptyBlocks() : nullptr;
+  const int components = 3 * static_cast<int>(on.size());
+  long long rows = 0, done = 0;
+  for (size_t p = 0; 6 * p < extents.size(); ++p)
+  {
+    const int* e = extents.data() + 6 * p;
+    rows += std::max(0LL, static_cast<long long>(e[3] - e[2] + 1) * (e[5] - e[4] + 1));
+  }
+  // Each process marches the parts of the rays in its piece for the points of every extent;
+  // the products arrive at the extent's process.
+  volillum::MultiplyOverPieces(
+    controller, extents, components,
+    [&](const int* e, size_t first, size_t count, double* parts)
+    {
+      const long long width = e[1] - e[0] + 1, rowsY = e[3] - e[2] + 1;
+      std::fill(parts, parts + count * width * components, 1.0);
+      if (marches)
+      {
+        vtkSMPTools::For(0, static_cast<long long>(count),
+          [&](long long r0, long long r1)
+          {
+            for (long long r = r0; r < r1; ++r)
+            {
+              const long long row = static_cast<long long>(first) + r;
+              for (long long i = 0; i < width; ++i)
+              {
+                double p[3];
+                target.PointPosition(e[0] + i, e[2] + row % rowsY, e[4] + row / rowsY, p);
+                double* out = parts + components * (r * width + i);
+                for (size_t m = 0; m < on.size(); ++m)
+                {
+                  const volillum::LightState& light = lights[on[m]];
+                  const double cone = volillum::ComputeIncidence(light, p).ConeFactor;
+                  if (cone > 0.0)
+                  {
+                    const auto t = volillum::PartialTransmittance(volume, piece, light, p, settings,
+                      settings.MinimumTransmittance / cone, empty);
+                    std::copy(t.begin(), t.end(), out + 3 * m);
+                  }
+                }
+              }
+            }
+          });
+      }
+      done += static_cast<long long>(count);
+      this->ReportProgress(static_cast<double>(done) / rows);
+    },
+    [&](const int* e, size_t first, size_t count, const double* products)
+    {
+      const long long width = e[1] - e[0] + 1, rowsY = e[3] - e[2] + 1;
+      for (size_t r = 0; r < count; ++r)
+      {
+        const long long row = static_cast<long long>(first + r);
+        for (long long i = 0; i < width; ++i)
+        {
+          double p[3];
+          target.PointPosition(e[0] + i, e[2] + row % rowsY, e[4] + row / rowsY, p);
+          const double* product = products + components * (r * width + i);
+          std::array<double, 3> sum{ { 0.0, 0.0, 0.0 } };
+          for (size_t m = 0; m < on.size(); ++m)
+          {
+            const volillum::LightState& light = lights[on[m]];
+            const auto t =
+              volillum::DarkenedTransmittance(volillum::ComputeIncidence(light, p).ConeFactor,
+                { { product[3 * m], product[3 * m + 1], product[3 * m + 2] } }, settings);
+            const auto radiance = light.Radiance();
+            for (int c = 0; c < 3; ++c)
+            {
+              sum[c] += radiance[c] * t[c];
+            }
+          }
+          float* o = rgb + 3 * (row * width + i);
+          for (int c = 0; c < 3; ++c)
+          {
+            o[c] = static_cast<float>(sum[c]);
+          }
+        }
+      }
+    });
 }
 
 //------------------------------------------------------------------------------

@@ -8,6 +8,13 @@
  * benchmarks. Cost: points x lights x (path length / StepFraction) samples, all threads
  * through vtkSMPTools. PropagationPasses reports the number of lights marched.
  *
+ * In a parallel run no process assembles the input: each classifies its own block of the
+ * data and marches, for every point of the illumination grid, the part of the point's ray
+ * to each light that crosses its block (PartialTransmittance); the products of the parts
+ * go to the process whose piece has the point (MultiplyOverPieces, 3 doubles a point and
+ * light, in blocks of 32 MiB). The result equals the serial one up to the order of the
+ * multiplications. The field array ClassifiedPoints gives the points a process classified.
+ *
  * Model: N. Max, "Optical Models for Direct Volume Rendering", IEEE Transactions on Visualization
  * and Computer Graphics 1(2), 1995 (emission-absorption, single scattering).
  *
@@ -39,6 +46,11 @@ protected:
   ~vtkRayMarchedIllumination() override = default;
 
   bool LightsPointsIndependently() const override { return true; }
+  bool LightsDistributedPieces() const override { return true; }
+  void ComputeDistributedIllumination(vtkMultiProcessController* controller,
+    const volillum::ClassifiedVolume& volume, const volillum::VolumePiece& piece,
+    const std::vector<volillum::LightState>& lights, const volillum::GridGeometry& target,
+    const std::vector<int>& extents, float* rgb, UpdateReport& report) override;
   bool ComputeIllumination(const volillum::ClassifiedVolume& volume,
     const std::vector<volillum::LightState>& lights, const volillum::GridGeometry& target,
     bool inputModified, float* rgb, UpdateReport& report) override;

@@ -67,15 +67,6 @@ void AddSeconds(vtkFieldData* fieldData, const char* name, double seconds)
   fieldData->AddArray(array);
 }
 
-// Collective: whether `ok` holds on every process.
-bool AllOk(vtkMultiProcessController* controller, bool ok)
-{
-  int mine = ok ? 1 : 0;
-  int all = 0;
-  controller->AllReduce(&mine, &all, 1, vtkCommunicator::MIN_OP);
-  return all != 0;
-}
-
 // The tetrahedra of grid: grid itself when all its cells are tetrahedra, else
 // vtkDataSetTriangleFilter's split of its 3D cells (the same points, the arrays passed on);
 // nullptr with the reason in error when the split changed the points.
@@ -212,7 +203,7 @@ bool vtkUnstructuredGridIllumination::PrepareDistributedMesh(
       own = nullptr; // no 3D cell: nothing to light here
     }
   }
-  if (!AllOk(controller, error.empty()))
+  if (!volillum::AllOk(controller, error.empty()))
   {
     return false;
   }
@@ -257,7 +248,8 @@ bool vtkUnstructuredGridIllumination::PrepareDistributedMesh(
   for (;;)
   {
     vtkUnstructuredGrid* grid = this->Neighborhood->Build(controller, own, depth);
-    if (!AllOk(controller, this->PrepareMesh(grid, this->Neighborhood->GetNumberOfPieceCells())))
+    if (!volillum::AllOk(
+          controller, this->PrepareMesh(grid, this->Neighborhood->GetNumberOfPieceCells())))
     {
       this->Neighborhood->Reset();
       this->MeshKey = 0;
@@ -488,7 +480,7 @@ void vtkUnstructuredGridIllumination::IlluminatePiece(
   vtkMultiProcessController* controller, vtkUnstructuredGrid* input, vtkUnstructuredGrid* output)
 {
   const auto start = Clock::now();
-  if (!AllOk(controller, this->CheckSettings()))
+  if (!volillum::AllOk(controller, this->CheckSettings()))
   {
     return;
   }
@@ -504,7 +496,7 @@ void vtkUnstructuredGridIllumination::IlluminatePiece(
   {
     this->Scalars = volillum::PointScalars();
   }
-  if (!AllOk(controller, !lit || this->CheckInput(grid)))
+  if (!volillum::AllOk(controller, !lit || this->CheckInput(grid)))
   {
     return;
   }
@@ -655,7 +647,7 @@ bool vtkUnstructuredGridIllumination::UpdateLevel0Grid(
     range = this->WholeRange;
   }
   const bool classified = !this->Scalars.Array || this->Classify(this->Scalars.Array, range);
-  if (controller ? !AllOk(controller, classified) : !classified)
+  if (controller ? !volillum::AllOk(controller, classified) : !classified)
   {
     return false;
   }

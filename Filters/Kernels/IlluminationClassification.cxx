@@ -85,7 +85,11 @@ void ClassifiedVolume::Store(const std::vector<float>& values)
 
 void ClassifiedVolume::Sample(const double p[3], float out[4]) const
 {
-  const TrilinearCell cell = CellAtPosition(this->Geometry, p);
+  this->SampleCell(CellAtPosition(this->Geometry, p), out);
+}
+
+void ClassifiedVolume::SampleCell(const TrilinearCell& cell, float out[4]) const
+{
   for (int c = 0; c < this->Channels; ++c)
   {
     out[c] = Interpolate(this->Geometry, this->Properties.data(), this->Channels, cell, c) *

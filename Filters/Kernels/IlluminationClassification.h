@@ -242,6 +242,8 @@ struct VOLILLUMKERNELS_EXPORT ClassifiedVolume
   /// Trilinear interpolation of {sigma, k_r, k_g, k_b} at a world position (k_c 1 without
   /// chromatic attenuation); positions outside the grid are clamped onto it.
   void Sample(const double p[3], float out[4]) const;
+  /// Sample for a cell of this volume's grid (CellAt).
+  void SampleCell(const TrilinearCell& cell, float out[4]) const;
 
   /// Largest sigma in the volume (0 for an empty one).
   float MaxExtinction() const;

@@ -112,42 +112,115 @@ bool EmptyBlocks::Contains(const double q[3]) const
   return this->ContainsCell(CellAt(this->Geometry, u).Index);
 }
 
-std::array<double, 3> RayMarchTransmittance(const ClassifiedVolume& volume, const LightState& light,
-  const double p[3], const RayMarchSettings& settings, const EmptyBlocks* empty)
+VolumePiece VolumePiece::WholeOf(const ClassifiedVolume& volume)
 {
+  VolumePiece piece;
+  piece.Whole = volume.Geometry;
+  for (int a = 0; a < 3; ++a)
+  {
+    piece.LastCell[a] = std::max(volume.Geometry.Dimensions[a] - 2, 0);
+  }
+  return piece;
+}
+
+std::array<double, 3> PartialTransmittance(const ClassifiedVolume& volume, const VolumePiece& piece,
+  const LightState& light, const double p[3], const RayMarchSettings& settings, double cut,
+  const EmptyBlocks* empty)
+{
+  std::array<double, 3> t{ { 1.0, 1.0, 1.0 } };
   const Incidence inc = ComputeIncidence(light, p);
-  std::array<double, 3> t{ { inc.ConeFactor, inc.ConeFactor, inc.ConeFactor } };
-  if (inc.ConeFactor == 0.0)
+  const GridGeometry& g = piece.Whole;
+  double bounds[6];
+  g.GetBounds(bounds);
+  const double tMax = std::min(inc.Distance, DistanceToBoxExit(p, inc.ToLight.data(), bounds));
+  const double step = settings.StepFraction * g.MinimumSpacing();
+  const long long n = std::max(1LL, static_cast<long long>(std::ceil(tMax / step)));
+  const double h = tMax / n;
+  if (!(h > 0.0))
+  {
+    return t; // a step of length 0 lets all light through
+  }
+  // The steps whose samples may lie in the piece's cells: those on the part of the ray
+  // within one spacing of the cells (each sample's cell is then checked).
+  double enter = 0.0, exit = tMax;
+  for (int a = 0; a < 3; ++a)
+  {
+    const double x0 = g.Origin[a] + (piece.FirstCell[a] - 1) * g.Spacing[a];
+    const double x1 = g.Origin[a] + (piece.LastCell[a] + 2) * g.Spacing[a];
+    const double low = std::min(x0, x1), high = std::max(x0, x1);
+    const double d = inc.ToLight[a];
+    if (d == 0.0)
+    {
+      if (p[a] < low || p[a] > high)
+      {
+        return t;
+      }
+      continue;
+    }
+    const double t0 = (low - p[a]) / d, t1 = (high - p[a]) / d;
+    enter = std::max(enter, std::min(t0, t1));
+    exit = std::min(exit, std::max(t0, t1));
+  }
+  if (enter > exit)
   {
     return t;
   }
-  double bounds[6];
-  volume.Geometry.GetBounds(bounds);
-  const double tMax = std::min(inc.Distance, DistanceToBoxExit(p, inc.ToLight.data(), bounds));
-  const double step = settings.StepFraction * volume.Geometry.MinimumSpacing();
-  const long long n = std::max(1LL, static_cast<long long>(std::ceil(tMax / step)));
-  const double h = tMax / n;
+  const long long first = std::max(0LL, static_cast<long long>(std::floor(enter / h - 0.5)));
+  const long long last = std::min(n - 1, static_cast<long long>(std::ceil(exit / h - 0.5)));
   float s[4];
-  for (long long i = 0; i < n; ++i)
+  for (long long i = first; i <= last; ++i)
   {
     const double d = (i + 0.5) * h;
     const double q[3] = { p[0] + d * inc.ToLight[0], p[1] + d * inc.ToLight[1],
       p[2] + d * inc.ToLight[2] };
-    if (empty && empty->Contains(q))
+    TrilinearCell cell = CellAtPosition(g, q);
+    bool inPiece = true;
+    for (int a = 0; a < 3; ++a)
+    {
+      inPiece =
+        inPiece && cell.Index[a] >= piece.FirstCell[a] && cell.Index[a] <= piece.LastCell[a];
+      cell.Index[a] -= piece.Offset[a];
+    }
+    if (!inPiece || (empty && empty->ContainsCell(cell.Index)))
     {
       continue;
     }
-    volume.Sample(q, s);
+    volume.SampleCell(cell, s);
     const double a = StepOpacity(s[0], h);
     t[0] *= 1.0 - a * s[1];
     t[1] *= 1.0 - a * s[2];
     t[2] *= 1.0 - a * s[3];
-    if (std::max(t[0], std::max(t[1], t[2])) < settings.MinimumTransmittance)
+    if (std::max(t[0], std::max(t[1], t[2])) < cut)
     {
       break;
     }
   }
   return t;
+}
+
+std::array<double, 3> DarkenedTransmittance(
+  double cone, const std::array<double, 3>& product, const RayMarchSettings& settings)
+{
+  const std::array<double, 3> t{ { cone * product[0], cone * product[1], cone * product[2] } };
+  if (std::max(t[0], std::max(t[1], t[2])) < settings.MinimumTransmittance)
+  {
+    return { { 0.0, 0.0, 0.0 } };
+  }
+  return t;
+}
+
+std::array<double, 3> RayMarchTransmittance(const ClassifiedVolume& volume, const LightState& light,
+  const double p[3], const RayMarchSettings& settings, const EmptyBlocks* empty)
+{
+  const double cone = ComputeIncidence(light, p).ConeFactor;
+  if (cone == 0.0)
+  {
+    return { { 0.0, 0.0, 0.0 } };
+  }
+  // A cut below MinimumTransmittance / cone makes the ray dark whatever follows.
+  const auto product = PartialTransmittance(volume, VolumePiece::WholeOf(volume), light, p,
+    settings, settings.MinimumTransmittance / cone, empty);
+  return DarkenedTransmittance(cone, product, settings);
 }
 
 void SegmentOpticalDepth(const ClassifiedVolume& volume, const double p[3], const double d[3],

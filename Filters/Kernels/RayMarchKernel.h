@@ -12,8 +12,11 @@
  * (1 - a (1 - c)) of IlluminationClassification.h. The radiance of a light (colour x
  * intensity, times the spot-cone factor) times that transmittance is summed over lights.
  * Cost: points x lights x steps trilinear samples; marching stops early once every
- * channel's transmittance is below MinimumTransmittance, which bounds the absolute error
- * of that cut by MinimumTransmittance x radiance.
+ * channel's transmittance is below MinimumTransmittance and the ray counts as dark, which
+ * bounds the absolute error of that cut by MinimumTransmittance x radiance. The samples of
+ * a ray can be taken piece by piece (PartialTransmittance): the product of the pieces'
+ * parts is the ray's transmittance, which lets processes of a parallel run march only
+ * through the piece of the volume they hold.
  */
 #ifndef RayMarchKernel_h
 #define RayMarchKernel_h
@@ -89,11 +92,48 @@ private:
   std::array<std::vector<std::uint16_t>, 2> Filled;
 };
 
-/// Per-channel transmittance from point p to the light (0 outside a spot cone); with
-/// `empty`, samples in empty blocks are skipped.
+/**
+ * Per-channel transmittance from point p to the light (0 outside a spot cone); with
+ * `empty`, samples in empty blocks are skipped. A ray whose transmittance falls below
+ * MinimumTransmittance in every channel counts as dark (0).
+ */
 VOLILLUMKERNELS_EXPORT std::array<double, 3> RayMarchTransmittance(const ClassifiedVolume& volume,
   const LightState& light, const double p[3], const RayMarchSettings& settings,
   const EmptyBlocks* empty = nullptr);
+
+/**
+ * A classified volume as a piece of a bigger grid (a distributed volume's piece). Whole:
+ * the grid of all pieces (the geometry RayMarchTransmittance marches through); Offset: the
+ * whole grid's index of the volume's first point; FirstCell .. LastCell: the cells (named
+ * by their first point's index in the whole grid) whose samples the piece takes. Pieces
+ * that share their boundary planes and take the cells from their first plane up to their
+ * last take every sample of the whole grid exactly once between them.
+ */
+struct VolumePiece
+{
+  GridGeometry Whole;
+  std::array<int, 3> Offset{ { 0, 0, 0 } };
+  std::array<int, 3> FirstCell{ { 0, 0, 0 } };
+  std::array<int, 3> LastCell{ { -1, -1, -1 } };
+  /// The volume as the only piece of its grid (all its cells).
+  static VolumePiece WholeOf(const ClassifiedVolume& volume);
+};
+
+/**
+ * The part of RayMarchTransmittance's ray from p to the light (the same steps through the
+ * whole grid) that lies in the piece: per channel, the product of the step transmittances
+ * of the samples in its cells (1 where there is none). Marching stops once every channel
+ * is below `cut`. The products of all pieces, times the cone factor, then
+ * DarkenedTransmittance, give RayMarchTransmittance up to the order of the multiplications.
+ */
+VOLILLUMKERNELS_EXPORT std::array<double, 3> PartialTransmittance(const ClassifiedVolume& volume,
+  const VolumePiece& piece, const LightState& light, const double p[3],
+  const RayMarchSettings& settings, double cut, const EmptyBlocks* empty = nullptr);
+
+/// A ray's transmittance from its cone factor and the product of its steps' transmittances:
+/// 0 where every channel is below MinimumTransmittance.
+VOLILLUMKERNELS_EXPORT std::array<double, 3> DarkenedTransmittance(
+  double cone, const std::array<double, 3>& product, const RayMarchSettings& settings);
 
 /**
  * Optical depth per channel (extinction x k_c with three channels, extinction alone with

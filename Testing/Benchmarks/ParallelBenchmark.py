@@ -5,7 +5,10 @@ at 64^3) is lit at scale 1 by 4 oblique directional lights with pvbatch on 1 pro
 with `MPIEXEC -np 2 pvbatch`, each process single-threaded (Sequential SMP backend) so the
 comparison is fair on a 2-core machine. Printed: full update and one-light edit times on
 1 and 2 processes and their ratios (speed-up), the same for a full update of Filtered
-Volumetric Shadows (which lights only each process's piece), the bytes each process
+Volumetric Shadows (which lights only each process's piece) and of Ray-Marched
+Illumination (scale 1/4, one light; each process classifies and marches through its block
+of the input only: the points process 0 classified and the bytes of the products each
+process sends are printed), the bytes each process
 receives when the data changes (the gathered pieces; a light edit gathers nothing), the
 bytes of the propagation's sums each process sends per update, the propagation's peak
 memory per process (largest over the processes), and
@@ -75,11 +78,24 @@ def worker(plugin, volume):
     peak = 1024 * (resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before)
     # Filtered shadows light points independently: each process lights its own piece.
     filtered = seconds(filter_with_lights("FilteredVolumetricShadows"))
+    # Ray-marched illumination marches through each process's block (no input gathered), at
+    # scale 1/4 with one light (the brute-force reference costs a march per point and light).
+    marched = filter_with_lights("RayMarchedIllumination")
+    marched.ResolutionScale = 0.25
+    marched.Lights = lights(bounds, 1)
+    marched_s = seconds(marched)
+    extent = marched.GetDataInformation().GetExtent()
+    classified = marched.GetClientSideObject().GetOutputDataObject(0).GetFieldData().GetArray(
+        "ClassifiedPoints")
     from vtkmodules.vtkCommonCore import vtkDataArray
     info = reader.GetDataInformation()
     lit = info.GetPointDataInformation().GetArrayInformation(array)
     value = vtkDataArray.CreateDataArray(lit.GetDataType())
     print("RESULT " + json.dumps({"full_s": full, "edit_s": edit, "filtered_s": filtered,
+                                  "marched_s": marched_s,
+                                  "marched_classified": int(classified.GetValue(0)),
+                                  "marched_points": math.prod(
+                                      extent[2 * a + 1] - extent[2 * a] + 1 for a in range(3)),
                                   "peak_bytes": peak,
                                   "points": info.GetNumberOfPoints(),
                                   "bytes": info.GetNumberOfPoints() *
@@ -157,6 +173,13 @@ def main():
                "speedup_edit": one["edit_s"] / two["edit_s"],
                "filtered_shadows_s": {"1": one["filtered_s"], "2": two["filtered_s"]},
                "speedup_filtered_shadows": one["filtered_s"] / two["filtered_s"],
+               "ray_marched_s": {"1": one["marched_s"], "2": two["marched_s"]},
+               "speedup_ray_marched": one["marched_s"] / two["marched_s"],
+               "ray_marched_points_classified_by_process_0": {
+                   "1": one["marched_classified"], "2": two["marched_classified"]},
+               # Every process sends 3 doubles a point of the illumination grid and light.
+               "ray_marched_product_bytes_sent_per_process_per_update":
+                   24 * one["marched_points"],
                "bytes_received_per_process_on_data_change": received,
                "propagation_sum_bytes_sent_per_process_per_update": summed,
                "propagation_peak_bytes_per_point_per_process": {
@@ -172,6 +195,12 @@ def main():
                                          results["speedup_edit"]))
     print("%-22s %10.2f %10.2f %8.2f" % ("filtered shadows (s)", one["filtered_s"],
                                          two["filtered_s"], results["speedup_filtered_shadows"]))
+    print("%-22s %10.2f %10.2f %8.2f" % ("ray marched (s)", one["marched_s"],
+                                         two["marched_s"], results["speedup_ray_marched"]))
+    print("ray marched: input points process 0 classified: %d on 1 process, %d on 2; "
+          "products each process sends per update: %.1f MB"
+          % (one["marched_classified"], two["marched_classified"],
+             results["ray_marched_product_bytes_sent_per_process_per_update"] / 1e6))
     print("bytes each process receives when the data changes: %.1f MB (light edits: none)"
           % (received / 1e6))
     print("bytes of the propagation's sums each process sends per update: %.1f MB"

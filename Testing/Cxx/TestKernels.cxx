@@ -224,6 +224,126 @@ TEST(Kernels, RayMarchThroughASlabIsItsAnalyticTransmittance)
     RayMarchIlluminationAt(slab, { Downward() }, above, RayMarchSettings())[0], 1.0, 1e-12);
 }
 
+// The parts of rays marched piece by piece (PartialTransmittance) multiply to the ray marched
+// through the whole volume: a chromatic volume of 13 x 11 x 9 points split into 2 x 3 x 2
+// blocks that share their boundary planes (as vtkExtentTranslator's pieces do), each block a
+// volume of its own holding its points. A sample taken twice or by no piece would change the
+// product by a step's transmittance (at least 1e-3 here).
+TEST(Kernels, RayMarchedPiecesMultiplyToTheWholeRay)
+{
+  ClassifiedVolume whole;
+  whole.Geometry.Dimensions = { { 13, 11, 9 } };
+  whole.Geometry.Spacing = { { 0.5, 0.7, 0.6 } };
+  whole.Geometry.Origin = { { -1.0, 2.0, 0.5 } };
+  whole.Channels = 4;
+  const auto& d = whole.Geometry.Dimensions;
+  std::vector<float> values;
+  for (int k = 0; k < d[2]; ++k)
+  {
+    for (int j = 0; j < d[1]; ++j)
+    {
+      for (int i = 0; i < d[0]; ++i)
+      {
+        values.push_back(static_cast<float>(0.3 + 0.25 * std::sin(0.9 * i + 1.3 * j - 0.7 * k)));
+        values.push_back(static_cast<float>(0.5 + 0.4 * std::cos(0.5 * i - j)));
+        values.push_back(static_cast<float>(0.6 + 0.3 * std::sin(0.4 * j + k)));
+        values.push_back(static_cast<float>(0.4 + 0.3 * std::cos(i + 0.8 * k)));
+      }
+    }
+  }
+  whole.Store(values);
+  // The blocks' first and last points per axis (shared planes).
+  const std::vector<std::vector<int>> planes = { { 0, 6, 12 }, { 0, 3, 7, 10 }, { 0, 5, 8 } };
+  std::vector<ClassifiedVolume> volumes;
+  std::vector<VolumePiece> pieces;
+  for (size_t bz = 0; bz + 1 < planes[2].size(); ++bz)
+  {
+    for (size_t by = 0; by + 1 < planes[1].size(); ++by)
+    {
+      for (size_t bx = 0; bx + 1 < planes[0].size(); ++bx)
+      {
+        const size_t b[3] = { bx, by, bz };
+        ClassifiedVolume v;
+        v.Channels = whole.Channels;
+        v.Scale = whole.Scale;
+        v.Geometry = whole.Geometry;
+        VolumePiece piece;
+        piece.Whole = whole.Geometry;
+        for (int a = 0; a < 3; ++a)
+        {
+          const int first = planes[a][b[a]], last = planes[a][b[a] + 1];
+          v.Geometry.Dimensions[a] = last - first + 1;
+          v.Geometry.Origin[a] = whole.Geometry.Origin[a] + first * whole.Geometry.Spacing[a];
+          piece.Offset[a] = piece.FirstCell[a] = first;
+          piece.LastCell[a] = last - 1;
+        }
+        for (int k = 0; k < v.Geometry.Dimensions[2]; ++k)
+        {
+          for (int j = 0; j < v.Geometry.Dimensions[1]; ++j)
+          {
+            for (int i = 0; i < v.Geometry.Dimensions[0]; ++i)
+            {
+              const size_t from = i + piece.Offset[0] +
+                d[0] * (j + piece.Offset[1] + static_cast<size_t>(d[1]) * (k + piece.Offset[2]));
+              for (int c = 0; c < whole.Channels; ++c)
+              {
+                v.Properties.push_back(whole.Properties[4 * from + c]);
+              }
+            }
+          }
+        }
+        volumes.push_back(v);
+        pieces.push_back(piece);
+      }
+    }
+  }
+  LightState oblique;
+  oblique.Position = { { -3.0, 9.0, 8.0 } };
+  oblique.FocalPoint = { { 2.0, 5.0, 3.0 } };
+  LightState point;
+  point.Kind = LightKind::Point;
+  point.Position = { { 2.3, 5.1, 2.9 } }; // inside the volume
+  LightState spot;
+  spot.Kind = LightKind::Spot;
+  spot.Position = { { 9.0, 1.0, 1.0 } };
+  spot.FocalPoint = { { 2.0, 6.0, 3.0 } };
+  spot.ConeAngle = 25.0;
+  RayMarchSettings settings;
+  settings.StepFraction = 0.37;
+  double largest = 0.0;
+  int lit = 0;
+  for (const LightState& light : { oblique, point, spot })
+  {
+    for (int n = 0; n < 200; ++n)
+    {
+      const double p[3] = { whole.Geometry.Origin[0] + 0.5 * (n % 13) + 0.013 * n,
+        whole.Geometry.Origin[1] + 0.7 * ((n / 13) % 11),
+        whole.Geometry.Origin[2] + 0.6 * ((7 * n) % 9) + 0.002 * n };
+      const auto reference = RayMarchTransmittance(whole, light, p, settings);
+      const double cone = ComputeIncidence(light, p).ConeFactor;
+      std::array<double, 3> product{ { 1.0, 1.0, 1.0 } };
+      for (size_t b = 0; b < pieces.size() && cone > 0.0; ++b)
+      {
+        const auto t = PartialTransmittance(volumes[b], pieces[b], light, p, settings, 0.0);
+        for (int c = 0; c < 3; ++c)
+        {
+          product[c] *= t[c];
+        }
+      }
+      const auto t = DarkenedTransmittance(cone, product, settings);
+      for (int c = 0; c < 3; ++c)
+      {
+        largest = std::max(largest, std::abs(t[c] - reference[c]));
+      }
+      lit += reference[0] > 1e-3 && reference[0] < 0.999 ? 1 : 0;
+    }
+  }
+  std::cout << "pieces against the whole ray: largest difference " << largest << " (" << lit
+            << " of 600 rays partly attenuated)" << std::endl;
+  EXPECT_LT(largest, 1e-12);
+  EXPECT_GT(lit, 300);
+}
+
 TEST(Kernels, PropagationThroughASlabAndSelectiveRemovalIsExact)
 {
   const ClassifiedVolume slab = Slab();

@@ -18,6 +18,9 @@ and checks, against the serial run:
   strong scattering) on redistributed pieces equals the serial run too;
 - Unstructured Grid Illumination on redistributed pieces: no process lit the whole grid
   (its piece and the cells near it: the LitPoints field of each piece);
+- Ray-Marched Illumination: no process classified the whole input (each marches through
+  its block: the ClassifiedPoints field of each piece), also on the image of one cell and
+  with cell scalars (assembled: averaging cells onto points needs the neighbours);
 - no process prints an error (an empty piece is normal in parallel).
 Usage: pvpython TestParallelIllumination.py PLUGIN OUTPUT_DIR PVBATCH MPIEXEC "MPI_FLAGS"
        GRID NPROCS...
@@ -28,7 +31,7 @@ import sys
 
 TOLERANCE = 1e-5  # largest difference relative to the largest value
 FILES = ["multilight.pvti", "selective.pvti", "fresh.pvti", "filtered.pvti", "raymarched.pvti",
-         "tiny.pvti",
+         "tiny.pvti", "tiny_raymarched.pvti", "cells_raymarched.pvti",
          "unstructured.pvtu", "unstructured_pieces.pvtu", "wavelet.pvtu"]
 HEAD = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Data", "headsq.vti")
 
@@ -41,7 +44,7 @@ EDITED = LIGHTS[:14] + [1, 330, -40, 90, 100, 100, 70, 0.4, 0.6, 1.0, 0.8, 90, 1
 
 def worker(plugin, out, grid_file, tiny_file, parallel):
     from paraview.simple import (LoadPlugin, XMLImageDataReader, XMLUnstructuredGridReader,
-                                 ProgrammableFilter, RedistributeDataSet, GetColorTransferFunction,
+                                 PointDatatoCellData, ProgrammableFilter, RedistributeDataSet, GetColorTransferFunction,
                                  GetOpacityTransferFunction, SaveData)
     ns = globals()
     LoadPlugin(plugin, remote=False, ns=ns)
@@ -70,12 +73,21 @@ def worker(plugin, out, grid_file, tiny_file, parallel):
     save(image_filter("FilteredVolumetricShadows", ResolutionScale=0.5, FilterWidth=3),
          "filtered.pvti")
     save(image_filter("RayMarchedIllumination", ResolutionScale=0.25), "raymarched.pvti")
+    # Cell scalars (averaged onto the points, which a block alone cannot do at its boundary).
+    cells = ns["RayMarchedIllumination"](Input=PointDatatoCellData(Input=head),
+                                         ColorTransferFunction=lut, OpacityFunction=pwf,
+                                         ResolutionScale=0.25)
+    cells.Scalars = ["CELLS", "scalars"]
+    cells.Lights = LIGHTS
+    save(cells, "cells_raymarched.pvti")
     # An image of 2 x 2 x 2 points: one cell, so all but one process have an empty block.
-    tiny = ns["MultiLightIlluminationVolume"](Input=XMLImageDataReader(FileName=[tiny_file]),
-                                              ColorTransferFunction=lut, OpacityFunction=pwf)
-    tiny.Scalars = ["POINTS", "scalars"]
-    tiny.Lights = LIGHTS
-    save(tiny, "tiny.pvti")
+    tiny_image = XMLImageDataReader(FileName=[tiny_file])
+    for name, saved in [("MultiLightIlluminationVolume", "tiny.pvti"),
+                        ("RayMarchedIllumination", "tiny_raymarched.pvti")]:
+        tiny = ns[name](Input=tiny_image, ColorTransferFunction=lut, OpacityFunction=pwf)
+        tiny.Scalars = ["POINTS", "scalars"]
+        tiny.Lights = LIGHTS
+        save(tiny, saved)
 
     grid = XMLUnstructuredGridReader(FileName=[grid_file])
     association = "POINTS" if grid.PointData.keys() else "CELLS"
@@ -156,15 +168,17 @@ def compare(serial, parallel, name="Illumination"):
     return difference / largest
 
 
-def lit_points(directory):
-    """The LitPoints field value of each piece file written in directory."""
-    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+def piece_counts(directory, field):
+    """The value of a field array (LitPoints, ClassifiedPoints) of each piece file written in
+    directory."""
+    from vtkmodules.vtkIOXML import vtkXMLImageDataReader, vtkXMLUnstructuredGridReader
     counts = []
     for name in sorted(os.listdir(directory)):
-        reader = vtkXMLUnstructuredGridReader()
+        reader = vtkXMLImageDataReader() if name.endswith(".vti") else \
+            vtkXMLUnstructuredGridReader()
         reader.SetFileName(os.path.join(directory, name))
         reader.Update()
-        array = reader.GetOutput().GetFieldData().GetArray("LitPoints")
+        array = reader.GetOutput().GetFieldData().GetArray(field)
         if array:
             counts.append(int(array.GetValue(0)))
     return counts
@@ -251,10 +265,19 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
             if f in ("unstructured.pvtu", "wavelet.pvtu"):
                 # Each process lit its piece and the cells near it, not the whole grid.
                 whole = serial[f].GetNumberOfPoints()
-                lit = lit_points(os.path.join(out, run, f[:-len(".pvtu")]))
+                lit = piece_counts(os.path.join(out, run, f[:-len(".pvtu")]), "LitPoints")
                 print("%-5s %-26s points lit by each process %s of %d" % (run, f, lit, whole))
                 if not lit or max(lit) >= whole:
                     failures.append("%s/%s: a process lit the whole grid" % (run, f))
+            if f == "raymarched.pvti":
+                # Each process classified its block of the input, not the whole input.
+                whole = piece_counts(os.path.join(out, "serial", "raymarched"),
+                                     "ClassifiedPoints")
+                held = piece_counts(os.path.join(out, run, "raymarched"), "ClassifiedPoints")
+                print("%-5s %-26s input points classified by each process %s of %s"
+                      % (run, f, held, whole))
+                if len(held) != int(run[2:]) or max(held) >= whole[0]:
+                    failures.append("%s/%s: a process held the whole input" % (run, f))
         selective = read_whole(os.path.join(out, run, "selective.pvti"))
         fresh = read_whole(os.path.join(out, run, "fresh.pvti"))
         edit_error = compare(fresh, selective)
