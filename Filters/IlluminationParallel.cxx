@@ -1002,13 +1002,13 @@ std::vector<int> GatherExtents(vtkMultiProcessController* controller, const int*
 //------------------------------------------------------------------------------
 namespace
 {
-// ReduceOverPieces for values of type T: each block's values from `fill`, reduced with `op`
-// to the piece's process, which gets them through `receive`.
+// For each process's extent, in blocks of whole rows of at most `block` values: this
+// process's values of the block from `fill`, reduced with `op` to the extent's process,
+// which gets them through `receive`.
 template <typename T>
 void ReduceOverPieces(vtkMultiProcessController* controller, const std::vector<int>& extents,
-  int components, int op, const PieceRows<T>& fill, const PieceRows<const T>& receive)
+  int components, int op, size_t block, const PieceRows<T>& fill, const PieceRows<const T>& receive)
 {
-  constexpr size_t Block = size_t(1) << 22; // values a reduction carries at most
   const int local = controller->GetLocalProcessId();
   std::vector<T> sent, reduced;
   for (size_t p = 0; 6 * p < extents.size(); ++p)
@@ -1021,7 +1021,7 @@ void ReduceOverPieces(vtkMultiProcessController* controller, const std::vector<i
     // The piece's rows along x, whole rows per block.
     const size_t row = components * static_cast<size_t>(e[1] - e[0] + 1);
     const size_t rows = static_cast<size_t>(e[3] - e[2] + 1) * (e[5] - e[4] + 1);
-    const size_t perBlock = std::max<size_t>(1, Block / row);
+    const size_t perBlock = std::max<size_t>(1, block / row);
     for (size_t first = 0; first < rows; first += perBlock)
     {
       const size_t count = std::min(perBlock, rows - first);
@@ -1052,7 +1052,7 @@ void SumOverPieces(vtkMultiProcessController* controller, const int dimensions[3
     own.resize(3 * static_cast<size_t>(e[1] - e[0] + 1) * (e[3] - e[2] + 1) * (e[5] - e[4] + 1));
   }
   ReduceOverPieces<std::uint32_t>(
-    controller, extents, 3, vtkCommunicator::SUM_OP,
+    controller, extents, 3, vtkCommunicator::SUM_OP, size_t(1) << 22,
     [&](const int* e, size_t first, size_t count, std::uint32_t* block)
     {
       const size_t row = 3 * static_cast<size_t>(e[1] - e[0] + 1);
@@ -1075,7 +1075,7 @@ void MultiplyOverPieces(vtkMultiProcessController* controller, const std::vector
   int components, const PieceRows<double>& fill, const PieceRows<const double>& receive)
 {
   ReduceOverPieces<double>(
-    controller, extents, components, vtkCommunicator::PRODUCT_OP, fill, receive);
+    controller, extents, components, vtkCommunicator::PRODUCT_OP, size_t(1) << 20, fill, receive);
 }
 
 bool AllOk(vtkMultiProcessController* controller, bool ok)

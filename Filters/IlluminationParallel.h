@@ -90,7 +90,7 @@ using PieceRows = std::function<void(const int* extent, size_t firstRow, size_t 
 /**
  * Collective: per point of each process's extent of a grid (`extents`, as GatherExtents
  * gives them), the products over all processes of `components` values: `fill` gives this
- * process's values for a block of rows of an extent (whole rows, at most 2^22 values,
+ * process's values for a block of rows of an extent (whole rows, at most 2^20 values,
  * every process the same blocks in the same order), and the process that owns the extent
  * gets the products of each of its blocks through `receive` (a reduction to it,
  * vtkMultiProcessController::Reduce).

@@ -12,7 +12,7 @@
  * data and marches, for every point of the illumination grid, the part of the point's ray
  * to each light that crosses its block (PartialTransmittance); the products of the parts
  * go to the process whose piece has the point (MultiplyOverPieces, 3 doubles a point and
- * light, in blocks of 32 MiB). The result equals the serial one up to the order of the
+ * light, in blocks of 8 MiB). The result equals the serial one up to the order of the
  * multiplications. The field array ClassifiedPoints gives the points a process classified.
  *
  * Model: N. Max, "Optical Models for Direct Volume Rendering", IEEE Transactions on Visualization
