@@ -757,10 +757,11 @@ vtkUnstructuredGrid* NeighborhoodGrid::Build(
   this->Controller = controller;
   const int local = controller->GetLocalProcessId();
   const int processes = controller->GetNumberOfProcesses();
-  const bool has = piece && piece->GetNumberOfCells() > 0;
+  const bool has = piece && piece->GetNumberOfPoints() > 0;
   vtkNew<vtkUnstructuredGrid> empty;
   this->Fingerprint = volillum::Fingerprint(piece ? piece : empty.Get());
-  // Bins over the bounds of all pieces: where this piece's cells lie.
+  // Bins over the bounds of all pieces: where this piece's cells lie (a point in no cell
+  // needs none: its light comes from level 0).
   double whole[6];
   UnionOfBounds(controller, has ? piece : nullptr, whole);
   BinMask mask(whole, depth);

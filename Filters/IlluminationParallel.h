@@ -126,8 +126,9 @@ VOLILLUMFILTERS_EXPORT vtkSmartPointer<vtkUnstructuredGrid> PieceWithoutGhostCel
 /**
  * A process's neighbourhood of a distributed unstructured grid: its piece's cells followed
  * by the cells of other processes' pieces whose bounding boxes come within `depth` of the
- * piece's bounds (each process sends the others what lies near them: no process holds the
- * whole grid unless the depth spans it). Points of the piece keep their ids; points of the
+ * piece's cells (each process sends the others what lies near them: no process holds the
+ * whole grid unless the depth spans it). A piece's points in none of its cells (of 2D cells,
+ * say) are in the grid too. Points of the piece keep their ids; points of the
  * other pieces follow, one per place (point global ids when the pieces have them, else
  * coordinates: without global ids, coincident points of a seam near a piece's boundary are
  * taken for one point there, as in DistributedInput::Grid). All the cells around a point of
@@ -140,8 +141,9 @@ class VOLILLUMFILTERS_EXPORT NeighborhoodGrid
 {
 public:
   /**
-   * Collective. `piece`: this process's cells without ghost cells (nullptr or empty for
-   * none), with the arrays to carry. Returns the grid: the piece's cells, then the others'.
+   * Collective. `piece`: this process's cells without ghost cells and its points (nullptr
+   * or no points for none), with the arrays to carry. Returns the grid: the piece's cells, then the
+   * others'.
    */
   vtkUnstructuredGrid* Build(
     vtkMultiProcessController* controller, vtkUnstructuredGrid* piece, double depth);

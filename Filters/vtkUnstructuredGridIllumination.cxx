@@ -198,9 +198,9 @@ bool vtkUnstructuredGridIllumination::PrepareDistributedMesh(
     {
       vtkErrorMacro(<< error);
     }
-    else if (own->GetNumberOfCells() == 0)
+    else if (own->GetNumberOfCells() == 0 && own->GetNumberOfPoints() == 0)
     {
-      own = nullptr; // no 3D cell: nothing to light here
+      own = nullptr; // nothing to light here (points in no 3D cell are lit as serially)
     }
   }
   if (!volillum::AllOk(controller, error.empty()))
@@ -496,7 +496,7 @@ void vtkUnstructuredGridIllumination::IlluminatePiece(
   {
     this->Scalars = volillum::PointScalars();
   }
-  if (!volillum::AllOk(controller, !lit || this->CheckInput(grid)))
+  if (!volillum::AllOk(controller, !lit || this->CheckInput(grid, false)))
   {
     return;
   }
@@ -555,9 +555,9 @@ std::vector<float> vtkUnstructuredGridIllumination::CombineAndScatter(
 }
 
 //------------------------------------------------------------------------------
-bool vtkUnstructuredGridIllumination::CheckInput(vtkUnstructuredGrid* input)
+bool vtkUnstructuredGridIllumination::CheckInput(vtkUnstructuredGrid* input, bool needCells)
 {
-  if (!input || input->GetNumberOfPoints() == 0 || input->GetNumberOfCells() == 0)
+  if (!input || input->GetNumberOfPoints() == 0 || (needCells && input->GetNumberOfCells() == 0))
   {
     vtkErrorMacro("The input grid has no "
       << (input && input->GetNumberOfPoints() > 0 ? "cells" : "points") << ".");

@@ -8,12 +8,13 @@
  * each point the average of the cells around it (vtkCellDataToPointData); an array of
  * several components is lit by its magnitude or one component (ScalarComponent). Cells other than
  * tetrahedra (hexahedra, wedges, pyramids, voxels) are split into tetrahedra with
- * vtkDataSetTriangleFilter; 2D cells are ignored; tetrahedra of (near) zero volume are left out of
- * the light walk and inverted ones are reoriented. Output: the input with the point array
- * "Illumination" (3-component float, the units of the image filters: an unoccluded white light of
- * intensity 1 gives (1,1,1)), optionally "LitColors" (see SetLitColors), and the field arrays
- * UpdateMode (0 full, 1 selective), PropagationPasses (lights propagated), PendingPasses (0),
- * UpdateSeconds, Level0Seconds, Level1Seconds, ScatteringSeconds and LitPoints (the points
+ * vtkDataSetTriangleFilter; 2D cells are ignored (their points, in no tetrahedron, get the light of
+ * level 0, also where a parallel piece holds 2D cells only); tetrahedra of (near) zero volume are
+ * left out of the light walk and inverted ones are reoriented. Output: the input with the point
+ * array "Illumination" (3-component float, the units of the image filters: an unoccluded white
+ * light of intensity 1 gives (1,1,1)), optionally "LitColors" (see SetLitColors), and the field
+ * arrays UpdateMode (0 full, 1 selective), PropagationPasses (lights propagated), PendingPasses
+ * (0), UpdateSeconds, Level0Seconds, Level1Seconds, ScatteringSeconds and LitPoints (the points
  * lit: the grid's, or in parallel those of the piece and the cells near it).
  *
  * Per light: level 0 resamples the classified extinction onto a Level0Resolution grid
@@ -220,7 +221,8 @@ private:
   // grid's bounds, mean edge length and colouring; false after an error anywhere.
   bool PrepareDistributedMesh(vtkMultiProcessController* controller, vtkUnstructuredGrid* input);
   // Check the input, the scalars (kept in Scalars) and the lights; false after an error.
-  bool CheckInput(vtkUnstructuredGrid* input);
+  // Without needCells a grid of points alone passes (a parallel piece whose cells are 2D).
+  bool CheckInput(vtkUnstructuredGrid* input, bool needCells = true);
   // Check the settings; false after an error.
   bool CheckSettings();
   // Classify and resample onto the level-0 grid when anything but the lights changed (a

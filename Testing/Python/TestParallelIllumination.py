@@ -18,6 +18,8 @@ and checks, against the serial run:
   strong scattering) on redistributed pieces equals the serial run too;
 - Unstructured Grid Illumination on redistributed pieces: no process lit the whole grid
   (its piece and the cells near it: the LitPoints field of each piece);
+- a grid in two pieces, tetrahedra and triangles (a process holding 2D cells only outputs
+  its points, lit as serially);
 - Ray-Marched Illumination: no process classified the whole input (each marches through
   its block: the ClassifiedPoints field of each piece), also on the image of one cell and
   with cell scalars (assembled: averaging cells onto points needs the neighbours);
@@ -32,7 +34,7 @@ import sys
 TOLERANCE = 1e-5  # largest difference relative to the largest value
 FILES = ["multilight.pvti", "selective.pvti", "fresh.pvti", "filtered.pvti", "raymarched.pvti",
          "tiny.pvti", "tiny_raymarched.pvti", "cells_raymarched.pvti",
-         "unstructured.pvtu", "unstructured_pieces.pvtu", "wavelet.pvtu"]
+         "unstructured.pvtu", "unstructured_pieces.pvtu", "wavelet.pvtu", "mixed.pvtu"]
 HEAD = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Data", "headsq.vti")
 
 # Two lights (14 numbers each, see the filters' Lights property): an orange directional
@@ -44,7 +46,7 @@ EDITED = LIGHTS[:14] + [1, 330, -40, 90, 100, 100, 70, 0.4, 0.6, 1.0, 0.8, 90, 1
 
 def worker(plugin, out, grid_file, tiny_file, parallel):
     from paraview.simple import (LoadPlugin, XMLImageDataReader, XMLUnstructuredGridReader,
-                                 PointDatatoCellData, ProgrammableFilter, RedistributeDataSet, GetColorTransferFunction,
+                                 XMLPartitionedUnstructuredGridReader, PointDatatoCellData, ProgrammableFilter, RedistributeDataSet, GetColorTransferFunction,
                                  GetOpacityTransferFunction, SaveData)
     ns = globals()
     LoadPlugin(plugin, remote=False, ns=ns)
@@ -139,6 +141,16 @@ out.GetPointData().SetGlobalIds(ids)
                 1, 30, 12, 12, 12, 12, 12, 0.5, 0.7, 1.0, 1.0, 90, 1, 1]
     save(w, "wavelet.pvtu")
 
+    # Two pieces: tetrahedra, and triangles above them (on 2 processes one process holds
+    # only 2D cells, whose points are lit as a single process lights them; on 3 one holds
+    # nothing).
+    mixed = ns["UnstructuredGridIllumination"](
+        Input=XMLPartitionedUnstructuredGridReader(FileName=[os.path.join(
+            os.path.dirname(tiny_file), "mixed.pvtu")]), Level0Resolution=[8, 8, 8])
+    mixed.Scalars = ["POINTS", "RTData"]
+    mixed.Lights = [0, -1, -2, -3, 0, 0, 0, 1.0, 0.8, 0.6, 1.0, 90, 1, 1]
+    save(mixed, "mixed.pvtu")
+
 
 def read_whole(path):
     from paraview.simple import OpenDataFile
@@ -222,6 +234,53 @@ def write_wavelet_tetrahedra(path):
     writer.Write()
 
 
+def write_mixed_pieces(directory):
+    """mixed.pvtu: two pieces, the tetrahedra of VTK's Wavelet on 9^3 points and a plane of
+    triangles half a spacing above them (points of no 3D cell)."""
+    from vtkmodules.vtkImagingCore import vtkRTAnalyticSource
+    from vtkmodules.vtkFiltersGeneral import vtkDataSetTriangleFilter
+    from vtkmodules.vtkFiltersCore import vtkAppendFilter
+    from vtkmodules.vtkFiltersSources import vtkPlaneSource
+    from vtkmodules.vtkCommonCore import vtkFloatArray
+    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridWriter
+    source = vtkRTAnalyticSource()
+    source.SetWholeExtent(-4, 4, -4, 4, -4, 4)
+    split = vtkDataSetTriangleFilter()
+    split.SetInputConnection(source.GetOutputPort())
+    plane = vtkPlaneSource()
+    plane.SetOrigin(-4.3, -4.3, 4.5)
+    plane.SetPoint1(4.3, -4.3, 4.5)
+    plane.SetPoint2(-4.3, 4.3, 4.5)
+    plane.SetResolution(4, 4)
+    triangles = vtkAppendFilter()
+    triangles.AddInputConnection(plane.GetOutputPort())
+    triangles.Update()
+    values = vtkFloatArray()
+    values.SetName("RTData")
+    values.SetNumberOfTuples(triangles.GetOutput().GetNumberOfPoints())
+    values.Fill(100.0)
+    triangles.GetOutput().GetPointData().AddArray(values)
+    for name, port in (("mixed_0.vtu", split.GetOutputPort()), ("mixed_1.vtu", None)):
+        writer = vtkXMLUnstructuredGridWriter()
+        if port:
+            writer.SetInputConnection(port)
+        else:
+            writer.SetInputData(triangles.GetOutput())
+        writer.SetDataModeToAscii()
+        writer.SetFileName(os.path.join(directory, name))
+        writer.Write()
+    with open(os.path.join(directory, "mixed.pvtu"), "w") as f:
+        f.write('<?xml version="1.0"?>\n'
+                '<VTKFile type="PUnstructuredGrid" version="0.1" byte_order="LittleEndian">\n'
+                '  <PUnstructuredGrid GhostLevel="0">\n'
+                '    <PPointData><PDataArray type="Float32" Name="RTData"/></PPointData>\n'
+                '    <PPoints><PDataArray type="Float32" NumberOfComponents="3"/></PPoints>\n'
+                '    <Piece Source="mixed_0.vtu"/>\n'
+                '    <Piece Source="mixed_1.vtu"/>\n'
+                '  </PUnstructuredGrid>\n'
+                '</VTKFile>\n')
+
+
 def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
     from IlluminatedVolumeTestUtilities import environment_for_mpiexec
@@ -233,6 +292,7 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
     tiny_file = os.path.join(out, "tiny.vti")
     write_tiny_image(tiny_file)
     write_wavelet_tetrahedra(os.path.join(out, "wavelet_tets.vtu"))
+    write_mixed_pieces(out)
     for run, command in runs.items():
         directory = os.path.join(out, run)
         os.makedirs(directory, exist_ok=True)
