@@ -103,16 +103,15 @@ vtkSmartPointer<vtkDataArray> SingleComponent(vtkDataArray* array, int component
 }
 
 //------------------------------------------------------------------------------
-PointScalars FindPointScalars(vtkAlgorithm* algorithm, vtkDataSet* input, int component,
-  const PointScalars& previous, std::string& error)
+vtkAbstractArray* ChooseScalars(
+  vtkAlgorithm* algorithm, vtkDataSet* input, bool& onCells, std::string& error)
 {
-  PointScalars found;
   vtkInformation* arrayInfo = algorithm->GetInputArrayInformation(0);
   const char* requested = arrayInfo && arrayInfo->Has(vtkDataObject::FIELD_NAME())
     ? arrayInfo->Get(vtkDataObject::FIELD_NAME())
     : nullptr;
   vtkAbstractArray* chosen = nullptr;
-  bool onCells = false;
+  onCells = false;
   if (!requested || !*requested)
   {
     chosen = input->GetPointData()->GetScalars();
@@ -124,7 +123,6 @@ PointScalars FindPointScalars(vtkAlgorithm* algorithm, vtkDataSet* input, int co
     if (!chosen)
     {
       error = "The input has no point or cell scalars to illuminate.";
-      return found;
     }
   }
   else
@@ -144,8 +142,20 @@ PointScalars FindPointScalars(vtkAlgorithm* algorithm, vtkDataSet* input, int co
     {
       error =
         std::string("The input has no point or cell array '") + requested + "' to illuminate.";
-      return found;
     }
+  }
+  return chosen;
+}
+
+//------------------------------------------------------------------------------
+PointScalars FindPointScalars(vtkAlgorithm* algorithm, vtkDataSet* input, int component,
+  const PointScalars& previous, std::string& error)
+{
+  bool onCells = false;
+  vtkAbstractArray* chosen = ChooseScalars(algorithm, input, onCells, error);
+  if (!chosen)
+  {
+    return PointScalars();
   }
   return ToPointScalars(input, chosen, onCells, component, previous, error);
 }

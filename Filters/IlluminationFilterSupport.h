@@ -66,6 +66,11 @@ VOLILLUMFILTERS_EXPORT void FillSingleComponent(
 VOLILLUMFILTERS_EXPORT PointScalars FindPointScalars(vtkAlgorithm* algorithm, vtkDataSet* input,
   int component, const PointScalars& previous, std::string& error);
 
+/// The array FindPointScalars lights, before any conversion, and whether it is cell data;
+/// nullptr with the reason in error when there is none.
+VOLILLUMFILTERS_EXPORT vtkAbstractArray* ChooseScalars(
+  vtkAlgorithm* algorithm, vtkDataSet* input, bool& onCells, std::string& error);
+
 /// The conversions of FindPointScalars for an array already chosen (a cell array when
 /// onCells).
 VOLILLUMFILTERS_EXPORT PointScalars ToPointScalars(vtkDataSet* input, vtkAbstractArray* chosen,

@@ -6,7 +6,8 @@
  * other processes. Unstructured grids: each process keeps its piece and the cells of other
  * pieces near it (NeighborhoodGrid), and values cross between processes as the solver
  * steps. Images: Ray-Marched Illumination marches the parts of the rays in each process's
- * block and multiplies them at the process that holds the point (MultiplyOverPieces); for
+ * block and multiplies them at the process that holds the point (MultiplyOverPieces; point
+ * scalars: cell scalars are assembled); for
  * the other image filters every process assembles the whole input from the pieces of all
  * processes (collective calls of the filter's vtkMultiProcessController) and outputs the
  * part of the illumination that belongs to its own piece. The propagation

@@ -25,6 +25,7 @@
 #include "vtkSMPTools.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -212,7 +213,8 @@ int vtkIlluminationVolumeAlgorithm::RequestUpdateExtent(
   // Light crosses the whole volume: a serial run asks for all of the input. In a parallel
   // run process p of N asks for block p of N of the data's extent, whatever piece its output
   // is asked for (its output is the illumination over that block), as an explicit extent,
-  // so that an unchanged block is not read again; RequestData assembles the blocks.
+  // so that an unchanged block is not read again; RequestData lights the blocks where they
+  // are (LightsDistributedPieces) or assembles them.
   vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
   int extent[6];
   inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent);
@@ -493,8 +495,8 @@ bool vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessContro
 {
   const auto start = std::chrono::steady_clock::now();
   // The whole grid, from the pipeline information (the same on every process).
-  int whole[6];
-  double origin[3], spacing[3];
+  int whole[6] = { 0, -1, 0, -1, 0, -1 };
+  double origin[3] = { 0.0, 0.0, 0.0 }, spacing[3] = { 1.0, 1.0, 1.0 };
   inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
   inInfo->Get(vtkDataObject::ORIGIN(), origin);
   inInfo->Get(vtkDataObject::SPACING(), spacing);
@@ -511,6 +513,19 @@ bool vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessContro
   // their boundary planes, so each cell is taken once); its input must hold the block.
   int block[6];
   const bool piece = ProcessBlock(controller, whole, block);
+  // Cell scalars become point values by averaging the cells around a point, which differs
+  // at a block's boundary: they are lit from the assembled input (decided before any
+  // conversion).
+  bool onCells = false;
+  std::string unused;
+  if (piece && input)
+  {
+    volillum::ChooseScalars(this, input, onCells, unused);
+  }
+  if (!volillum::AllOk(controller, !onCells))
+  {
+    return false;
+  }
   bool ok = true;
   if (piece)
   {
@@ -538,12 +553,6 @@ bool vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessContro
   if (!volillum::AllOk(controller, ok))
   {
     return true;
-  }
-  // Cell scalars become point values by averaging the cells around a point, which differs
-  // at a block's boundary: they are lit from the assembled input.
-  if (!volillum::AllOk(controller, !piece || !this->Scalars.OnCells))
-  {
-    return false;
   }
   // The transfer functions span the scalar range of all pieces.
   double local[2] = { VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX }, range[2];
@@ -578,7 +587,7 @@ bool vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessContro
       own.Origin[a] = data.Origin[a] + (e[2 * a] - whole[2 * a]) * data.Spacing[a];
       where.Offset[a] = e[2 * a] - whole[2 * a];
       where.FirstCell[a] = block[2 * a] - whole[2 * a];
-      where.LastCell[a] = std::min(block[2 * a + 1] - whole[2 * a], data.Dimensions[a] - 1) - 1;
+      where.LastCell[a] = block[2 * a + 1] - whole[2 * a] - 1;
     }
     ok = this->UpdateClassification(own, inputModified, range);
     double bounds[6];
@@ -601,6 +610,8 @@ bool vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessContro
   UpdateReport report;
   this->ComputeDistributedIllumination(controller, piece ? this->Classified : none, where, lights,
     target, extents, illumination->GetPointer(0), report);
+  this->SetAbortExecute(0); // not aborted: the other processes took part
+  this->Distributed = std::make_unique<volillum::DistributedInput>(); // no whole input kept
   if (piece)
   {
     this->FinishOutput(output, extent, target, input->GetDirectionMatrix(), illumination, report,
@@ -610,12 +621,20 @@ bool vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessContro
 }
 
 //------------------------------------------------------------------------------
-void vtkIlluminationVolumeAlgorithm::ComputeDistributedIllumination(vtkMultiProcessController*,
-  const volillum::ClassifiedVolume&, const volillum::VolumePiece&,
-  const std::vector<volillum::LightState>&, const volillum::GridGeometry&, const std::vector<int>&,
-  float*, UpdateReport&)
+void vtkIlluminationVolumeAlgorithm::ComputeDistributedIllumination(
+  vtkMultiProcessController* controller, const volillum::ClassifiedVolume&,
+  const volillum::VolumePiece&, const std::vector<volillum::LightState>&,
+  const volillum::GridGeometry&, const std::vector<int>& extents, float* rgb, UpdateReport&)
 {
-  // Filters that light distributed pieces override this; the others never call it.
+  // Reached only by a filter that claims LightsDistributedPieces without lighting them.
+  vtkErrorMacro("This filter does not light distributed pieces.");
+  const int* own = extents.data() + 6 * controller->GetLocalProcessId();
+  long long points = 1;
+  for (int a = 0; a < 3; ++a)
+  {
+    points *= std::max(0, own[2 * a + 1] - own[2 * a] + 1);
+  }
+  std::fill(rgb, rgb + 3 * points, 0.0f);
 }
 
 //------------------------------------------------------------------------------

@@ -41,6 +41,7 @@
 #include "IlluminationFilterSupport.h"
 #include "IlluminationLightList.h"
 #include "LightPropagationKernel.h"
+#include "RayMarchKernel.h"
 #include "VolIllumFiltersModule.h"
 #include "vtkImageAlgorithm.h"
 #include "vtkImageData.h"
@@ -215,7 +216,8 @@ protected:
   /**
    * The illumination of a parallel run of a filter that LightsDistributedPieces. `volume`:
    * this process's piece of the classification (no points where the process has no piece);
-   * `piece`: where it lies in the whole data grid and which cells it takes; `extents`: every
+   * `piece`: where it lies in the whole data grid and which cells it takes; `lights`: in the
+   * data's frame (empty where the process has no piece); `extents`: every
    * process's extent of the illumination grid `target` (GatherExtents). Collective: rgb gets
    * the illumination at the points of this process's extent (3 floats a point, x fastest).
    * Not aborted (the other processes wait for this one).

@@ -81,27 +81,23 @@ void vtkRayMarchedIllumination::ComputeDistributedIllumination(
       std::fill(parts, parts + count * width * components, 1.0);
       if (marches)
       {
-        vtkSMPTools::For(0, static_cast<long long>(count),
-          [&](long long r0, long long r1)
+        // Threads share the block's points (a block may hold few rows).
+        vtkSMPTools::For(0, static_cast<long long>(count) * width,
+          [&](long long begin, long long end)
           {
-            for (long long r = r0; r < r1; ++r)
+            for (long long n = begin; n < end; ++n)
             {
-              const long long row = static_cast<long long>(first) + r;
-              for (long long i = 0; i < width; ++i)
+              const long long row = static_cast<long long>(first) + n / width;
+              double p[3];
+              target.PointPosition(e[0] + n % width, e[2] + row % rowsY, e[4] + row / rowsY, p);
+              for (size_t m = 0; m < on.size(); ++m)
               {
-                double p[3];
-                target.PointPosition(e[0] + i, e[2] + row % rowsY, e[4] + row / rowsY, p);
-                double* out = parts + components * (r * width + i);
-                for (size_t m = 0; m < on.size(); ++m)
+                const volillum::Incidence incidence = volillum::ComputeIncidence(lights[on[m]], p);
+                if (incidence.ConeFactor > 0.0)
                 {
-                  const volillum::LightState& light = lights[on[m]];
-                  const double cone = volillum::ComputeIncidence(light, p).ConeFactor;
-                  if (cone > 0.0)
-                  {
-                    const auto t = volillum::PartialTransmittance(volume, piece, light, p, settings,
-                      settings.MinimumTransmittance / cone, empty);
-                    std::copy(t.begin(), t.end(), out + 3 * m);
-                  }
+                  const auto t = volillum::PartialTransmittance(volume, piece, incidence, p,
+                    settings, settings.MinimumTransmittance / incidence.ConeFactor, empty);
+                  std::copy(t.begin(), t.end(), parts + components * n + 3 * m);
                 }
               }
             }

@@ -11,7 +11,6 @@ namespace volillum
 EmptyBlocks::EmptyBlocks(const ClassifiedVolume& volume)
 {
   const auto& g = volume.Geometry;
-  this->Geometry = g;
   for (int a = 0; a < 3; ++a)
   {
     this->Last[a] = g.Dimensions[a] - 1;
@@ -104,14 +103,6 @@ bool EmptyBlocks::ContainsCells(int a, const int cell[3], int first, int last) c
   return filled[static_cast<size_t>(row + lastBlock * stride)] == before;
 }
 
-bool EmptyBlocks::Contains(const double q[3]) const
-{
-  const double u[3] = { (q[0] - this->Geometry.Origin[0]) / this->Geometry.Spacing[0],
-    (q[1] - this->Geometry.Origin[1]) / this->Geometry.Spacing[1],
-    (q[2] - this->Geometry.Origin[2]) / this->Geometry.Spacing[2] };
-  return this->ContainsCell(CellAt(this->Geometry, u).Index);
-}
-
 VolumePiece VolumePiece::WholeOf(const ClassifiedVolume& volume)
 {
   VolumePiece piece;
@@ -124,11 +115,10 @@ VolumePiece VolumePiece::WholeOf(const ClassifiedVolume& volume)
 }
 
 std::array<double, 3> PartialTransmittance(const ClassifiedVolume& volume, const VolumePiece& piece,
-  const LightState& light, const double p[3], const RayMarchSettings& settings, double cut,
+  const Incidence& inc, const double p[3], const RayMarchSettings& settings, double cut,
   const EmptyBlocks* empty)
 {
   std::array<double, 3> t{ { 1.0, 1.0, 1.0 } };
-  const Incidence inc = ComputeIncidence(light, p);
   const GridGeometry& g = piece.Whole;
   double bounds[6];
   g.GetBounds(bounds);
@@ -212,15 +202,15 @@ std::array<double, 3> DarkenedTransmittance(
 std::array<double, 3> RayMarchTransmittance(const ClassifiedVolume& volume, const LightState& light,
   const double p[3], const RayMarchSettings& settings, const EmptyBlocks* empty)
 {
-  const double cone = ComputeIncidence(light, p).ConeFactor;
-  if (cone == 0.0)
+  const Incidence inc = ComputeIncidence(light, p);
+  if (inc.ConeFactor == 0.0)
   {
     return { { 0.0, 0.0, 0.0 } };
   }
   // A cut below MinimumTransmittance / cone makes the ray dark whatever follows.
-  const auto product = PartialTransmittance(volume, VolumePiece::WholeOf(volume), light, p,
-    settings, settings.MinimumTransmittance / cone, empty);
-  return DarkenedTransmittance(cone, product, settings);
+  const auto product = PartialTransmittance(volume, VolumePiece::WholeOf(volume), inc, p, settings,
+    settings.MinimumTransmittance / inc.ConeFactor, empty);
+  return DarkenedTransmittance(inc.ConeFactor, product, settings);
 }
 
 void SegmentOpticalDepth(const ClassifiedVolume& volume, const double p[3], const double d[3],

@@ -37,7 +37,7 @@ struct RayMarchSettings
 {
   /// Step length as a fraction of the smallest data spacing.
   double StepFraction = 0.5;
-  /// Transmittance below which a ray stops.
+  /// Transmittance below which (in every channel) a ray stops and counts as dark (0).
   double MinimumTransmittance = 1e-5;
 };
 
@@ -56,8 +56,6 @@ public:
   /// Cells of a block along each axis.
   static constexpr int Cells = 4;
   explicit EmptyBlocks(const ClassifiedVolume& volume);
-  /// Whether the sample at world position q is certainly 0.
-  bool Contains(const double q[3]) const;
   /// Whether samples in a grid cell (TrilinearCell::Index) are certainly 0.
   bool ContainsCell(const int cell[3]) const
   {
@@ -84,7 +82,6 @@ public:
 private:
   std::array<int, 3> Last{ { 0, 0, 0 } };   // last point index per axis
   std::array<int, 3> Blocks{ { 0, 0, 0 } }; // blocks per axis
-  GridGeometry Geometry;                    // of the classification, to find a position's cell
   std::vector<char> Empty;
   // Per axis a (x and y) and block: how many blocks are not empty from the first of its row
   // along a to it, inclusive, modulo 2^16 (exact differences while a row has fewer than 2^16
@@ -120,14 +117,15 @@ struct VolumePiece
 };
 
 /**
- * The part of RayMarchTransmittance's ray from p to the light (the same steps through the
- * whole grid) that lies in the piece: per channel, the product of the step transmittances
- * of the samples in its cells (1 where there is none). Marching stops once every channel
- * is below `cut`. The products of all pieces, times the cone factor, then
- * DarkenedTransmittance, give RayMarchTransmittance up to the order of the multiplications.
+ * The part of RayMarchTransmittance's ray from p to a light (`incidence`: ComputeIncidence
+ * of the light at p; the same steps through the whole grid) that lies in the piece: per channel,
+ * the product of the step transmittances of the samples in its cells (1 where there is none).
+ * Marching stops once every channel is below `cut`. The products of all pieces, times the cone
+ * factor, then DarkenedTransmittance, give RayMarchTransmittance up to the order of the
+ * multiplications.
  */
 VOLILLUMKERNELS_EXPORT std::array<double, 3> PartialTransmittance(const ClassifiedVolume& volume,
-  const VolumePiece& piece, const LightState& light, const double p[3],
+  const VolumePiece& piece, const Incidence& incidence, const double p[3],
   const RayMarchSettings& settings, double cut, const EmptyBlocks* empty = nullptr);
 
 /// A ray's transmittance from its cone factor and the product of its steps' transmittances:

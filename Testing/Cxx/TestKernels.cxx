@@ -320,11 +320,12 @@ TEST(Kernels, RayMarchedPiecesMultiplyToTheWholeRay)
         whole.Geometry.Origin[1] + 0.7 * ((n / 13) % 11),
         whole.Geometry.Origin[2] + 0.6 * ((7 * n) % 9) + 0.002 * n };
       const auto reference = RayMarchTransmittance(whole, light, p, settings);
-      const double cone = ComputeIncidence(light, p).ConeFactor;
+      const Incidence incidence = ComputeIncidence(light, p);
+      const double cone = incidence.ConeFactor;
       std::array<double, 3> product{ { 1.0, 1.0, 1.0 } };
       for (size_t b = 0; b < pieces.size() && cone > 0.0; ++b)
       {
-        const auto t = PartialTransmittance(volumes[b], pieces[b], light, p, settings, 0.0);
+        const auto t = PartialTransmittance(volumes[b], pieces[b], incidence, p, settings, 0.0);
         for (int c = 0; c < 3; ++c)
         {
           product[c] *= t[c];
