@@ -1007,7 +1007,7 @@ namespace
 // process's values of the block from `fill`, reduced with `op` to the extent's process,
 // which gets them through `receive`.
 template <typename T>
-void ReduceOverPieces(vtkMultiProcessController* controller, const std::vector<int>& extents,
+void ReduceBlocks(vtkMultiProcessController* controller, const std::vector<int>& extents,
   int components, int op, size_t block, const PieceRows<T>& fill, const PieceRows<const T>& receive)
 {
   const int local = controller->GetLocalProcessId();
@@ -1052,7 +1052,7 @@ void SumOverPieces(vtkMultiProcessController* controller, const int dimensions[3
     const int* e = extents.data() + 6 * local;
     own.resize(3 * static_cast<size_t>(e[1] - e[0] + 1) * (e[3] - e[2] + 1) * (e[5] - e[4] + 1));
   }
-  ReduceOverPieces<std::uint32_t>(
+  ReduceBlocks<std::uint32_t>(
     controller, extents, 3, vtkCommunicator::SUM_OP, size_t(1) << 22,
     [&](const int* e, size_t first, size_t count, std::uint32_t* block)
     {
@@ -1072,11 +1072,32 @@ void SumOverPieces(vtkMultiProcessController* controller, const int dimensions[3
     });
 }
 
-void MultiplyOverPieces(vtkMultiProcessController* controller, const std::vector<int>& extents,
-  int components, const PieceRows<double>& fill, const PieceRows<const double>& receive)
+void ReduceOverPieces(vtkMultiProcessController* controller, const std::vector<int>& extents,
+  int components, int operation, const PieceRows<double>& fill,
+  const PieceRows<const double>& receive)
 {
-  ReduceOverPieces<double>(
-    controller, extents, components, vtkCommunicator::PRODUCT_OP, size_t(1) << 20, fill, receive);
+  ReduceBlocks<double>(controller, extents, components, operation, size_t(1) << 20, fill, receive);
+}
+
+long long ExtentPoints(const int extent[6])
+{
+  long long points = 1;
+  for (int a = 0; a < 3; ++a)
+  {
+    points *= std::max(0, extent[2 * a + 1] - extent[2 * a] + 1);
+  }
+  return points;
+}
+
+long long ExtentRows(const std::vector<int>& extents)
+{
+  long long rows = 0;
+  for (size_t p = 0; 6 * p < extents.size(); ++p)
+  {
+    const int* e = extents.data() + 6 * p;
+    rows += ExtentPoints(e) / std::max(1, e[1] - e[0] + 1);
+  }
+  return rows;
 }
 
 bool AllOk(vtkMultiProcessController* controller, bool ok)

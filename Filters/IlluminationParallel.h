@@ -6,7 +6,7 @@
  * other processes. Unstructured grids: each process keeps its piece and the cells of other
  * pieces near it (NeighborhoodGrid), and values cross between processes as the solver
  * steps. Images: Ray-Marched Illumination marches the parts of the rays in each process's
- * block and multiplies them at the process that holds the point (MultiplyOverPieces; point
+ * block and multiplies them at the process that holds the point (ReduceOverPieces, a product; point
  * scalars: cell scalars are assembled); for
  * the other image filters every process assembles the whole input from the pieces of all
  * processes (collective calls of the filter's vtkMultiProcessController) and outputs the
@@ -90,15 +90,21 @@ using PieceRows = std::function<void(const int* extent, size_t firstRow, size_t 
 
 /**
  * Collective: per point of each process's extent of a grid (`extents`, as GatherExtents
- * gives them), the products over all processes of `components` values: `fill` gives this
- * process's values for a block of rows of an extent (whole rows, at most 2^20 values,
- * every process the same blocks in the same order), and the process that owns the extent
- * gets the products of each of its blocks through `receive` (a reduction to it,
- * vtkMultiProcessController::Reduce).
+ * gives them), the reduction (`operation`: vtkCommunicator::SUM_OP, PRODUCT_OP, ...) over
+ * all processes of `components` values: `fill` gives this process's values for a block of
+ * rows of an extent (whole rows, at most 2^20 values, every process the same blocks in the
+ * same order), and the process that owns the extent gets the reduced values of each of its
+ * blocks through `receive` (vtkMultiProcessController::Reduce to it).
  */
-VOLILLUMFILTERS_EXPORT void MultiplyOverPieces(vtkMultiProcessController* controller,
-  const std::vector<int>& extents, int components, const PieceRows<double>& fill,
+VOLILLUMFILTERS_EXPORT void ReduceOverPieces(vtkMultiProcessController* controller,
+  const std::vector<int>& extents, int components, int operation, const PieceRows<double>& fill,
   const PieceRows<const double>& receive);
+
+/// Points of an extent (0 for an empty one).
+VOLILLUMFILTERS_EXPORT long long ExtentPoints(const int extent[6]);
+
+/// Rows along x of the extents (6 values each, as GatherExtents gives them).
+VOLILLUMFILTERS_EXPORT long long ExtentRows(const std::vector<int>& extents);
 
 /// Collective: whether `ok` holds on every process.
 VOLILLUMFILTERS_EXPORT bool AllOk(vtkMultiProcessController* controller, bool ok);

@@ -2,10 +2,16 @@
 
 #include "FilteredShadowsKernel.h"
 #include "IlluminationFilterSupport.h"
+#include "IlluminationParallel.h"
+#include "vtkCommunicator.h"
+#include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
+#include "vtkSMPTools.h"
 
 #include <algorithm>
+#include <cmath>
+#include <memory>
 #include <string>
 
 vtkStandardNewMacro(vtkFilteredVolumetricShadows);
@@ -75,6 +81,28 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
     return false;
   }
 
+  double bounds[6];
+  volume.Geometry.GetBounds(bounds);
+  const volillum::PointShading shading = this->Shading(volume, bounds, lookups, sphericalLookups,
+    this->AllocateTransmittances(lights, channels, target.NumberOfPoints()));
+  if (!volillum::ShadePoints(shading, target, rgb,
+        [this](double fraction) { return this->ReportProgress(0.5 + 0.5 * fraction); }))
+  {
+    return false;
+  }
+  report.Mode = 0;
+  return true;
+}
+
+//------------------------------------------------------------------------------
+volillum::PointShading vtkFilteredVolumetricShadows::Shading(
+  const volillum::ClassifiedVolume& volume, const double bounds[6],
+  const std::vector<volillum::ShadowLookup>& lookups,
+  const std::vector<volillum::SphericalLookup>& sphericalLookups,
+  std::vector<float*> transmittances)
+{
+  const double minSpacing = volume.Geometry.MinimumSpacing();
+  const double cell = minSpacing / this->SATResolutionScale;
   // Half the patch side. A hard shadow (FilterWidth 0) reads a patch one data spacing wide
   // (a table cell's piecewise-constant content blurs it by at most a cell more); a
   // spherical table widens it to its own cell.
@@ -82,12 +110,12 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
   // The near segment stands in for the table where the table's own cell is the filter (hard
   // shadows); soft shadows are read from the table along the whole ray. It is measured in the
   // table's own cells (a capped spherical table's are coarser).
-  volillum::PointShading shading{ volume, nullptr, {}, channels, lookups, this->Tables,
-    sphericalLookups, this->SphericalTables, patch, std::max(patch, 0.5 * minSpacing),
-    volillum::NearSegmentLength(minSpacing / scale, patch), {},
+  volillum::PointShading shading{ volume, nullptr, {}, this->ChromaticAttenuation ? 3 : 1, lookups,
+    this->Tables, sphericalLookups, this->SphericalTables, patch, std::max(patch, 0.5 * minSpacing),
+    volillum::NearSegmentLength(cell, patch), {},
     this->FilterKernel == Gaussian ? volillum::GaussianWeights(5) : std::vector<double>(),
-    this->AllocateTransmittances(lights, channels, target.NumberOfPoints()) };
-  volume.Geometry.GetBounds(shading.Bounds);
+    std::move(transmittances) };
+  std::copy_n(bounds, 6, shading.Bounds);
   for (const auto& table : this->SphericalTables)
   {
     shading.SphericalNear.push_back(volillum::NearSegmentLength(table.GetCellSize(), patch));
@@ -99,21 +127,139 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
   {
     shading.Empty = this->GetEmptyBlocks();
   }
+  return shading;
+}
 
-  if (!volillum::ShadePoints(shading, target, rgb,
-        [this](double fraction) { return this->ReportProgress(0.5 + 0.5 * fraction); }))
-  {
-    return false;
-  }
+//------------------------------------------------------------------------------
+bool vtkFilteredVolumetricShadows::LightsDistributedPieces() const
+{
+  const auto states = this->GetLightStates();
+  return this->DistributedTables &&
+    std::none_of(states.begin(), states.end(),
+      [](const volillum::LightState& l)
+      { return l.On && l.Kind != volillum::LightKind::Directional; });
+}
+
+//------------------------------------------------------------------------------
+void vtkFilteredVolumetricShadows::ComputeDistributedIllumination(
+  vtkMultiProcessController* controller, const volillum::ClassifiedVolume& volume,
+  const volillum::VolumePiece& piece, const std::vector<volillum::LightState>& lights,
+  const volillum::GridGeometry& target, const std::vector<int>& extents, bool inputModified,
+  float* rgb, UpdateReport& report)
+{
   report.Mode = 0;
-  return true;
+  report.Passes = 0;
+  const long long points =
+    volillum::ExtentPoints(extents.data() + 6 * controller->GetLocalProcessId());
+  std::fill(rgb, rgb + 3 * points, 0.0f);
+  const double scale = this->SATResolutionScale;
+  if (scale != 1.0 && scale != 0.5 && scale != 0.25)
+  {
+    vtkErrorMacro("SATResolutionScale must be 1, 0.5 or 0.25; it is " << scale << ".");
+    return;
+  }
+  // The directional lights that are on (the same on every process; a process without a
+  // piece has no lights in the data's frame and adds nothing).
+  const auto states = this->GetLightStates();
+  const int count = static_cast<int>(std::count_if(
+    states.begin(), states.end(), [](const volillum::LightState& l) { return l.On; }));
+  if (count == 0)
+  {
+    return;
+  }
+  const bool marches = volume.Geometry.NumberOfPoints() > 0;
+  const int channels = this->ChromaticAttenuation ? 3 : 1;
+  std::vector<volillum::SatFrame> frames;
+  std::vector<volillum::ShadowLookup> lookups;
+  std::vector<volillum::SphericalLookup> none;
+  double bounds[6];
+  piece.Whole.GetBounds(bounds);
+  if (marches)
+  {
+    volillum::GroupShadowLights(lights, frames, lookups, none);
+    this->UpdateTables(volume, frames, none, piece.Whole.MinimumSpacing() / scale, channels,
+      inputModified, report.Passes, &piece);
+  }
+  std::unique_ptr<const volillum::PointShading> shading;
+  if (marches)
+  {
+    shading = std::make_unique<const volillum::PointShading>(
+      this->Shading(volume, bounds, lookups, none, std::vector<float*>(lights.size(), nullptr)));
+  }
+  std::vector<float*> transmittances =
+    this->AllocateTransmittances(lights, channels, marches ? points : 0);
+  // Each process adds the parts of the optical depths its piece holds, for the points of
+  // every extent; the sums arrive at the extent's process.
+  const int components = channels * count;
+  const long long total = volillum::ExtentRows(extents);
+  long long done = 0;
+  volillum::ReduceOverPieces(
+    controller, extents, components, vtkCommunicator::SUM_OP,
+    [&](const int* e, size_t first, size_t rows, double* depths)
+    {
+      const long long width = e[1] - e[0] + 1, rowsY = e[3] - e[2] + 1;
+      std::fill(depths, depths + rows * width * components, 0.0);
+      done += static_cast<long long>(rows);
+      this->ReportProgress(0.5 + 0.5 * done / total);
+      if (!marches)
+      {
+        return;
+      }
+      vtkSMPTools::For(0, static_cast<long long>(rows),
+        [&](long long begin, long long end)
+        {
+          std::vector<double> x(width);
+          for (long long r = begin; r < end; ++r)
+          {
+            const long long row = static_cast<long long>(first) + r;
+            double p[3];
+            target.PointPosition(e[0], e[2] + row % rowsY, e[4] + row / rowsY, p);
+            for (long long i = 0; i < width; ++i)
+            {
+              x[i] = target.Origin[0] + (e[0] + i) * target.Spacing[0]; // PointPosition's x
+            }
+            volillum::DirectionalDepthParts(*shading, piece, x.data(), static_cast<int>(width),
+              p[1], p[2], depths + components * r * width);
+          }
+        });
+    },
+    [&](const int* e, size_t first, size_t rows, const double* depths)
+    {
+      const long long width = e[1] - e[0] + 1;
+      for (long long n = 0; n < static_cast<long long>(rows) * width; ++n)
+      {
+        const long long id = static_cast<long long>(first) * width + n;
+        double sum[3] = { 0.0, 0.0, 0.0 };
+        for (size_t m = 0; m < lookups.size(); ++m)
+        {
+          const volillum::ShadowLookup& l = lookups[m];
+          double transmittance[3] = { 1.0, 1.0, 1.0 };
+          for (int c = 0; c < channels; ++c)
+          {
+            transmittance[c] = std::exp(-std::max(depths[components * n + channels * m + c], 0.0));
+          }
+          for (int c = 0; c < 3; ++c)
+          {
+            sum[c] += l.Radiance[c] * transmittance[channels == 3 ? c : 0];
+          }
+          if (float* out = transmittances[l.Index])
+          {
+            std::copy_n(transmittance, channels, out + channels * id);
+          }
+        }
+        for (int c = 0; c < 3; ++c)
+        {
+          rgb[3 * id + c] = static_cast<float>(sum[c]);
+        }
+      }
+    });
 }
 
 //------------------------------------------------------------------------------
 bool vtkFilteredVolumetricShadows::UpdateTables(const volillum::ClassifiedVolume& volume,
   const std::vector<volillum::SatFrame>& frames,
   const std::vector<volillum::SphericalLookup>& sphericalLookups, double cellSize, int channels,
-  bool inputModified, int& built)
+  bool inputModified, int& built, const volillum::VolumePiece* piece)
 {
   const double scale = this->SATResolutionScale;
   // Build only the tables whose frame (light position), resolution or classification changed.
@@ -129,9 +275,9 @@ bool vtkFilteredVolumetricShadows::UpdateTables(const volillum::ClassifiedVolume
     {
       continue;
     }
-    tables[f].Build(volume, frames[f], cellSize, channels, this->GetEmptyBlocks());
+    tables[f].Build(volume, frames[f], cellSize, channels, this->GetEmptyBlocks(), piece);
     ++built;
-    if (!this->ReportProgress(0.5 * (f + 1) / frames.size()))
+    if (!this->ReportProgress(0.5 * (f + 1) / frames.size()) && !piece)
     {
       this->Tables.clear();
       this->TablesScale = 0.0; // the tables left may predate the classification
@@ -212,4 +358,5 @@ void vtkFilteredVolumetricShadows::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "FilterKernel: " << this->FilterKernel << "\n";
   os << indent << "PerLightTransmittance: " << this->PerLightTransmittance << "\n";
   os << indent << "SATResolutionScale: " << this->SATResolutionScale << "\n";
+  os << indent << "DistributedTables: " << this->DistributedTables << "\n";
 }

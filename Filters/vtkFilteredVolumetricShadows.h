@@ -85,6 +85,22 @@ public:
   ///@}
 
   ///@{
+  /**
+   * In a parallel run with directional lights only (and point scalars): each process builds
+   * the part of each table that covers its own block of the input and the parts of the
+   * shadows' optical depths are summed over the processes (on, the default: no process
+   * holds the whole input or whole tables, but a shadow ray is read in every block it
+   * crosses, so a process upwind of the others reads about as many as a serial run). Off:
+   * every process assembles the whole input and builds whole tables, then lights only the
+   * points of its piece (faster on a few processes, whole-volume memory on each). The
+   * result is the same either way, up to rounding.
+   */
+  vtkSetMacro(DistributedTables, bool);
+  vtkGetMacro(DistributedTables, bool);
+  vtkBooleanMacro(DistributedTables, bool);
+  ///@}
+
+  ///@{
   /** Resolution of the summed-area tables relative to the input: 1, 0.5 (default) or 0.25. */
   vtkSetMacro(SATResolutionScale, double);
   vtkGetMacro(SATResolutionScale, double);
@@ -95,6 +111,13 @@ protected:
   ~vtkFilteredVolumetricShadows() override = default;
 
   bool LightsPointsIndependently() const override { return true; }
+  // Directional lights only: point and spot lights' spherical tables are built from the
+  // assembled input.
+  bool LightsDistributedPieces() const override;
+  void ComputeDistributedIllumination(vtkMultiProcessController* controller,
+    const volillum::ClassifiedVolume& volume, const volillum::VolumePiece& piece,
+    const std::vector<volillum::LightState>& lights, const volillum::GridGeometry& target,
+    const std::vector<int>& extents, bool inputModified, float* rgb, UpdateReport& report) override;
   bool ComputeIllumination(const volillum::ClassifiedVolume& volume,
     const std::vector<volillum::LightState>& lights, const volillum::GridGeometry& target,
     bool inputModified, float* rgb, UpdateReport& report) override;
@@ -102,6 +125,7 @@ protected:
   double FilterWidth = 3.0;
   int FilterKernel = Box;
   bool PerLightTransmittance = false;
+  bool DistributedTables = true;
 
   void AddOutputArrays(vtkPointData* pointData) override;
   double SATResolutionScale = 0.5;
@@ -110,11 +134,18 @@ private:
   vtkFilteredVolumetricShadows(const vtkFilteredVolumetricShadows&) = delete;
   // Tables for the frames and the point and spot lights, reusing those of the last update
   // whose frame or light position, resolution and classification hold; built counts the new
-  // ones.
+  // ones. With `piece` (a parallel run), the Cartesian tables' windows over the piece, and no
+  // abort.
   bool UpdateTables(const volillum::ClassifiedVolume& volume,
     const std::vector<volillum::SatFrame>& frames,
     const std::vector<volillum::SphericalLookup>& sphericalLookups, double cellSize, int channels,
-    bool inputModified, int& built);
+    bool inputModified, int& built, const volillum::VolumePiece* piece = nullptr);
+  // The shading (PointShading) of the lookups with the current tables, for the classification
+  // `volume` in a grid with these bounds.
+  volillum::PointShading Shading(const volillum::ClassifiedVolume& volume, const double bounds[6],
+    const std::vector<volillum::ShadowLookup>& lookups,
+    const std::vector<volillum::SphericalLookup>& sphericalLookups,
+    std::vector<float*> transmittances);
   // The per-light transmittance arrays (PerLightTransmittance), null for the others.
   std::vector<float*> AllocateTransmittances(
     const std::vector<volillum::LightState>& lights, int channels, long long points);

@@ -609,7 +609,7 @@ bool vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessContro
   auto illumination = NewIlluminationArray(piece ? lit.NumberOfPoints() : 0);
   UpdateReport report;
   this->ComputeDistributedIllumination(controller, piece ? this->Classified : none, where, lights,
-    target, extents, illumination->GetPointer(0), report);
+    target, extents, inputModified, illumination->GetPointer(0), report);
   this->SetAbortExecute(0); // not aborted: the other processes took part
   this->Distributed = std::make_unique<volillum::DistributedInput>(); // no whole input kept
   if (piece)
@@ -624,17 +624,12 @@ bool vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessContro
 void vtkIlluminationVolumeAlgorithm::ComputeDistributedIllumination(
   vtkMultiProcessController* controller, const volillum::ClassifiedVolume&,
   const volillum::VolumePiece&, const std::vector<volillum::LightState>&,
-  const volillum::GridGeometry&, const std::vector<int>& extents, float* rgb, UpdateReport&)
+  const volillum::GridGeometry&, const std::vector<int>& extents, bool, float* rgb, UpdateReport&)
 {
   // Reached only by a filter that claims LightsDistributedPieces without lighting them.
   vtkErrorMacro("This filter does not light distributed pieces.");
-  const int* own = extents.data() + 6 * controller->GetLocalProcessId();
-  long long points = 1;
-  for (int a = 0; a < 3; ++a)
-  {
-    points *= std::max(0, own[2 * a + 1] - own[2 * a] + 1);
-  }
-  std::fill(rgb, rgb + 3 * points, 0.0f);
+  std::fill(rgb,
+    rgb + 3 * volillum::ExtentPoints(extents.data() + 6 * controller->GetLocalProcessId()), 0.0f);
 }
 
 //------------------------------------------------------------------------------

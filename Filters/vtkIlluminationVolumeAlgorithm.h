@@ -218,14 +218,15 @@ protected:
    * this process's piece of the classification (no points where the process has no piece);
    * `piece`: where it lies in the whole data grid and which cells it takes; `lights`: in the
    * data's frame (empty where the process has no piece); `extents`: every
-   * process's extent of the illumination grid `target` (GatherExtents). Collective: rgb gets
+   * process's extent of the illumination grid `target` (GatherExtents); inputModified: as
+   * for ComputeIllumination. Collective: rgb gets
    * the illumination at the points of this process's extent (3 floats a point, x fastest).
    * Not aborted (the other processes wait for this one).
    */
   virtual void ComputeDistributedIllumination(vtkMultiProcessController* controller,
     const volillum::ClassifiedVolume& volume, const volillum::VolumePiece& piece,
     const std::vector<volillum::LightState>& lights, const volillum::GridGeometry& target,
-    const std::vector<int>& extents, float* rgb, UpdateReport& report);
+    const std::vector<int>& extents, bool inputModified, float* rgb, UpdateReport& report);
 
   /**
    * The sweeps this process runs: in a parallel run of a filter that does not light points

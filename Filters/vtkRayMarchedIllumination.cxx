@@ -3,6 +3,7 @@
 #include "IlluminationFilterSupport.h"
 #include "IlluminationParallel.h"
 #include "RayMarchKernel.h"
+#include "vtkCommunicator.h"
 #include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
 #include "vtkSMPTools.h"
@@ -33,7 +34,7 @@ bool vtkRayMarchedIllumination::ComputeIllumination(const volillum::ClassifiedVo
 void vtkRayMarchedIllumination::ComputeDistributedIllumination(
   vtkMultiProcessController* controller, const volillum::ClassifiedVolume& volume,
   const volillum::VolumePiece& piece, const std::vector<volillum::LightState>& lights,
-  const volillum::GridGeometry& target, const std::vector<int>& extents, float* rgb,
+  const volillum::GridGeometry& target, const std::vector<int>& extents, bool, float* rgb,
   UpdateReport& report)
 {
   volillum::RayMarchSettings settings;
@@ -51,30 +52,22 @@ void vtkRayMarchedIllumination::ComputeDistributedIllumination(
   }
   report.Mode = 0;
   report.Passes = static_cast<int>(on.size());
-  const int* own = extents.data() + 6 * controller->GetLocalProcessId();
   if (on.empty())
   {
-    long long points = 1;
-    for (int a = 0; a < 3; ++a)
-    {
-      points *= std::max(0, own[2 * a + 1] - own[2 * a] + 1);
-    }
+    const long long points =
+      volillum::ExtentPoints(extents.data() + 6 * controller->GetLocalProcessId());
     std::fill(rgb, rgb + 3 * points, 0.0f);
     return;
   }
   const bool marches = volume.Geometry.NumberOfPoints() > 0;
   const volillum::EmptyBlocks* empty = marches ? this->GetEmptyBlocks() : nullptr;
   const int components = 3 * static_cast<int>(on.size());
-  long long rows = 0, done = 0;
-  for (size_t p = 0; 6 * p < extents.size(); ++p)
-  {
-    const int* e = extents.data() + 6 * p;
-    rows += std::max(0LL, static_cast<long long>(e[3] - e[2] + 1) * (e[5] - e[4] + 1));
-  }
+  const long long rows = volillum::ExtentRows(extents);
+  long long done = 0;
   // Each process marches the parts of the rays in its piece for the points of every extent;
   // the products arrive at the extent's process.
-  volillum::MultiplyOverPieces(
-    controller, extents, components,
+  volillum::ReduceOverPieces(
+    controller, extents, components, vtkCommunicator::PRODUCT_OP,
     [&](const int* e, size_t first, size_t count, double* parts)
     {
       const long long width = e[1] - e[0] + 1, rowsY = e[3] - e[2] + 1;

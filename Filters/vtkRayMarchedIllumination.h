@@ -11,7 +11,7 @@
  * In a parallel run no process assembles the input: each classifies its own block of the
  * data and marches, for every point of the illumination grid, the part of the point's ray
  * to each light that crosses its block (PartialTransmittance); the products of the parts
- * go to the process whose piece has the point (MultiplyOverPieces, 3 doubles a point and
+ * go to the process whose piece has the point (ReduceOverPieces, a product, 3 doubles a point and
  * light, in blocks of 8 MiB). The result equals the serial one up to the order of the
  * multiplications. The field array ClassifiedPoints gives the points a process classified.
  *
@@ -50,7 +50,7 @@ protected:
   void ComputeDistributedIllumination(vtkMultiProcessController* controller,
     const volillum::ClassifiedVolume& volume, const volillum::VolumePiece& piece,
     const std::vector<volillum::LightState>& lights, const volillum::GridGeometry& target,
-    const std::vector<int>& extents, float* rgb, UpdateReport& report) override;
+    const std::vector<int>& extents, bool inputModified, float* rgb, UpdateReport& report) override;
   bool ComputeIllumination(const volillum::ClassifiedVolume& volume,
     const std::vector<volillum::LightState>& lights, const volillum::GridGeometry& target,
     bool inputModified, float* rgb, UpdateReport& report) override;

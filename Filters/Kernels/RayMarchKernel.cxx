@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace volillum
 {
@@ -103,6 +104,71 @@ bool EmptyBlocks::ContainsCells(int a, const int cell[3], int first, int last) c
   return filled[static_cast<size_t>(row + lastBlock * stride)] == before;
 }
 
+namespace
+{
+// The steps (0 .. n - 1, of length h from p along the unit direction d, sampled at their
+// midpoints) whose samples may lie in the piece's cells: those on the part of the ray within
+// one spacing of the cells, or beyond the grid where the piece's cells reach its side
+// (samples there are clamped onto it); each sample's cell is then checked. False when there
+// is none.
+bool StepsNearPiece(const VolumePiece& piece, const double p[3], const double d[3], double h,
+  long long n, long long& first, long long& last)
+{
+  const GridGeometry& g = piece.Whole;
+  const double huge = std::numeric_limits<double>::max();
+  double enter = 0.0, exit = n * h;
+  for (int a = 0; a < 3; ++a)
+  {
+    double x0 = g.Origin[a] + (piece.FirstCell[a] - 1) * g.Spacing[a];
+    double x1 = g.Origin[a] + (piece.LastCell[a] + 2) * g.Spacing[a];
+    if (piece.FirstCell[a] <= 0)
+    {
+      x0 = g.Spacing[a] > 0.0 ? -huge : huge;
+    }
+    if (piece.LastCell[a] >= g.Dimensions[a] - 2)
+    {
+      x1 = g.Spacing[a] > 0.0 ? huge : -huge;
+    }
+    const double low = std::min(x0, x1), high = std::max(x0, x1);
+    if (d[a] == 0.0)
+    {
+      if (p[a] < low || p[a] > high)
+      {
+        return false;
+      }
+      continue;
+    }
+    const double t0 = (low - p[a]) / d[a], t1 = (high - p[a]) / d[a];
+    enter = std::max(enter, std::min(t0, t1));
+    exit = std::min(exit, std::max(t0, t1));
+  }
+  if (enter > exit)
+  {
+    return false;
+  }
+  first = std::max(0LL, static_cast<long long>(std::floor(enter / h - 0.5)));
+  last = std::min(n - 1, static_cast<long long>(std::ceil(exit / h - 0.5)));
+  return first <= last;
+}
+
+// Whether the sample at q lies in the piece's cells and outside its empty blocks; its cell
+// in the piece's volume in cell.
+bool SampleInPiece(
+  const VolumePiece& piece, const double q[3], const EmptyBlocks* empty, TrilinearCell& cell)
+{
+  cell = CellAtPosition(piece.Whole, q);
+  for (int a = 0; a < 3; ++a)
+  {
+    if (cell.Index[a] < piece.FirstCell[a] || cell.Index[a] > piece.LastCell[a])
+    {
+      return false;
+    }
+    cell.Index[a] -= piece.Offset[a];
+  }
+  return !(empty && empty->ContainsCell(cell.Index));
+}
+}
+
 VolumePiece VolumePiece::WholeOf(const ClassifiedVolume& volume)
 {
   VolumePiece piece;
@@ -130,48 +196,19 @@ std::array<double, 3> PartialTransmittance(const ClassifiedVolume& volume, const
   {
     return t; // a step of length 0 lets all light through
   }
-  // The steps whose samples may lie in the piece's cells: those on the part of the ray
-  // within one spacing of the cells (each sample's cell is then checked).
-  double enter = 0.0, exit = tMax;
-  for (int a = 0; a < 3; ++a)
-  {
-    const double x0 = g.Origin[a] + (piece.FirstCell[a] - 1) * g.Spacing[a];
-    const double x1 = g.Origin[a] + (piece.LastCell[a] + 2) * g.Spacing[a];
-    const double low = std::min(x0, x1), high = std::max(x0, x1);
-    const double d = inc.ToLight[a];
-    if (d == 0.0)
-    {
-      if (p[a] < low || p[a] > high)
-      {
-        return t;
-      }
-      continue;
-    }
-    const double t0 = (low - p[a]) / d, t1 = (high - p[a]) / d;
-    enter = std::max(enter, std::min(t0, t1));
-    exit = std::min(exit, std::max(t0, t1));
-  }
-  if (enter > exit)
+  long long first, last;
+  if (!StepsNearPiece(piece, p, inc.ToLight.data(), h, n, first, last))
   {
     return t;
   }
-  const long long first = std::max(0LL, static_cast<long long>(std::floor(enter / h - 0.5)));
-  const long long last = std::min(n - 1, static_cast<long long>(std::ceil(exit / h - 0.5)));
   float s[4];
   for (long long i = first; i <= last; ++i)
   {
     const double d = (i + 0.5) * h;
     const double q[3] = { p[0] + d * inc.ToLight[0], p[1] + d * inc.ToLight[1],
       p[2] + d * inc.ToLight[2] };
-    TrilinearCell cell = CellAtPosition(g, q);
-    bool inPiece = true;
-    for (int a = 0; a < 3; ++a)
-    {
-      inPiece =
-        inPiece && cell.Index[a] >= piece.FirstCell[a] && cell.Index[a] <= piece.LastCell[a];
-      cell.Index[a] -= piece.Offset[a];
-    }
-    if (!inPiece || (empty && empty->ContainsCell(cell.Index)))
+    TrilinearCell cell;
+    if (!SampleInPiece(piece, q, empty, cell))
     {
       continue;
     }
@@ -186,6 +223,54 @@ std::array<double, 3> PartialTransmittance(const ClassifiedVolume& volume, const
     }
   }
   return t;
+}
+
+void PartialOpticalDepth(const ClassifiedVolume& volume, const VolumePiece& piece,
+  const double p[3], const double d[3], double length, int channels, double depth[3],
+  const EmptyBlocks* empty)
+{
+  depth[0] = depth[1] = depth[2] = 0.0;
+  if (length <= 0.0)
+  {
+    return;
+  }
+  const GridGeometry& g = piece.Whole;
+  const int n =
+    std::max(1, static_cast<int>(std::ceil(length / g.MinimumSpacing() - GeometricTolerance)));
+  const double h = length / n;
+  const double hs = h * volume.Scale[0];
+  const bool chromatic = channels == 3 && volume.IsChromatic();
+  const FieldLayout layout(volume.Geometry, volume.Channels);
+  const long long dx = layout.Corner[0], dy = layout.Corner[1], dz = layout.Corner[2];
+  long long first = 0, last = -1;
+  StepsNearPiece(piece, p, d, h, n, first, last);
+  for (long long m = first; m <= last; ++m)
+  {
+    const double t = (m + 0.5) * h;
+    const double q[3] = { p[0] + t * d[0], p[1] + t * d[1], p[2] + t * d[2] };
+    TrilinearCell cell;
+    if (!SampleInPiece(piece, q, empty, cell))
+    {
+      continue;
+    }
+    const PackedValue* at = volume.Properties.data() + layout.Offset(cell.Index);
+    const auto& f = cell.Fraction;
+    const double sigma = TrilinearInCellSkippingZeros(at, dx, dy, dz, f[0], f[1], f[2]) * hs;
+    if (!chromatic)
+    {
+      depth[0] += sigma;
+      continue;
+    }
+    for (int c = 0; c < 3; ++c)
+    {
+      depth[c] += sigma * TrilinearInCellSkippingZeros(at + 1 + c, dx, dy, dz, f[0], f[1], f[2]) *
+        volume.Scale[1 + c];
+    }
+  }
+  if (channels == 3 && !chromatic)
+  {
+    depth[1] = depth[2] = depth[0];
+  }
 }
 
 std::array<double, 3> DarkenedTransmittance(

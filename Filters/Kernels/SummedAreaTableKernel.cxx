@@ -114,12 +114,14 @@ void CartesianSAT::ToFrame(const double p[3], double q[3]) const
 }
 
 void CartesianSAT::Build(const ClassifiedVolume& data, const SatFrame& frame, double cellSize,
-  int channels, const EmptyBlocks* empty)
+  int channels, const EmptyBlocks* empty, const VolumePiece* piece)
 {
   this->Frame = frame;
   this->H = cellSize;
+  // The grid whose bounds the table covers and in which samples find their cells.
+  const GridGeometry& g = piece ? piece->Whole : data.Geometry;
   double bounds[6];
-  data.Geometry.GetBounds(bounds);
+  g.GetBounds(bounds);
   double lo[3] = { VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
   double hi[3] = { -VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX };
   for (int corner = 0; corner < 8; ++corner)
@@ -143,6 +145,37 @@ void CartesianSAT::Build(const ClassifiedVolume& data, const SatFrame& frame, do
       1 + std::max(0, static_cast<int>(std::ceil((hi[a] - lo[a]) / cellSize - GeometricTolerance)));
     this->Origin[a] = 0.5 * (lo[a] + hi[a]) - 0.5 * n[a] * cellSize;
   }
+  if (piece)
+  {
+    // The window: the cells whose centres may lie in the piece's cells (a cell's margin on
+    // each side).
+    double wlo[3] = { VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
+    double whi[3] = { -VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX };
+    for (int corner = 0; corner < 8; ++corner)
+    {
+      double p[3];
+      for (int a = 0; a < 3; ++a)
+      {
+        const int index = (corner >> a) & 1 ? piece->LastCell[a] + 1 : piece->FirstCell[a];
+        p[a] = g.Origin[a] + index * g.Spacing[a];
+      }
+      for (int a = 0; a < 3; ++a)
+      {
+        const double c = vtkMath::Dot(p, frame.Axes[a].data());
+        wlo[a] = std::min(wlo[a], c);
+        whi[a] = std::max(whi[a], c);
+      }
+    }
+    for (int a = 0; a < 3; ++a)
+    {
+      const auto cellOf = [&](double c)
+      { return std::min(std::max((c - this->Origin[a]) / cellSize, 0.0), n[a] - 1.0); };
+      const int first = std::max(0, static_cast<int>(std::floor(cellOf(wlo[a]))) - 1);
+      const int last = std::min(n[a] - 1, static_cast<int>(std::ceil(cellOf(whi[a]))) + 1);
+      n[a] = last - first + 1;
+      this->Origin[a] += first * cellSize;
+    }
+  }
   this->Table.Allocate(n, channels);
 
   // Cell integrals: extinction at the cell centre (zero outside the data) times volume. The
@@ -150,10 +183,9 @@ void CartesianSAT::Build(const ClassifiedVolume& data, const SatFrame& frame, do
   // positions, and their cell along each data axis the row does not move along.
   const double eps = GeometricTolerance * std::max(bounds[1] - bounds[0], 1.0);
   const double volume = cellSize * cellSize * cellSize;
-  const auto& g = data.Geometry;
   const PackedValue* field = data.Properties.data();
   const bool chromatic = channels == 3 && data.IsChromatic();
-  const FieldLayout layout(g, data.Channels);
+  const FieldLayout layout(data.Geometry, data.Channels);
   const long long dx = layout.Corner[0], dy = layout.Corner[1], dz = layout.Corner[2];
   // Position along data axis a of the centre of cell i of a row (ty, tz: the row's terms), and
   // whether it lies inside the bounds; its cell in cell.
@@ -196,7 +228,14 @@ void CartesianSAT::Build(const ClassifiedVolume& data, const SatFrame& frame, do
                 inside = locate(a, i, ty, tz, cell) && inside;
               }
             }
-            if (!inside || (empty && empty->ContainsCell(cell.Index)))
+            TrilinearCell at = cell; // in data's grid
+            for (int a = 0; piece && a < 3; ++a)
+            {
+              inside = inside && cell.Index[a] >= piece->FirstCell[a] &&
+                cell.Index[a] <= piece->LastCell[a];
+              at.Index[a] -= piece->Offset[a];
+            }
+            if (!inside || (empty && empty->ContainsCell(at.Index)))
             {
               for (int c = 0; c < channels; ++c)
               {
@@ -204,8 +243,8 @@ void CartesianSAT::Build(const ClassifiedVolume& data, const SatFrame& frame, do
               }
               continue;
             }
-            const PackedValue* q = field + layout.Offset(cell.Index);
-            const auto& f = cell.Fraction;
+            const PackedValue* q = field + layout.Offset(at.Index);
+            const auto& f = at.Fraction;
             const double sigma =
               TrilinearInCellSkippingZeros(q, dx, dy, dz, f[0], f[1], f[2]) * data.Scale[0];
             for (int c = 0; c < channels; ++c)
@@ -453,6 +492,13 @@ void CartesianSAT::FilteredOpticalDepths(int channel, const double* points, int 
   {
     double lo[3], hi[3];
     box(i, lo, hi);
+    // A box beside the table (a window of a piece's table, CartesianSAT::Build) holds nothing.
+    if ((hi[0] <= 0.0 || lo[0] >= n[0]) || (hi[1] <= 0.0 || lo[1] >= n[1]) ||
+      (hi[2] <= 0.0 || lo[2] >= n[2]))
+    {
+      depth[i] = 0.0;
+      continue;
+    }
     const int u = (along + 1) % 3, v = (along + 2) % 3;
     if (along >= 0 && lo[u] == keyLo[u] && hi[u] == keyHi[u] && lo[v] == keyLo[v] &&
       hi[v] == keyHi[v])

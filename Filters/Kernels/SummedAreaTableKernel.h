@@ -32,6 +32,7 @@
 namespace volillum
 {
 class EmptyBlocks;
+struct VolumePiece;
 
 /// Orthonormal axes; a light shining along one of them (either sign) can use a table built
 /// in this frame.
@@ -176,9 +177,13 @@ public:
    * Resample the extinction (times the channel's absorption k_c when channels is 3) onto
    * cells of size cellSize in the frame, covering the data's bounds, and integrate. Cells
    * whose centre lies in one of the data's empty blocks (when given) are 0 without a sample.
+   * With `piece`, data is a piece of a bigger grid (VolumePiece): the table is the window of
+   * the whole grid's table (the same frame, origin and cells) that covers the piece's
+   * cells, and only the centres in those cells are sampled (the others are 0). Box integrals
+   * of the pieces' windows then add up to the whole table's.
    */
   void Build(const ClassifiedVolume& data, const SatFrame& frame, double cellSize, int channels,
-    const EmptyBlocks* empty = nullptr);
+    const EmptyBlocks* empty = nullptr, const VolumePiece* piece = nullptr);
 
   /// Coordinates of a world point in the table's frame, measured from its first corner.
   void ToFrame(const double p[3], double q[3]) const;

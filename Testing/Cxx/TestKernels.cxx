@@ -6,6 +6,7 @@
 #include "LightPropagationKernel.h"
 #include "ParallelSteps.h"
 #include "RayMarchKernel.h"
+#include "SummedAreaTableKernel.h"
 #include "TetrahedralLightKernel.h"
 
 #include "vtkSMPTools.h"
@@ -224,12 +225,10 @@ TEST(Kernels, RayMarchThroughASlabIsItsAnalyticTransmittance)
     RayMarchIlluminationAt(slab, { Downward() }, above, RayMarchSettings())[0], 1.0, 1e-12);
 }
 
-// The parts of rays marched piece by piece (PartialTransmittance) multiply to the ray marched
-// through the whole volume: a chromatic volume of 13 x 11 x 9 points split into 2 x 3 x 2
-// blocks that share their boundary planes (as vtkExtentTranslator's pieces do), each block a
-// volume of its own holding its points. A sample taken twice or by no piece would change the
-// product by a step's transmittance (at least 1e-3 here).
-TEST(Kernels, RayMarchedPiecesMultiplyToTheWholeRay)
+namespace
+{
+// A chromatic volume of 13 x 11 x 9 points with smoothly varying extinction and absorption.
+ClassifiedVolume ChromaticVolume()
 {
   ClassifiedVolume whole;
   whole.Geometry.Dimensions = { { 13, 11, 9 } };
@@ -252,10 +251,16 @@ TEST(Kernels, RayMarchedPiecesMultiplyToTheWholeRay)
     }
   }
   whole.Store(values);
-  // The blocks' first and last points per axis (shared planes).
+  return whole;
+}
+
+// The volume split into 2 x 3 x 2 blocks that share their boundary planes (as
+// vtkExtentTranslator's pieces do), each block a volume of its own holding its points.
+void SplitIntoBlocks(const ClassifiedVolume& whole, std::vector<ClassifiedVolume>& volumes,
+  std::vector<VolumePiece>& pieces)
+{
+  const auto& d = whole.Geometry.Dimensions;
   const std::vector<std::vector<int>> planes = { { 0, 6, 12 }, { 0, 3, 7, 10 }, { 0, 5, 8 } };
-  std::vector<ClassifiedVolume> volumes;
-  std::vector<VolumePiece> pieces;
   for (size_t bz = 0; bz + 1 < planes[2].size(); ++bz)
   {
     for (size_t by = 0; by + 1 < planes[1].size(); ++by)
@@ -287,7 +292,7 @@ TEST(Kernels, RayMarchedPiecesMultiplyToTheWholeRay)
                 d[0] * (j + piece.Offset[1] + static_cast<size_t>(d[1]) * (k + piece.Offset[2]));
               for (int c = 0; c < whole.Channels; ++c)
               {
-                v.Properties.push_back(whole.Properties[4 * from + c]);
+                v.Properties.push_back(whole.Properties[whole.Channels * from + c]);
               }
             }
           }
@@ -297,6 +302,18 @@ TEST(Kernels, RayMarchedPiecesMultiplyToTheWholeRay)
       }
     }
   }
+}
+}
+
+// The parts of rays marched piece by piece (PartialTransmittance) multiply to the ray marched
+// through the whole volume (ChromaticVolume split by SplitIntoBlocks). A sample taken twice or
+// by no piece would change the product by a step's transmittance (at least 1e-3 here).
+TEST(Kernels, RayMarchedPiecesMultiplyToTheWholeRay)
+{
+  const ClassifiedVolume whole = ChromaticVolume();
+  std::vector<ClassifiedVolume> volumes;
+  std::vector<VolumePiece> pieces;
+  SplitIntoBlocks(whole, volumes, pieces);
   LightState oblique;
   oblique.Position = { { -3.0, 9.0, 8.0 } };
   oblique.FocalPoint = { { 2.0, 5.0, 3.0 } };
@@ -343,6 +360,84 @@ TEST(Kernels, RayMarchedPiecesMultiplyToTheWholeRay)
             << " of 600 rays partly attenuated)" << std::endl;
   EXPECT_LT(largest, 1e-12);
   EXPECT_GT(lit, 300);
+}
+
+// The parts of the filtered shadows' optical depths that blocks hold (windows of the
+// light-aligned tables built from each block, near segments through each block's cells) add
+// up to the whole volume's depths, for an oblique frame and the data's own, with the box and
+// the Gaussian kernel; each window is smaller than the whole table.
+TEST(Kernels, FilteredShadowDepthsOfPiecesAddUpToTheWholeDepth)
+{
+  const ClassifiedVolume whole = ChromaticVolume();
+  std::vector<ClassifiedVolume> volumes;
+  std::vector<VolumePiece> pieces;
+  SplitIntoBlocks(whole, volumes, pieces);
+  const double toward[2][3] = { { 0.48, -0.36, 0.8 }, { 0.0, 0.0, -1.0 } };
+  const std::vector<double> gaussian = GaussianWeights(5);
+  double largest = 0.0, difference = 0.0, window = 0.0;
+  for (const auto& d : toward)
+  {
+    const SatFrame frame = FrameForDirection(d);
+    int sign = 0;
+    const int axis = AxisOfDirection(frame, d, sign);
+    ASSERT_GE(axis, 0);
+    CartesianSAT table;
+    table.Build(whole, frame, 0.9, 3);
+    std::vector<CartesianSAT> windows(pieces.size());
+    for (size_t b = 0; b < pieces.size(); ++b)
+    {
+      windows[b].Build(volumes[b], frame, 0.9, 3, nullptr, &pieces[b]);
+      window = std::max(window,
+        static_cast<double>(windows[b].GetMemoryBytes()) /
+          static_cast<double>(table.GetMemoryBytes()));
+    }
+    for (int n = 0; n < 150; ++n)
+    {
+      const double p[3] = { whole.Geometry.Origin[0] + 0.043 * n,
+        whole.Geometry.Origin[1] + 0.7 * ((n / 13) % 11) + 0.01 * n,
+        whole.Geometry.Origin[2] + 0.6 * ((7 * n) % 9) };
+      for (int c = 0; c < 3; ++c)
+      {
+        for (double halfWidth : { 0.3, 1.4 })
+        {
+          double box = 0.0, kernel = 0.0;
+          for (const CartesianSAT& w : windows)
+          {
+            box += w.FilteredOpticalDepth(c, p, axis, sign, halfWidth);
+            kernel += w.KernelFilteredOpticalDepth(c, p, axis, sign, halfWidth, gaussian);
+          }
+          const double reference = table.FilteredOpticalDepth(c, p, axis, sign, halfWidth);
+          largest = std::max(largest, reference);
+          difference = std::max(difference, std::abs(box - reference));
+          difference = std::max(difference,
+            std::abs(
+              kernel - table.KernelFilteredOpticalDepth(c, p, axis, sign, halfWidth, gaussian)));
+        }
+      }
+      double segment[3], sum[3] = { 0.0, 0.0, 0.0 };
+      SegmentOpticalDepth(whole, p, d, 3.7, 3, segment);
+      for (size_t b = 0; b < pieces.size(); ++b)
+      {
+        double part[3];
+        PartialOpticalDepth(volumes[b], pieces[b], p, d, 3.7, 3, part);
+        for (int c = 0; c < 3; ++c)
+        {
+          sum[c] += part[c];
+        }
+      }
+      for (int c = 0; c < 3; ++c)
+      {
+        largest = std::max(largest, segment[c]);
+        difference = std::max(difference, std::abs(sum[c] - segment[c]));
+      }
+    }
+  }
+  std::cout << "filtered-shadow depths of the pieces against the whole: largest difference "
+            << difference << " of depths up to " << largest << "; largest window " << window
+            << " of the whole table" << std::endl;
+  EXPECT_LT(difference, 1e-9 * largest);
+  EXPECT_GT(largest, 1.0);
+  EXPECT_LT(window, 1.0);
 }
 
 TEST(Kernels, PropagationThroughASlabAndSelectiveRemovalIsExact)

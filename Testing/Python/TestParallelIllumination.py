@@ -20,9 +20,11 @@ and checks, against the serial run:
   (its piece and the cells near it: the LitPoints field of each piece);
 - a grid in two pieces, tetrahedra and triangles (a process holding 2D cells only outputs
   its points, lit as serially);
-- Ray-Marched Illumination: no process classified the whole input (each marches through
-  its block: the ClassifiedPoints field of each piece), also on the image of one cell and
-  with cell scalars (assembled: averaging cells onto points needs the neighbours);
+- Ray-Marched Illumination, and Filtered Volumetric Shadows with directional lights (hard
+  and soft shadows): no process classified the whole input (each marches through its block
+  and builds its tables' windows over it: the ClassifiedPoints field of each piece); the
+  ray marcher also on the image of one cell and with cell scalars (assembled: averaging
+  cells onto points needs the neighbours);
 - no process prints an error (an empty piece is normal in parallel).
 Usage: pvpython TestParallelIllumination.py PLUGIN OUTPUT_DIR PVBATCH MPIEXEC "MPI_FLAGS"
        GRID NPROCS...
@@ -32,7 +34,8 @@ import subprocess
 import sys
 
 TOLERANCE = 1e-5  # largest difference relative to the largest value
-FILES = ["multilight.pvti", "selective.pvti", "fresh.pvti", "filtered.pvti", "raymarched.pvti",
+FILES = ["multilight.pvti", "selective.pvti", "fresh.pvti", "filtered.pvti", "filtered_hard.pvti",
+         "filtered_soft.pvti", "filtered_assembled.pvti", "raymarched.pvti",
          "tiny.pvti", "tiny_raymarched.pvti", "cells_raymarched.pvti",
          "unstructured.pvtu", "unstructured_pieces.pvtu", "wavelet.pvtu", "mixed.pvtu"]
 HEAD = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Data", "headsq.vti")
@@ -74,6 +77,17 @@ def worker(plugin, out, grid_file, tiny_file, parallel):
     save(fresh, "fresh.pvti")
     save(image_filter("FilteredVolumetricShadows", ResolutionScale=0.5, FilterWidth=3),
          "filtered.pvti")
+    # Directional light only: each process builds its tables' windows over its block (hard
+    # shadows: near segments through the data; soft: the Gaussian kernel).
+    # DistributedTables off: the input assembled on every process.
+    for name, width, kernel, distributed in (("filtered_hard.pvti", 0, "Box", 1),
+                                             ("filtered_soft.pvti", 3, "Gaussian", 1),
+                                             ("filtered_assembled.pvti", 0, "Box", 0)):
+        f = image_filter("FilteredVolumetricShadows", ResolutionScale=0.5, FilterWidth=width,
+                         FilterKernel=kernel, PerLightTransmittance=1,
+                         DistributedTables=distributed)
+        f.Lights = LIGHTS[:14]
+        save(f, name)
     save(image_filter("RayMarchedIllumination", ResolutionScale=0.25), "raymarched.pvti")
     # Cell scalars (averaged onto the points, which a block alone cannot do at its boundary).
     cells = ns["RayMarchedIllumination"](Input=PointDatatoCellData(Input=head),
@@ -164,7 +178,8 @@ def values_by_point(data, name):
     """The array's tuples keyed by the coordinates of their points (exact: the pieces hold
     the points the serial grid has)."""
     from vtkmodules.util.numpy_support import vtk_to_numpy
-    values = vtk_to_numpy(data.GetPointData().GetArray(name))
+    array = data.GetPointData().GetArray(name)
+    values = vtk_to_numpy(array).reshape(-1, array.GetNumberOfComponents())
     points = [data.GetPoint(i) for i in range(data.GetNumberOfPoints())]
     return dict(zip(points, values))
 
@@ -329,15 +344,26 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
                 print("%-5s %-26s points lit by each process %s of %d" % (run, f, lit, whole))
                 if not lit or max(lit) >= whole:
                     failures.append("%s/%s: a process lit the whole grid" % (run, f))
-            if f == "raymarched.pvti":
+            if f.startswith("filtered_"):
+                shadow = compare(serial[f], data, "Transmittance0")
+                if shadow is None or shadow > TOLERANCE:
+                    failures.append("%s/%s: Transmittance0 difference %s" % (run, f, shadow))
+            if f in ("raymarched.pvti", "filtered_hard.pvti", "filtered_soft.pvti"):
                 # Each process classified its block of the input, not the whole input.
-                whole = piece_counts(os.path.join(out, "serial", "raymarched"),
+                whole = piece_counts(os.path.join(out, "serial", f[:-len(".pvti")]),
                                      "ClassifiedPoints")
-                held = piece_counts(os.path.join(out, run, "raymarched"), "ClassifiedPoints")
+                held = piece_counts(os.path.join(out, run, f[:-len(".pvti")]),
+                                    "ClassifiedPoints")
                 print("%-5s %-26s input points classified by each process %s of %s"
                       % (run, f, held, whole))
                 if len(held) != int(run[2:]) or max(held) >= whole[0]:
                     failures.append("%s/%s: a process held the whole input" % (run, f))
+            if f == "filtered_assembled.pvti":
+                held = piece_counts(os.path.join(out, run, "filtered_assembled"),
+                                    "ClassifiedPoints")
+                whole = serial[f].GetFieldData().GetArray("ClassifiedPoints").GetValue(0)
+                if min(held) != whole:
+                    failures.append("%s/%s: the input was not assembled" % (run, f))
         selective = read_whole(os.path.join(out, run, "selective.pvti"))
         fresh = read_whole(os.path.join(out, run, "fresh.pvti"))
         edit_error = compare(fresh, selective)
