@@ -5,21 +5,22 @@
  * Light crosses the whole domain: the light reaching a point depends on material held by
  * other processes. Unstructured grids: each process keeps its piece and the cells of other
  * pieces near it (NeighborhoodGrid), and values cross between processes as the solver
- * steps. Images: Ray-Marched Illumination marches the parts of the rays in each process's
- * block and multiplies them at the process that holds the point (ReduceOverPieces, a product; point
- * scalars: cell scalars are assembled); for
- * the other image filters every process assembles the whole input from the pieces of all
- * processes (collective calls of the filter's vtkMultiProcessController) and outputs the
- * part of the illumination that belongs to its own piece. The propagation
- * shares its sweeps out among the processes (SweepShare): each process propagates its
- * sweeps over the whole illumination grid into fixed-point units of its own, and the sums
- * over the processes (SumOverPieces, exact in any order) give each process its piece.
- * Every process keeps the same bookkeeping of lights, so selective updates work as in a
- * serial run, each change's sweeps shared out again. Filters that light points
- * independently compute only the points of the piece. The result equals the serial run's
- * (bit for bit in the tests; the points of a piece may differ from the serial grid's in the
- * last bit of their coordinates). The input and its classification per process are those
- * of the whole data; sweeps over the distributed pieces are the planned next step
+ * steps. Images lit where they are (point scalars): Ray-Marched Illumination marches the
+ * parts of the rays in each process's block and multiplies them at the process that holds
+ * the point; Filtered Volumetric Shadows with directional lights builds each table's window
+ * over the block and sums the parts of the optical depths there (ReduceOverPieces). The
+ * other image filters (and those with cell scalars, point or spot shadows) assemble the
+ * whole input on every process from the pieces of all processes (collective calls of the
+ * filter's vtkMultiProcessController) and output the part of the illumination that belongs
+ * to their own piece. The propagation shares its sweeps out among the processes
+ * (SweepShare): each process propagates its sweeps over the whole illumination grid into
+ * fixed-point units of its own, and the sums over the processes (SumOverPieces, exact in
+ * any order) give each process its piece. Every process keeps the same bookkeeping of
+ * lights, so selective updates work as in a serial run, each change's sweeps shared out
+ * again. Filters that light points independently compute only the points of the piece. The
+ * result equals the serial run's: bit for bit in the tests where the input is assembled and
+ * for the ray marcher, up to rounding (1e-8 of the largest value) for distributed tables.
+ * Sweeps over the distributed pieces are the planned next step for the propagation
  * (Documentation/parallel.md).
  *
  * Every process must update the filter together (ParaView does: pipelines update on all

@@ -149,6 +149,7 @@ void vtkFilteredVolumetricShadows::ComputeDistributedIllumination(
 {
   report.Mode = 0;
   report.Passes = 0;
+  this->Transmittances.clear(); // none from an earlier update
   const long long points =
     volillum::ExtentPoints(extents.data() + 6 * controller->GetLocalProcessId());
   std::fill(rgb, rgb + 3 * points, 0.0f);
@@ -262,8 +263,22 @@ bool vtkFilteredVolumetricShadows::UpdateTables(const volillum::ClassifiedVolume
   bool inputModified, int& built, const volillum::VolumePiece* piece)
 {
   const double scale = this->SATResolutionScale;
+  // Where the tables lie: the whole grid and the piece's cells for windows, nothing for whole
+  // tables (a window fits only the piece and whole grid it was built for).
+  std::vector<double> window;
+  if (piece)
+  {
+    const auto& w = piece->Whole;
+    window.insert(window.end(), w.Origin.begin(), w.Origin.end());
+    window.insert(window.end(), w.Spacing.begin(), w.Spacing.end());
+    window.insert(window.end(), w.Dimensions.begin(), w.Dimensions.end());
+    window.insert(window.end(), piece->Offset.begin(), piece->Offset.end());
+    window.insert(window.end(), piece->FirstCell.begin(), piece->FirstCell.end());
+    window.insert(window.end(), piece->LastCell.begin(), piece->LastCell.end());
+  }
   // Build only the tables whose frame (light position), resolution or classification changed.
-  const bool settingsKept = !inputModified && this->TablesScale == scale;
+  const bool settingsKept =
+    !inputModified && this->TablesScale == scale && window == this->TablesWindow;
   std::vector<bool> found;
   auto tables = TakeTables(
     this->Tables, frames.size(),
@@ -308,6 +323,7 @@ bool vtkFilteredVolumetricShadows::UpdateTables(const volillum::ClassifiedVolume
   this->Tables = std::move(tables);
   this->SphericalTables = std::move(spherical);
   this->TablesScale = scale;
+  this->TablesWindow = std::move(window);
   return true;
 }
 

@@ -155,6 +155,7 @@ private:
   std::vector<volillum::CartesianSAT> Tables;
   std::vector<volillum::SphericalSAT> SphericalTables;
   double TablesScale = 0.0;
+  std::vector<double> TablesWindow; // the whole grid and piece of windows; empty: whole tables
   std::vector<vtkSmartPointer<vtkFloatArray>> Transmittances;
 };
 

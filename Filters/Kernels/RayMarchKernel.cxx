@@ -242,8 +242,11 @@ void PartialOpticalDepth(const ClassifiedVolume& volume, const VolumePiece& piec
   const bool chromatic = channels == 3 && volume.IsChromatic();
   const FieldLayout layout(volume.Geometry, volume.Channels);
   const long long dx = layout.Corner[0], dy = layout.Corner[1], dz = layout.Corner[2];
-  long long first = 0, last = -1;
-  StepsNearPiece(piece, p, d, h, n, first, last);
+  long long first, last;
+  if (!StepsNearPiece(piece, p, d, h, n, first, last))
+  {
+    return;
+  }
   for (long long m = first; m <= last; ++m)
   {
     const double t = (m + 0.5) * h;

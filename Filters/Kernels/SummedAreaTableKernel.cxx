@@ -145,6 +145,11 @@ void CartesianSAT::Build(const ClassifiedVolume& data, const SatFrame& frame, do
       1 + std::max(0, static_cast<int>(std::ceil((hi[a] - lo[a]) / cellSize - GeometricTolerance)));
     this->Origin[a] = 0.5 * (lo[a] + hi[a]) - 0.5 * n[a] * cellSize;
   }
+  // Cell centres are placed from the whole table's origin and index, so that every piece's
+  // window puts a cell's centre at the same place, to the bit (a centre on a plane between
+  // pieces must fall in the same cell for all of them).
+  const std::array<double, 3> wholeOrigin = this->Origin;
+  std::array<int, 3> firstCell{ { 0, 0, 0 } };
   if (piece)
   {
     // The window: the cells whose centres may lie in the piece's cells (a cell's margin on
@@ -173,7 +178,8 @@ void CartesianSAT::Build(const ClassifiedVolume& data, const SatFrame& frame, do
       const int first = std::max(0, static_cast<int>(std::floor(cellOf(wlo[a]))) - 1);
       const int last = std::min(n[a] - 1, static_cast<int>(std::ceil(cellOf(whi[a]))) + 1);
       n[a] = last - first + 1;
-      this->Origin[a] += first * cellSize;
+      firstCell[a] = first;
+      this->Origin[a] = wholeOrigin[a] + first * cellSize;
     }
   }
   this->Table.Allocate(n, channels);
@@ -191,7 +197,7 @@ void CartesianSAT::Build(const ClassifiedVolume& data, const SatFrame& frame, do
   // whether it lies inside the bounds; its cell in cell.
   auto locate = [&](int a, long long i, const double* ty, const double* tz, TrilinearCell& cell)
   {
-    const double qx = this->Origin[0] + (i + 0.5) * cellSize;
+    const double qx = wholeOrigin[0] + (firstCell[0] + i + 0.5) * cellSize;
     const double p = qx * frame.Axes[0][a] + ty[a] + tz[a];
     AxisCell(g.Dimensions[a], (p - g.Origin[a]) / g.Spacing[a], cell.Index[a], cell.Fraction[a]);
     return p >= bounds[2 * a] - eps && p <= bounds[2 * a + 1] + eps;
@@ -203,8 +209,8 @@ void CartesianSAT::Build(const ClassifiedVolume& data, const SatFrame& frame, do
       {
         for (long long j = 0; j < n[1]; ++j)
         {
-          const double qy = this->Origin[1] + (j + 0.5) * cellSize;
-          const double qz = this->Origin[2] + (k + 0.5) * cellSize;
+          const double qy = wholeOrigin[1] + (firstCell[1] + j + 0.5) * cellSize;
+          const double qz = wholeOrigin[2] + (firstCell[2] + k + 0.5) * cellSize;
           const double ty[3] = { qy * frame.Axes[1][0], qy * frame.Axes[1][1],
             qy * frame.Axes[1][2] };
           const double tz[3] = { qz * frame.Axes[2][0], qz * frame.Axes[2][1],

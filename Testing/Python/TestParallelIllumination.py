@@ -35,7 +35,8 @@ import sys
 
 TOLERANCE = 1e-5  # largest difference relative to the largest value
 FILES = ["multilight.pvti", "selective.pvti", "fresh.pvti", "filtered.pvti", "filtered_hard.pvti",
-         "filtered_soft.pvti", "filtered_assembled.pvti", "raymarched.pvti",
+         "filtered_soft.pvti", "filtered_axis.pvti", "filtered_assembled.pvti",
+         "raymarched.pvti",
          "tiny.pvti", "tiny_raymarched.pvti", "cells_raymarched.pvti",
          "unstructured.pvtu", "unstructured_pieces.pvtu", "wavelet.pvtu", "mixed.pvtu"]
 HEAD = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Data", "headsq.vti")
@@ -79,14 +80,18 @@ def worker(plugin, out, grid_file, tiny_file, parallel):
          "filtered.pvti")
     # Directional light only: each process builds its tables' windows over its block (hard
     # shadows: near segments through the data; soft: the Gaussian kernel).
-    # DistributedTables off: the input assembled on every process.
-    for name, width, kernel, distributed in (("filtered_hard.pvti", 0, "Box", 1),
-                                             ("filtered_soft.pvti", 3, "Gaussian", 1),
-                                             ("filtered_assembled.pvti", 0, "Box", 0)):
+    # A light along the z axis: table cells centred on the data's planes, some of them the
+    # planes between blocks. DistributedTables off: the input assembled on every process.
+    downward = [0, 100, 100, 400, 100, 100, 70, 1.0, 0.9, 0.8, 1.0, 90, 1, 1]
+    for name, width, kernel, distributed, light in (
+            ("filtered_hard.pvti", 0, "Box", 1, LIGHTS[:14]),
+            ("filtered_soft.pvti", 3, "Gaussian", 1, LIGHTS[:14]),
+            ("filtered_axis.pvti", 0, "Box", 1, downward),
+            ("filtered_assembled.pvti", 0, "Box", 0, LIGHTS[:14])):
         f = image_filter("FilteredVolumetricShadows", ResolutionScale=0.5, FilterWidth=width,
                          FilterKernel=kernel, PerLightTransmittance=1,
                          DistributedTables=distributed)
-        f.Lights = LIGHTS[:14]
+        f.Lights = light
         save(f, name)
     save(image_filter("RayMarchedIllumination", ResolutionScale=0.25), "raymarched.pvti")
     # Cell scalars (averaged onto the points, which a block alone cannot do at its boundary).
@@ -348,7 +353,8 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
                 shadow = compare(serial[f], data, "Transmittance0")
                 if shadow is None or shadow > TOLERANCE:
                     failures.append("%s/%s: Transmittance0 difference %s" % (run, f, shadow))
-            if f in ("raymarched.pvti", "filtered_hard.pvti", "filtered_soft.pvti"):
+            if f in ("raymarched.pvti", "filtered_hard.pvti", "filtered_soft.pvti",
+                     "filtered_axis.pvti"):
                 # Each process classified its block of the input, not the whole input.
                 whole = piece_counts(os.path.join(out, "serial", f[:-len(".pvti")]),
                                      "ClassifiedPoints")
