@@ -1008,8 +1008,15 @@ namespace
 // which gets them through `receive`.
 template <typename T>
 void ReduceBlocks(vtkMultiProcessController* controller, const std::vector<int>& extents,
-  int components, int op, size_t block, const PieceRows<T>& fill, const PieceRows<const T>& receive)
+  int components, int op, size_t block, const PieceRows<T>& fill, const PieceRows<const T>& receive,
+  const std::function<void(double)>& progress = nullptr)
 {
+  size_t total = 0, done = 0; // rows
+  for (size_t p = 0; 6 * p < extents.size(); ++p)
+  {
+    const int* e = extents.data() + 6 * p;
+    total += IsEmpty(e) ? 0 : static_cast<size_t>(e[3] - e[2] + 1) * (e[5] - e[4] + 1);
+  }
   const int local = controller->GetLocalProcessId();
   std::vector<T> sent, reduced;
   for (size_t p = 0; 6 * p < extents.size(); ++p)
@@ -1029,6 +1036,11 @@ void ReduceBlocks(vtkMultiProcessController* controller, const std::vector<int>&
       sent.resize(count * row);
       reduced.resize(sent.size());
       fill(e, first, count, sent.data());
+      done += count;
+      if (progress)
+      {
+        progress(static_cast<double>(done) / total);
+      }
       // Only the owner reads the reduced values.
       controller->Reduce(
         sent.data(), reduced.data(), static_cast<vtkIdType>(sent.size()), op, static_cast<int>(p));
@@ -1074,9 +1086,10 @@ void SumOverPieces(vtkMultiProcessController* controller, const int dimensions[3
 
 void ReduceOverPieces(vtkMultiProcessController* controller, const std::vector<int>& extents,
   int components, int operation, const PieceRows<double>& fill,
-  const PieceRows<const double>& receive)
+  const PieceRows<const double>& receive, const std::function<void(double)>& progress)
 {
-  ReduceBlocks<double>(controller, extents, components, operation, size_t(1) << 20, fill, receive);
+  ReduceBlocks<double>(
+    controller, extents, components, operation, size_t(1) << 20, fill, receive, progress);
 }
 
 long long ExtentPoints(const int extent[6])
@@ -1087,17 +1100,6 @@ long long ExtentPoints(const int extent[6])
     points *= std::max(0, extent[2 * a + 1] - extent[2 * a] + 1);
   }
   return points;
-}
-
-long long ExtentRows(const std::vector<int>& extents)
-{
-  long long rows = 0;
-  for (size_t p = 0; 6 * p < extents.size(); ++p)
-  {
-    const int* e = extents.data() + 6 * p;
-    rows += ExtentPoints(e) / std::max(1, e[1] - e[0] + 1);
-  }
-  return rows;
 }
 
 bool AllOk(vtkMultiProcessController* controller, bool ok)

@@ -95,17 +95,15 @@ using PieceRows = std::function<void(const int* extent, size_t firstRow, size_t 
  * all processes of `components` values: `fill` gives this process's values for a block of
  * rows of an extent (whole rows, at most 2^20 values, every process the same blocks in the
  * same order), and the process that owns the extent gets the reduced values of each of its
- * blocks through `receive` (vtkMultiProcessController::Reduce to it).
+ * blocks through `receive` (vtkMultiProcessController::Reduce to it). `progress`, when
+ * given, is told the fraction of all the extents' rows filled after each block.
  */
 VOLILLUMFILTERS_EXPORT void ReduceOverPieces(vtkMultiProcessController* controller,
   const std::vector<int>& extents, int components, int operation, const PieceRows<double>& fill,
-  const PieceRows<const double>& receive);
+  const PieceRows<const double>& receive, const std::function<void(double)>& progress = nullptr);
 
 /// Points of an extent (0 for an empty one).
 VOLILLUMFILTERS_EXPORT long long ExtentPoints(const int extent[6]);
-
-/// Rows along x of the extents (6 values each, as GatherExtents gives them).
-VOLILLUMFILTERS_EXPORT long long ExtentRows(const std::vector<int>& extents);
 
 /// Collective: whether `ok` holds on every process.
 VOLILLUMFILTERS_EXPORT bool AllOk(vtkMultiProcessController* controller, bool ok);

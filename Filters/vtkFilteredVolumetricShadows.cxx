@@ -152,7 +152,6 @@ void vtkFilteredVolumetricShadows::ComputeDistributedIllumination(
   this->Transmittances.clear(); // none from an earlier update
   const long long points =
     volillum::ExtentPoints(extents.data() + 6 * controller->GetLocalProcessId());
-  std::fill(rgb, rgb + 3 * points, 0.0f);
   const double scale = this->SATResolutionScale;
   if (scale != 1.0 && scale != 0.5 && scale != 0.25)
   {
@@ -192,16 +191,12 @@ void vtkFilteredVolumetricShadows::ComputeDistributedIllumination(
   // Each process adds the parts of the optical depths its piece holds, for the points of
   // every extent; the sums arrive at the extent's process.
   const int components = channels * count;
-  const long long total = volillum::ExtentRows(extents);
-  long long done = 0;
   volillum::ReduceOverPieces(
     controller, extents, components, vtkCommunicator::SUM_OP,
     [&](const int* e, size_t first, size_t rows, double* depths)
     {
       const long long width = e[1] - e[0] + 1, rowsY = e[3] - e[2] + 1;
       std::fill(depths, depths + rows * width * components, 0.0);
-      done += static_cast<long long>(rows);
-      this->ReportProgress(0.5 + 0.5 * done / total);
       if (!marches)
       {
         return;
@@ -253,7 +248,8 @@ void vtkFilteredVolumetricShadows::ComputeDistributedIllumination(
           rgb[3 * id + c] = static_cast<float>(sum[c]);
         }
       }
-    });
+    },
+    [this](double fraction) { this->ReportProgress(0.5 + 0.5 * fraction); });
 }
 
 //------------------------------------------------------------------------------

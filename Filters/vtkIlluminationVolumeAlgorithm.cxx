@@ -601,12 +601,9 @@ bool vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessContro
     return true;
   }
   const std::vector<int> extents = volillum::GatherExtents(controller, piece ? extent : nullptr);
-  volillum::GridGeometry lit = target;
-  for (int a = 0; piece && a < 3; ++a)
-  {
-    lit.Dimensions[a] = extent[2 * a + 1] - extent[2 * a] + 1;
-  }
-  auto illumination = NewIlluminationArray(piece ? lit.NumberOfPoints() : 0);
+  // Points the computation leaves unlit stay dark.
+  auto illumination = NewIlluminationArray(piece ? volillum::ExtentPoints(extent) : 0);
+  illumination->FillValue(0.0f);
   UpdateReport report;
   this->ComputeDistributedIllumination(controller, piece ? this->Classified : none, where, lights,
     target, extents, inputModified, illumination->GetPointer(0), report);
@@ -621,15 +618,14 @@ bool vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessContro
 }
 
 //------------------------------------------------------------------------------
-void vtkIlluminationVolumeAlgorithm::ComputeDistributedIllumination(
-  vtkMultiProcessController* controller, const volillum::ClassifiedVolume&,
-  const volillum::VolumePiece&, const std::vector<volillum::LightState>&,
-  const volillum::GridGeometry&, const std::vector<int>& extents, bool, float* rgb, UpdateReport&)
+void vtkIlluminationVolumeAlgorithm::ComputeDistributedIllumination(vtkMultiProcessController*,
+  const volillum::ClassifiedVolume&, const volillum::VolumePiece&,
+  const std::vector<volillum::LightState>&, const volillum::GridGeometry&, const std::vector<int>&,
+  bool, float*, UpdateReport&)
 {
-  // Reached only by a filter that claims LightsDistributedPieces without lighting them.
+  // Reached only by a filter that claims LightsDistributedPieces without lighting them (the
+  // output stays dark).
   vtkErrorMacro("This filter does not light distributed pieces.");
-  std::fill(rgb,
-    rgb + 3 * volillum::ExtentPoints(extents.data() + 6 * controller->GetLocalProcessId()), 0.0f);
 }
 
 //------------------------------------------------------------------------------

@@ -219,7 +219,7 @@ protected:
    * `piece`: where it lies in the whole data grid and which cells it takes; `lights`: in the
    * data's frame (empty where the process has no piece); `extents`: every
    * process's extent of the illumination grid `target` (GatherExtents); inputModified: as
-   * for ComputeIllumination. Collective: rgb gets
+   * for ComputeIllumination. Collective: rgb (all 0 on entry) gets
    * the illumination at the points of this process's extent (3 floats a point, x fastest).
    * Not aborted (the other processes wait for this one).
    */

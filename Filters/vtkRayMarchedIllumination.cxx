@@ -54,16 +54,11 @@ void vtkRayMarchedIllumination::ComputeDistributedIllumination(
   report.Passes = static_cast<int>(on.size());
   if (on.empty())
   {
-    const long long points =
-      volillum::ExtentPoints(extents.data() + 6 * controller->GetLocalProcessId());
-    std::fill(rgb, rgb + 3 * points, 0.0f);
-    return;
+    return; // dark
   }
   const bool marches = volume.Geometry.NumberOfPoints() > 0;
   const volillum::EmptyBlocks* empty = marches ? this->GetEmptyBlocks() : nullptr;
   const int components = 3 * static_cast<int>(on.size());
-  const long long rows = volillum::ExtentRows(extents);
-  long long done = 0;
   // Each process marches the parts of the rays in its piece for the points of every extent;
   // the products arrive at the extent's process.
   volillum::ReduceOverPieces(
@@ -96,8 +91,6 @@ void vtkRayMarchedIllumination::ComputeDistributedIllumination(
             }
           });
       }
-      done += static_cast<long long>(count);
-      this->ReportProgress(static_cast<double>(done) / rows);
     },
     [&](const int* e, size_t first, size_t count, const double* products)
     {
@@ -130,7 +123,8 @@ void vtkRayMarchedIllumination::ComputeDistributedIllumination(
           }
         }
       }
-    });
+    },
+    [this](double fraction) { this->ReportProgress(fraction); });
 }
 
 //------------------------------------------------------------------------------

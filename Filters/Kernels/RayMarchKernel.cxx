@@ -151,21 +151,32 @@ bool StepsNearPiece(const VolumePiece& piece, const double p[3], const double d[
   return first <= last;
 }
 
+// Add the optical depth of a step whose sample reads the cell at q (corner offsets dx, dy, dz,
+// fractions fx, fy, fz) to out: extinction x hs (the step times the extinction's scale),
+// times each channel's absorption when chromatic.
+inline void AddStepDepth(const ClassifiedVolume& volume, const PackedValue* q, long long dx,
+  long long dy, long long dz, float fx, float fy, float fz, double hs, bool chromatic, double* out)
+{
+  const double sigma = TrilinearInCellSkippingZeros(q, dx, dy, dz, fx, fy, fz) * hs;
+  if (!chromatic)
+  {
+    out[0] += sigma;
+    return;
+  }
+  for (int c = 0; c < 3; ++c)
+  {
+    out[c] +=
+      sigma * TrilinearInCellSkippingZeros(q + 1 + c, dx, dy, dz, fx, fy, fz) * volume.Scale[1 + c];
+  }
+}
+
 // Whether the sample at q lies in the piece's cells and outside its empty blocks; its cell
 // in the piece's volume in cell.
 bool SampleInPiece(
   const VolumePiece& piece, const double q[3], const EmptyBlocks* empty, TrilinearCell& cell)
 {
   cell = CellAtPosition(piece.Whole, q);
-  for (int a = 0; a < 3; ++a)
-  {
-    if (cell.Index[a] < piece.FirstCell[a] || cell.Index[a] > piece.LastCell[a])
-    {
-      return false;
-    }
-    cell.Index[a] -= piece.Offset[a];
-  }
-  return !(empty && empty->ContainsCell(cell.Index));
+  return piece.Takes(cell) && !(empty && empty->ContainsCell(cell.Index));
 }
 }
 
@@ -178,6 +189,22 @@ VolumePiece VolumePiece::WholeOf(const ClassifiedVolume& volume)
     piece.LastCell[a] = std::max(volume.Geometry.Dimensions[a] - 2, 0);
   }
   return piece;
+}
+
+bool VolumePiece::Takes(TrilinearCell& cell) const
+{
+  for (int a = 0; a < 3; ++a)
+  {
+    if (cell.Index[a] < this->FirstCell[a] || cell.Index[a] > this->LastCell[a])
+    {
+      return false;
+    }
+  }
+  for (int a = 0; a < 3; ++a)
+  {
+    cell.Index[a] -= this->Offset[a];
+  }
+  return true;
 }
 
 std::array<double, 3> PartialTransmittance(const ClassifiedVolume& volume, const VolumePiece& piece,
@@ -256,19 +283,9 @@ void PartialOpticalDepth(const ClassifiedVolume& volume, const VolumePiece& piec
     {
       continue;
     }
-    const PackedValue* at = volume.Properties.data() + layout.Offset(cell.Index);
     const auto& f = cell.Fraction;
-    const double sigma = TrilinearInCellSkippingZeros(at, dx, dy, dz, f[0], f[1], f[2]) * hs;
-    if (!chromatic)
-    {
-      depth[0] += sigma;
-      continue;
-    }
-    for (int c = 0; c < 3; ++c)
-    {
-      depth[c] += sigma * TrilinearInCellSkippingZeros(at + 1 + c, dx, dy, dz, f[0], f[1], f[2]) *
-        volume.Scale[1 + c];
-    }
+    AddStepDepth(volume, volume.Properties.data() + layout.Offset(cell.Index), dx, dy, dz, f[0],
+      f[1], f[2], hs, chromatic, depth);
   }
   if (channels == 3 && !chromatic)
   {
@@ -365,19 +382,8 @@ void RowSegmentOpticalDepths(const ClassifiedVolume& volume, const double* x, in
         {
           continue;
         }
-        const PackedValue* q = row + ix[i] * layout.Stride[0];
-        double* out = depth + 3 * (begin + i);
-        const double sigma = TrilinearInCellSkippingZeros(q, dx, dy, dz, fx[i], fy, fz) * hs;
-        if (!chromatic)
-        {
-          out[0] += sigma;
-          continue;
-        }
-        for (int c = 0; c < 3; ++c)
-        {
-          out[c] += sigma * TrilinearInCellSkippingZeros(q + 1 + c, dx, dy, dz, fx[i], fy, fz) *
-            volume.Scale[1 + c];
-        }
+        AddStepDepth(volume, row + ix[i] * layout.Stride[0], dx, dy, dz, fx[i], fy, fz, hs,
+          chromatic, depth + 3 * (begin + i));
       }
     }
   }

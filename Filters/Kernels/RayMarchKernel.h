@@ -114,6 +114,9 @@ struct VolumePiece
   std::array<int, 3> LastCell{ { -1, -1, -1 } };
   /// The volume as the only piece of its grid (all its cells).
   static VolumePiece WholeOf(const ClassifiedVolume& volume);
+  /// Whether the piece takes the samples of `cell` (indexed in the whole grid); if so, the
+  /// cell's index becomes its index in the piece's volume.
+  bool Takes(TrilinearCell& cell) const;
 };
 
 /**

@@ -235,12 +235,7 @@ void CartesianSAT::Build(const ClassifiedVolume& data, const SatFrame& frame, do
               }
             }
             TrilinearCell at = cell; // in data's grid
-            for (int a = 0; piece && a < 3; ++a)
-            {
-              inside = inside && cell.Index[a] >= piece->FirstCell[a] &&
-                cell.Index[a] <= piece->LastCell[a];
-              at.Index[a] -= piece->Offset[a];
-            }
+            inside = inside && (!piece || piece->Takes(at));
             if (!inside || (empty && empty->ContainsCell(at.Index)))
             {
               for (int c = 0; c < channels; ++c)
