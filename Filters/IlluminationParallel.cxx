@@ -434,20 +434,6 @@ vtkSmartPointer<vtkUnstructuredGrid> CellsNear(
   return near;
 }
 
-// Runs exchange(k, send) with each peer k in order, this process sending first to higher
-// processes and last to lower ones: every process meets its peers in the same global order
-// of pairs, so blocking sends cannot wait on each other in a cycle.
-template <typename Exchange>
-void WithEachPeer(int local, const std::vector<int>& peers, Exchange&& exchange)
-{
-  for (size_t k = 0; k < peers.size(); ++k)
-  {
-    const bool sendFirst = local < peers[k];
-    exchange(k, sendFirst);
-    exchange(k, !sendFirst);
-  }
-}
-
 // A point's key: its global id (first value) or its coordinates.
 std::array<double, 3> PointKey(vtkDataSet* grid, vtkIdType i, bool byId)
 {
@@ -1101,6 +1087,129 @@ long long ExtentPoints(const int extent[6])
   }
   return points;
 }
+
+namespace
+{
+constexpr int ExtentValuesTag = 8274;
+
+// The intersection of two extents; false when empty.
+bool Intersect(const int* a, const int* b, int* out)
+{
+  bool some = true;
+  for (int i = 0; i < 3; ++i)
+  {
+    out[2 * i] = std::max(a[2 * i], b[2 * i]);
+    out[2 * i + 1] = std::min(a[2 * i + 1], b[2 * i + 1]);
+    some = some && out[2 * i] <= out[2 * i + 1];
+  }
+  return some;
+}
+
+// Calls row(offset, count) for each row along x of `part`, offset being the row's first
+// value in an array over `extent` (`components` a point); the rows come in order (y, then z).
+template <typename Row>
+void ForEachRow(const int* extent, const int* part, int components, Row&& row)
+{
+  const long long nx = extent[1] - extent[0] + 1, ny = extent[3] - extent[2] + 1;
+  const long long count = components * static_cast<long long>(part[1] - part[0] + 1);
+  for (int k = part[4]; k <= part[5]; ++k)
+  {
+    for (int j = part[2]; j <= part[3]; ++j)
+    {
+      const long long point = (part[0] - extent[0]) + nx * ((j - extent[2]) + ny * (k - extent[4]));
+      row(components * point, count);
+    }
+  }
+}
+
+// The values of `part` of an array over `extent`, packed row after row.
+template <typename T>
+void Pack(const T* values, const int* extent, const int* part, int components, std::vector<T>& out)
+{
+  out.resize(static_cast<size_t>(components * ExtentPoints(part)));
+  T* at = out.data();
+  ForEachRow(extent, part, components,
+    [&](long long offset, long long count) { at = std::copy_n(values + offset, count, at); });
+}
+
+// Packed values of `part` copied or added into an array over `extent`.
+template <typename T>
+void Unpack(const std::vector<T>& packed, const int* extent, const int* part, int components,
+  bool add, T* into)
+{
+  const T* at = packed.data();
+  ForEachRow(extent, part, components,
+    [&](long long offset, long long count)
+    {
+      T* to = into + offset;
+      for (long long i = 0; i < count; ++i)
+      {
+        to[i] = add ? static_cast<T>(to[i] + at[i]) : at[i];
+      }
+      at += count;
+    });
+}
+}
+
+template <typename T>
+void ExchangeExtents(vtkMultiProcessController* controller, const int held[6], const int owned[6],
+  const T* values, const int wanted[6], T* into, int components, bool add)
+{
+  const int local = controller->GetLocalProcessId();
+  const int processes = controller->GetNumberOfProcesses();
+  int mine[12];
+  std::copy_n(owned, 6, mine);
+  std::copy_n(wanted, 6, mine + 6);
+  std::vector<int> all(12 * static_cast<size_t>(processes));
+  controller->AllGather(mine, all.data(), 12);
+  std::vector<T> buffer;
+  int part[6];
+  if (Intersect(owned, wanted, part))
+  {
+    Pack(values, held, part, components, buffer);
+    Unpack(buffer, wanted, part, components, add, into);
+  }
+  // The peers: processes that want points this one owns, or own points it wants.
+  std::vector<int> peers;
+  std::vector<std::array<int, 6>> sends, receives;
+  for (int q = 0; q < processes; ++q)
+  {
+    std::array<int, 6> out, in;
+    const bool send = q != local && Intersect(owned, all.data() + 12 * q + 6, out.data());
+    const bool receive = q != local && Intersect(all.data() + 12 * q, wanted, in.data());
+    if (send || receive)
+    {
+      peers.push_back(q);
+      sends.push_back(send ? out : std::array<int, 6>{ { 0, -1, 0, -1, 0, -1 } });
+      receives.push_back(receive ? in : std::array<int, 6>{ { 0, -1, 0, -1, 0, -1 } });
+    }
+  }
+  WithEachPeer(local, peers,
+    [&](size_t k, bool send)
+    {
+      const int* piece = send ? sends[k].data() : receives[k].data();
+      if (ExtentPoints(piece) == 0)
+      {
+        return;
+      }
+      if (send)
+      {
+        Pack(values, held, piece, components, buffer);
+        controller->Send(reinterpret_cast<const char*>(buffer.data()),
+          static_cast<vtkIdType>(buffer.size() * sizeof(T)), peers[k], ExtentValuesTag);
+        return;
+      }
+      buffer.resize(static_cast<size_t>(components * ExtentPoints(piece)));
+      controller->Receive(reinterpret_cast<char*>(buffer.data()),
+        static_cast<vtkIdType>(buffer.size() * sizeof(T)), peers[k], ExtentValuesTag);
+      Unpack(buffer, wanted, piece, components, add, into);
+    });
+}
+
+template VOLILLUMFILTERS_EXPORT void ExchangeExtents<std::uint16_t>(vtkMultiProcessController*,
+  const int*, const int*, const std::uint16_t*, const int*, std::uint16_t*, int, bool);
+template VOLILLUMFILTERS_EXPORT void ExchangeExtents<std::uint32_t>(vtkMultiProcessController*,
+  const int*, const int*, const std::uint32_t*, const int*, std::uint32_t*, int, bool);
 
 bool AllOk(vtkMultiProcessController* controller, bool ok)
 {

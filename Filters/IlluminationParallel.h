@@ -102,8 +102,44 @@ VOLILLUMFILTERS_EXPORT void ReduceOverPieces(vtkMultiProcessController* controll
   const std::vector<int>& extents, int components, int operation, const PieceRows<double>& fill,
   const PieceRows<const double>& receive, const std::function<void(double)>& progress = nullptr);
 
+/**
+ * Runs exchange(k, send) twice with each of the `peers` (process ids in increasing order),
+ * once sending (send true) and once receiving: first sending to a higher process, first
+ * receiving from a lower one. Every process meets its peers in the same global order of
+ * pairs, so blocking sends cannot wait on each other in a cycle.
+ */
+template <typename Exchange>
+void WithEachPeer(int local, const std::vector<int>& peers, Exchange&& exchange)
+{
+  for (size_t k = 0; k < peers.size(); ++k)
+  {
+    const bool sendFirst = local < peers[k];
+    exchange(k, sendFirst);
+    exchange(k, !sendFirst);
+  }
+}
+
 /// Points of an extent (0 for an empty one).
 VOLILLUMFILTERS_EXPORT long long ExtentPoints(const int extent[6]);
+/**
+ * Collective: values of a grid moved from one distribution over the processes to another.
+ * Each process holds `values` (`components` a point, x fastest) over the extent `held` and
+ * owns the points of `owned` within it (the processes' `owned` extents do not overlap);
+ * it gets into `into` (over the extent `wanted`) the values of every point of `wanted` that
+ * some process owns, copied, or added (modulo 2^32 for unsigned values) with `add`. Points of
+ * `wanted` that no process owns are left as they are. Empty extents (second value below the
+ * first) take part without data. Only the pairs of processes with points to move exchange
+ * (Send/Receive in a global order of pairs).
+ */
+template <typename T>
+void ExchangeExtents(vtkMultiProcessController* controller, const int held[6], const int owned[6],
+  const T* values, const int wanted[6], T* into, int components, bool add);
+extern template VOLILLUMFILTERS_EXPORT void ExchangeExtents<std::uint16_t>(
+  vtkMultiProcessController*, const int*, const int*, const std::uint16_t*, const int*,
+  std::uint16_t*, int, bool);
+extern template VOLILLUMFILTERS_EXPORT void ExchangeExtents<std::uint32_t>(
+  vtkMultiProcessController*, const int*, const int*, const std::uint32_t*, const int*,
+  std::uint32_t*, int, bool);
 
 /// Collective: whether `ok` holds on every process.
 VOLILLUMFILTERS_EXPORT bool AllOk(vtkMultiProcessController* controller, bool ok);

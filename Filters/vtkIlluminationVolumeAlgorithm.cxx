@@ -480,6 +480,7 @@ void vtkIlluminationVolumeAlgorithm::FinishOutput(vtkImageData* output, const in
   output->SetDirectionMatrix(direction);
   output->GetPointData()->SetScalars(illumination);
   this->AddOutputArrays(output->GetPointData());
+  this->AddOutputFieldData(output->GetFieldData());
   volillum::AddUpdateFieldData(output->GetFieldData(), report, seconds);
   vtkNew<vtkIdTypeArray> classified;
   classified->SetName("ClassifiedPoints");

@@ -62,6 +62,7 @@ class vtkLight;
 class vtkMatrix3x3;
 class vtkMultiProcessController;
 class vtkPiecewiseFunction;
+class vtkFieldData;
 class vtkPointData;
 
 class VOLILLUMFILTERS_EXPORT vtkIlluminationVolumeAlgorithm : public vtkImageAlgorithm
@@ -246,6 +247,8 @@ protected:
 
   /// Add any further point arrays of the last computation to the output (none by default).
   virtual void AddOutputArrays(vtkPointData* vtkNotUsed(pointData)) {}
+  /// Add any further field arrays describing the last computation (none by default).
+  virtual void AddOutputFieldData(vtkFieldData* vtkNotUsed(fieldData)) {}
 
   /// Report progress; returns false when the update should stop.
   bool ReportProgress(double fraction);

@@ -102,6 +102,28 @@ public:
   vtkBooleanMacro(RecordEditedLight, bool);
   ///@}
 
+  ///@{
+  /**
+   * In a parallel run with directional lights only and point scalars (default on): sweep the
+   * light over slabs of the grid instead of assembling the whole input on every process. Along
+   * each axis the slices are shared out in slabs, one per process with a piece; a process gets
+   * the classification of its slab from the others and sweeps its slices, receiving the light
+   * of the ray lattices where the slab before it (in the sweep's direction) left them and
+   * handing them on. Memory per process follows its block and slab; a sweep is a pipeline
+   * through the processes, so a process waits for those upwind of it (sweeps in opposite
+   * directions run at once). With a point or spot light on, cell scalars or this off, the input
+   * is assembled and the sweeps shared out (see vtkIlluminationVolumeAlgorithm::SetController).
+   * The result equals the serial run's.
+   */
+  vtkSetMacro(DistributedSweeps, bool);
+  vtkGetMacro(DistributedSweeps, bool);
+  vtkBooleanMacro(DistributedSweeps, bool);
+  ///@}
+
+  /// The points of the largest slab of the classification this process held in the last
+  /// parallel update with DistributedSweeps (0 otherwise; field array SlabPoints).
+  long long GetLastSlabPoints() const { return this->SlabPoints; }
+
   /// Sweeps left for later updates by MaximumPassesPerUpdate.
   int GetNumberOfPendingPasses() const;
 
@@ -121,12 +143,20 @@ protected:
   bool ComputeIllumination(const volillum::ClassifiedVolume& volume,
     const std::vector<volillum::LightState>& lights, const volillum::GridGeometry& target,
     bool inputModified, float* rgb, UpdateReport& report) override;
+  bool LightsDistributedPieces() const override;
+  /// Field array SlabPoints after a parallel update over slabs (GetLastSlabPoints).
+  void AddOutputFieldData(vtkFieldData* fieldData) override;
+  void ComputeDistributedIllumination(vtkMultiProcessController* controller,
+    const volillum::ClassifiedVolume& volume, const volillum::VolumePiece& piece,
+    const std::vector<volillum::LightState>& lights, const volillum::GridGeometry& target,
+    const std::vector<int>& extents, bool inputModified, float* rgb, UpdateReport& report) override;
 
   int CostEstimate = PropagationPasses;
   bool SelectiveUpdates = true;
   bool CoherentPropagation = true;
   int MaximumPassesPerUpdate = 0;
   bool RecordEditedLight = true;
+  bool DistributedSweeps = true;
 
 private:
   vtkMultiLightIlluminationVolume(const vtkMultiLightIlluminationVolume&) = delete;
@@ -152,12 +182,44 @@ private:
   // flags of the tasks left for later.
   void FinishRecord(const RecordPlan& plan, std::vector<volillum::PropagationTask>& remaining);
 
+  // Whether an update of `points` illumination points must recompute every light.
+  bool MustRecompute(const std::vector<volillum::LightState>& lights, long long points,
+    bool inputModified, bool distributed) const;
+  // The work of an update (the tasks of every light for a full one, else the pending work and
+  // the changed lights' removals and additions); starts the record as planned and resets the
+  // illumination to `points` points for a full update. Returns whether it is selective.
+  bool PrepareUpdate(const std::vector<volillum::LightState>& lights, const double bounds[6],
+    long long points, bool mustRecompute, std::vector<volillum::PropagationTask>& work,
+    RecordPlan& plan);
+  // The bookkeeping of a complete update and its report.
+  void CommitUpdate(bool selective, const RecordPlan& plan,
+    std::vector<volillum::PropagationTask>& remaining,
+    const std::vector<volillum::LightState>& lights, bool distributed, UpdateReport& report);
+  // The processes of a parallel update over slabs: those with a piece (Participants, in
+  // process order) and this one's place among them (-1: none).
+  struct SlabSweeps
+  {
+    vtkMultiProcessController* Controller = nullptr;
+    std::vector<int> Participants;
+    int Me = -1;
+  };
+  // Collective: the planned sweeps along `axis` over the slabs (see DistributedSweeps), their
+  // units added to this process's illumination over its extent `own`.
+  void SweepSlabs(const SlabSweeps& slabs, int axis, const volillum::ClassifiedVolume& volume,
+    const volillum::VolumePiece& piece, const volillum::GridGeometry& target,
+    const std::vector<std::vector<volillum::PropagationTask>>& sweeps, bool record,
+    const int own[6]);
+
   // The accumulated illumination and the states it holds (with Pending still to do).
   volillum::FixedPointIllumination Illumination;
   volillum::LightChangeTracker Applied;
   std::vector<volillum::PropagationTask> Pending;
   bool Valid = false;
   int RecordedLight = -1; // whose contribution Illumination.Recorded holds
+  // Whether Illumination holds this process's extent of a parallel run over slabs (else the
+  // whole grid).
+  bool DistributedLayout = false;
+  long long SlabPoints = 0;
   volillum::PropagationStatistics LastStatistics;
 };
 

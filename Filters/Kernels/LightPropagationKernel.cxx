@@ -272,6 +272,11 @@ struct SweepContext
   long long Stride[3];
   double Origin[3], Spacing[3];
   double Bounds[6];
+  // The layout of the units the sweep deposits into: point (i, j, k) of the grid at
+  // 3 ((i, j, k) - UnitFirst e_Axis) . UnitStride: the whole grid (Stride, UnitFirst 0), or
+  // the slices of a part of the sweep (SweepPart).
+  long long UnitStride[3];
+  int UnitFirst;
   // Whether rows of segments may share their samples' cells (RowSegments for directional
   // sources, DivergingRowSegments for point and spot sources); false integrates every segment
   // on its own.
@@ -1318,18 +1323,22 @@ SweepContext MakeSweepContext(const ClassifiedVolume& volume, const EmptyBlocks*
     { g.Dimensions[0], g.Dimensions[1], g.Dimensions[2] },
     { 1, g.Dimensions[0], static_cast<long long>(g.Dimensions[0]) * g.Dimensions[1] },
     { g.Origin[0], g.Origin[1], g.Origin[2] }, { g.Spacing[0], g.Spacing[1], g.Spacing[2] }, {},
-    false, volume.IsChromatic() ? 3 : 1 };
+    { 1, g.Dimensions[0], static_cast<long long>(g.Dimensions[0]) * g.Dimensions[1] }, 0, false,
+    volume.IsChromatic() ? 3 : 1 };
   g.GetBounds(s.Bounds);
-  // Row kernels take a ray inside the volume's grid to be inside the box: they need the two
-  // to coincide.
+  // Row kernels take a ray inside the volume's grid to be inside the box: across the axis
+  // the two must coincide; along it the volume may be a slab of the box (SweepPart).
   double volumeBounds[6];
   volume.Geometry.GetBounds(volumeBounds);
   s.RowKernels = rowKernels;
   for (int a = 0; a < 3; ++a)
   {
     const double tolerance = FaceTolerance(s.Bounds, a);
-    s.RowKernels = s.RowKernels && std::abs(volumeBounds[2 * a] - s.Bounds[2 * a]) <= tolerance &&
-      std::abs(volumeBounds[2 * a + 1] - s.Bounds[2 * a + 1]) <= tolerance;
+    const double low = volumeBounds[2 * a] - s.Bounds[2 * a];
+    const double high = s.Bounds[2 * a + 1] - volumeBounds[2 * a + 1];
+    s.RowKernels = s.RowKernels &&
+      (a == s.Axis ? low >= -tolerance && high >= -tolerance
+                   : std::abs(low) <= tolerance && std::abs(high) <= tolerance);
   }
   return s;
 }
@@ -1503,6 +1512,7 @@ struct SweepSlices
   std::vector<std::vector<float>> Read, Write;
   std::vector<size_t> Anchored; // the point and spot sources
   int Rows = 0;                 // items of the rows step: a lattice has a row more
+  int FirstSlice = 0;           // the first slice t swept (a part's)
   std::uint32_t* Values = nullptr;
   std::uint32_t* Recorded = nullptr; // when a task is recorded
   // A sweep along x, whose rows run along y, deposits BufferSlices slices at a time into
@@ -1548,7 +1558,7 @@ struct SweepSlices
     {
       this->Recorded = illumination.Recorded.data();
     }
-    if (s.Stride[s.B] != 1)
+    if (s.UnitStride[s.B] != 1)
     {
       this->BufferSlices = std::min(DepositSlices, s.N[s.Axis]);
       const size_t size = 3 * static_cast<size_t>(this->BufferSlices) * s.N[s.B] * s.N[s.C];
@@ -1628,6 +1638,12 @@ struct SweepSlices
 
   int Slice(int t) const { return this->S.Sign > 0 ? t : this->S.N[this->S.Axis] - 1 - t; }
 
+  // The units of point (0, 0, k) (3 a point).
+  long long SliceStart(int k) const
+  {
+    return 3 * (k - this->S.UnitFirst) * this->S.UnitStride[this->S.Axis];
+  }
+
   // Directions and group factors are kept only with a point or spot source (a directional
   // source's deposits are uniform along a row).
   Scratch NewScratch() const
@@ -1676,12 +1692,13 @@ struct SweepSlices
     }
     // The row's units: contiguous in the illumination when rows run along x, else in the
     // deposit buffers.
-    long long start = 3 * (k * s.Stride[s.Axis] + ic * s.Stride[s.C]);
+    long long start = this->SliceStart(k) + 3 * ic * s.UnitStride[s.C];
     std::uint32_t* values = this->Values;
     std::uint32_t* recorded = this->Recorded;
     if (this->BufferSlices > 0)
     {
-      start = 3 * (static_cast<long long>(t % this->BufferSlices) * s.N[s.C] + ic) * nb;
+      const int slot = (t - this->FirstSlice) % this->BufferSlices;
+      start = 3 * (static_cast<long long>(slot) * s.N[s.C] + ic) * nb;
       values = this->Buffer.data();
       recorded = this->Recorded ? this->BufferRecorded.data() : nullptr;
     }
@@ -1690,8 +1707,8 @@ struct SweepSlices
       scratch.Factors.data());
   }
 
-  // Adds the buffered units of row ic of slices [first, first + count) (first a multiple of
-  // BufferSlices) to the illumination, and clears them.
+  // Adds the buffered units of row ic of slices [first, first + count) (first FirstSlice
+  // plus a multiple of BufferSlices) to the illumination, and clears them.
   void Flush(int first, int count, int ic)
   {
     const SweepContext& s = this->S;
@@ -1702,17 +1719,17 @@ struct SweepSlices
       for (int ib = 0; ib < nb; ++ib)
       {
         std::uint32_t* in = buffer + 3 * (static_cast<size_t>(ic) * nb + ib);
-        const long long row = ib * s.Stride[s.B] + ic * s.Stride[s.C];
+        const long long row = 3 * (ib * s.UnitStride[s.B] + ic * s.UnitStride[s.C]);
         if (ib + RowsAhead < nb)
         {
           // The units of a pixel lie rows apart: ask for those of a later one meanwhile.
-          const long long ahead = row + RowsAhead * s.Stride[s.B];
-          Prefetch<1>(out + 3 * (ahead + this->Slice(first) * s.Stride[s.Axis]));
-          Prefetch<1>(out + 3 * (ahead + this->Slice(first + count - 1) * s.Stride[s.Axis]));
+          const long long ahead = row + 3 * RowsAhead * s.UnitStride[s.B];
+          Prefetch<1>(out + ahead + this->SliceStart(this->Slice(first)));
+          Prefetch<1>(out + ahead + this->SliceStart(this->Slice(first + count - 1)));
         }
         for (int m = 0; m < count; ++m, in += perSlice)
         {
-          std::uint32_t* o = out + 3 * (row + this->Slice(first + m) * s.Stride[s.Axis]);
+          std::uint32_t* o = out + row + this->SliceStart(this->Slice(first + m));
           for (int ch = 0; ch < 3; ++ch)
           {
             o[ch] += in[ch]; // modulo 2^32, as DepositRow
@@ -1757,27 +1774,85 @@ struct SweepSlices
   }
 };
 
-// One sweep of the tasks (all in the same group) through the grid: its slices' steps run by
-// one team of threads per chunk of slices (ForSteps), progress reported between chunks
-// from this thread.
+// The slices of a sweep one call runs: the whole sweep, or a part (SweepPart) whose units
+// hold only its slices and whose ray lattices come from the part before and go to the next.
+struct SweepSpan
+{
+  bool Whole = true;
+  SweepPart Part;
+  std::vector<float>* Rays = nullptr;
+};
+
+// Copies the ray lattices of a sweep's directional sources from (in) or to (out) rays, one
+// after the other.
+void TransferLattices(SweepSlices& slices, std::vector<float>& rays, bool in)
+{
+  size_t size = 0;
+  for (size_t j = 0; j < slices.Prepared.size(); ++j)
+  {
+    size += slices.Prepared[j].FollowsRays() ? slices.Read[j].size() : 0;
+  }
+  if (!in)
+  {
+    rays.resize(size);
+  }
+  size_t at = 0;
+  for (size_t j = 0; j < slices.Prepared.size() && rays.size() == size; ++j)
+  {
+    if (slices.Prepared[j].FollowsRays())
+    {
+      auto& lattice = slices.Read[j];
+      if (in)
+      {
+        std::copy_n(rays.begin() + at, lattice.size(), lattice.begin());
+      }
+      else
+      {
+        std::copy(lattice.begin(), lattice.end(), rays.begin() + at);
+      }
+      at += lattice.size();
+    }
+  }
+}
+
+// One sweep of the tasks (all in the same group) through the grid, or the part of it `span`
+// gives: its slices' steps run by one team of threads per chunk of slices (ForSteps),
+// progress reported between chunks from this thread.
 bool Sweep(const ClassifiedVolume& volume, const EmptyBlocks* empty, bool rowKernels,
   const GridGeometry& g, int group, const std::vector<PropagationTask>& tasks,
   FixedPointIllumination& illumination, PropagationStatistics& statistics,
-  const std::function<bool(double)>& progress)
+  const std::function<bool(double)>& progress, const SweepSpan& span = SweepSpan())
 {
   // The slab (SweepContext::Slab) changes from chunk to chunk: the threads read it after the
   // step that copies it.
   SweepContext s = MakeSweepContext(volume, empty, rowKernels, g, group);
-  SweepSlices slices(s, tasks, illumination, statistics);
-  const int perSlice = slices.StepsPerSlice();
   const int na = s.N[s.Axis];
+  int begin = 0, end = na; // slices t from the sweep's start
+  if (!span.Whole)
+  {
+    const SweepPart& part = span.Part;
+    begin = s.Sign > 0 ? part.First : na - 1 - part.Last;
+    end = begin + part.Last - part.First + 1;
+    long long dimensions[3] = { s.N[0], s.N[1], s.N[2] };
+    dimensions[s.Axis] = part.Last - part.First + 1;
+    s.UnitStride[1] = dimensions[0];
+    s.UnitStride[2] = dimensions[0] * dimensions[1];
+    s.UnitFirst = part.First;
+  }
+  SweepSlices slices(s, tasks, illumination, statistics);
+  slices.FirstSlice = begin;
+  if (span.Rays && begin > 0)
+  {
+    TransferLattices(slices, *span.Rays, true);
+  }
+  const int perSlice = slices.StepsPerSlice();
   // A chunk of buffered slices ends with their flush, a step of a row each; one with a slab
   // starts by copying it, a step of a row along y each.
   const int chunk = slices.BufferSlices > 0 ? slices.BufferSlices : std::max(1, na / 16);
   const int flush = slices.BufferSlices > 0 ? 1 : 0;
-  for (int first = 0; first < na; first += chunk)
+  for (int first = begin; first < end; first += chunk)
   {
-    const int count = std::min(chunk, na - first);
+    const int count = std::min(chunk, end - first);
     s.Slab = slices.SlabFor(first, count);
     const int copy = s.Slab.Low <= s.Slab.High ? 1 : 0;
     ForSteps(
@@ -1838,10 +1913,14 @@ bool Sweep(const ClassifiedVolume& volume, const EmptyBlocks* empty, bool rowKer
           }
         };
       });
-    if (progress && !progress(static_cast<double>(first + count) / na))
+    if (progress && !progress(static_cast<double>(first + count - begin) / (end - begin)))
     {
       return false;
     }
+  }
+  if (span.Rays)
+  {
+    TransferLattices(slices, *span.Rays, false);
   }
   return true;
 }
@@ -1977,11 +2056,8 @@ void FixedPointIllumination::SubtractRecord()
     });
 }
 
-bool PropagateTasks(const ClassifiedVolume& volume, const GridGeometry& target,
-  const std::vector<PropagationTask>& tasks, bool coherent, int maxSweeps,
-  FixedPointIllumination& illumination, std::vector<PropagationTask>& remaining,
-  PropagationStatistics& statistics, const ProgressCallback& progress, const EmptyBlocks* empty,
-  bool rowKernels, const SweepShare& share)
+std::vector<std::vector<PropagationTask>> PlanSweeps(const std::vector<PropagationTask>& tasks,
+  bool coherent, int maxSweeps, std::vector<PropagationTask>& remaining)
 {
   remaining.clear();
   // Sweeps in group order, so the two directions of an axis run one after the other.
@@ -2019,6 +2095,16 @@ bool PropagateTasks(const ClassifiedVolume& volume, const GridGeometry& target,
     remaining.insert(remaining.end(), sweeps[i].begin(), sweeps[i].end());
   }
   sweeps.resize(planned);
+  return sweeps;
+}
+
+bool PropagateTasks(const ClassifiedVolume& volume, const GridGeometry& target,
+  const std::vector<PropagationTask>& tasks, bool coherent, int maxSweeps,
+  FixedPointIllumination& illumination, std::vector<PropagationTask>& remaining,
+  PropagationStatistics& statistics, const ProgressCallback& progress, const EmptyBlocks* empty,
+  bool rowKernels, const SweepShare& share)
+{
+  const auto sweeps = PlanSweeps(tasks, coherent, maxSweeps, remaining);
   const std::vector<int> process = AssignSweeps(sweeps, share.Processes);
   std::vector<size_t> mine;
   for (size_t i = 0; i < sweeps.size(); ++i)
@@ -2042,6 +2128,41 @@ bool PropagateTasks(const ClassifiedVolume& volume, const GridGeometry& target,
     }
   }
   return true;
+}
+
+bool SweepsInParts(const std::vector<PropagationTask>& tasks)
+{
+  return std::all_of(tasks.begin(), tasks.end(),
+    [](const PropagationTask& t) { return t.Light.Kind == LightKind::Directional; });
+}
+
+void SlabOfPart(const GridGeometry& data, const GridGeometry& target, int axis,
+  const SweepPart& part, int& first, int& last)
+{
+  const int n = data.Dimensions[axis];
+  auto point = [&](int slice)
+  {
+    const double x = target.Origin[axis] + slice * target.Spacing[axis];
+    return (x - data.Origin[axis]) / data.Spacing[axis];
+  };
+  first = static_cast<int>(std::max(0.0, std::floor(point(part.First - 1)) - 1));
+  last = static_cast<int>(std::min(n - 1.0, std::ceil(point(part.Last + 1)) + 1));
+}
+
+bool PropagateSweepPart(const ClassifiedVolume& volume, const GridGeometry& target,
+  const std::vector<PropagationTask>& tasks, const SweepPart& part, FixedPointIllumination& units,
+  std::vector<float>& rays, PropagationStatistics& statistics, const EmptyBlocks* empty)
+{
+  if (tasks.empty() || !SweepsInParts(tasks) || part.First > part.Last)
+  {
+    return tasks.empty() || part.First > part.Last;
+  }
+  SweepSpan span;
+  span.Whole = false;
+  span.Part = part;
+  span.Rays = &rays;
+  return Sweep(
+    volume, empty, true, target, tasks[0].Group, tasks, units, statistics, nullptr, span);
 }
 
 std::vector<int> AssignSweeps(

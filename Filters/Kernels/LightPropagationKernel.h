@@ -203,6 +203,51 @@ VOLILLUMKERNELS_EXPORT bool PropagateTasks(const ClassifiedVolume& volume,
 VOLILLUMKERNELS_EXPORT std::vector<int> AssignSweeps(
   const std::vector<std::vector<PropagationTask>>& sweeps, int processes);
 
+/**
+ * The sweeps PropagateTasks plans for the tasks, in the order it runs them: per group in group
+ * order, all of a group's tasks in one sweep when coherent, else one sweep a task; at most
+ * maxSweeps (0: no limit), the tasks of the others in remaining.
+ */
+VOLILLUMKERNELS_EXPORT std::vector<std::vector<PropagationTask>> PlanSweeps(
+  const std::vector<PropagationTask>& tasks, bool coherent, int maxSweeps,
+  std::vector<PropagationTask>& remaining);
+
+/// Consecutive slices [First, Last] (indices along the sweep's axis of the illumination grid)
+/// of a sweep, which one process runs in a parallel run over slabs (PropagateSweepPart).
+struct SweepPart
+{
+  int First = 0;
+  int Last = -1;
+};
+
+/// Whether a sweep of the tasks can run in parts (PropagateSweepPart): directional lights
+/// only. Their light between two slices is that of their ray lattices; a point or spot
+/// light's rays are integrated from their anchor slice or a side face, slices back.
+VOLILLUMKERNELS_EXPORT bool SweepsInParts(const std::vector<PropagationTask>& tasks);
+
+/// The points [first, last] along `axis` of the data grid `data` that a part of a sweep over
+/// the illumination grid `target` reads in either direction (PropagateSweepPart's slab): those
+/// from the slice before the part to the slice after it, and one more each side.
+VOLILLUMKERNELS_EXPORT void SlabOfPart(const GridGeometry& data, const GridGeometry& target,
+  int axis, const SweepPart& part, int& first, int& last);
+
+/**
+ * The slices `part` of one sweep of the tasks (one group, SweepsInParts): `volume` is a slab
+ * of the data grid that holds, at full extent across the axis, the material between the
+ * slice before the part (in the sweep's direction) and its last slice; `units` the fixed-point
+ * illumination of the part's slices only (target's points with Dimensions[axis] = the part's
+ * slices, x fastest; Recorded as in PropagateTasks); `rays` on entry the light of the ray
+ * lattices where the part before left them (ignored for the part that starts the sweep), on
+ * return where this part leaves them. Running the parts of a sweep in its direction, each
+ * with the rays of the one before, deposits the sweep's units of PropagateTasks (up to the
+ * rounding of sample positions in the slab's grid). Returns false for tasks that cannot run
+ * in parts.
+ */
+VOLILLUMKERNELS_EXPORT bool PropagateSweepPart(const ClassifiedVolume& volume,
+  const GridGeometry& target, const std::vector<PropagationTask>& tasks, const SweepPart& part,
+  FixedPointIllumination& units, std::vector<float>& rays, PropagationStatistics& statistics,
+  const EmptyBlocks* empty = nullptr);
+
 }
 
 #endif

@@ -490,6 +490,161 @@ TEST(Kernels, PropagationThroughASlabAndSelectiveRemovalIsExact)
 
 namespace
 {
+// The points [first, last] along `axis` of a volume, a volume of their own.
+ClassifiedVolume SlabOfVolume(const ClassifiedVolume& whole, int axis, int first, int last)
+{
+  ClassifiedVolume slab;
+  slab.Channels = whole.Channels;
+  slab.Scale = whole.Scale;
+  slab.Geometry = whole.Geometry;
+  slab.Geometry.Dimensions[axis] = last - first + 1;
+  slab.Geometry.Origin[axis] += first * whole.Geometry.Spacing[axis];
+  const auto& d = whole.Geometry.Dimensions;
+  const auto& n = slab.Geometry.Dimensions;
+  for (int k = 0; k < n[2]; ++k)
+  {
+    for (int j = 0; j < n[1]; ++j)
+    {
+      for (int i = 0; i < n[0]; ++i)
+      {
+        int index[3] = { i, j, k };
+        index[axis] += first;
+        const size_t from = index[0] + d[0] * (index[1] + static_cast<size_t>(d[1]) * index[2]);
+        for (int c = 0; c < whole.Channels; ++c)
+        {
+          slab.Properties.push_back(whole.Properties[whole.Channels * from + c]);
+        }
+      }
+    }
+  }
+  return slab;
+}
+}
+
+// A sweep run in parts over slabs (PropagateSweepPart: each part holds only the material and
+// the illumination of its slices, the ray lattices handed from part to part) deposits what
+// the whole sweep does: oblique directional lights in both their groups, chromatic and grey
+// material, the illumination grid at the data's resolution and at half of it, a recorded
+// task. The parts' slabs are smaller than the volume. A lattice not handed over (the part
+// starting from unattenuated light) changes the units by far more (checked).
+TEST(Kernels, SweepPartsOverSlabsEqualTheWholeSweep)
+{
+  const ClassifiedVolume chromatic = ChromaticVolume();
+  ClassifiedVolume grey;
+  grey.Geometry = chromatic.Geometry;
+  grey.Channels = 1;
+  std::vector<float> extinction;
+  for (long long i = 0; i < chromatic.Geometry.NumberOfPoints(); ++i)
+  {
+    extinction.push_back(chromatic.Value(4 * static_cast<size_t>(i)));
+  }
+  grey.Store(extinction);
+  LightState first, second;
+  first.Position = { { -3.0, 9.0, 8.0 } };
+  first.FocalPoint = { { 2.0, 5.0, 3.0 } };
+  second.Position = { { 7.0, -2.0, 4.0 } };
+  second.FocalPoint = { { 2.0, 5.5, 2.5 } };
+  second.Color = { { 0.3, 0.9, 0.6 } };
+  double largest = 0.0, unhanded = 0.0;
+  long long slabPoints = 0;
+  for (const ClassifiedVolume* volume : { &chromatic, static_cast<const ClassifiedVolume*>(&grey) })
+  {
+    for (const double scale : { 1.0, 0.5 })
+    {
+      const GridGeometry target = ScaledGeometry(volume->Geometry, scale);
+      double bounds[6];
+      target.GetBounds(bounds);
+      std::vector<PropagationTask> tasks;
+      for (const LightState& light : { first, second })
+      {
+        const auto more = TasksForLight(light, +1, bounds);
+        tasks.insert(tasks.end(), more.begin(), more.end());
+      }
+      tasks[0].Recorded = true;
+      const double unit = FixedPointIllumination::ScaleFor(2.0);
+      FixedPointIllumination whole;
+      whole.Reset(target.NumberOfPoints(), unit);
+      whole.StartRecord();
+      std::vector<PropagationTask> remaining;
+      PropagationStatistics statistics;
+      ASSERT_TRUE(
+        PropagateTasks(*volume, target, tasks, true, 0, whole, remaining, statistics, nullptr));
+      for (const bool handOver : { true, false })
+      {
+        FixedPointIllumination parts;
+        parts.Reset(target.NumberOfPoints(), unit);
+        parts.StartRecord();
+        for (const auto& sweep : PlanSweeps(tasks, true, 0, remaining))
+        {
+          ASSERT_TRUE(SweepsInParts(sweep));
+          const int axis = sweep[0].Group / 2;
+          const int n = target.Dimensions[axis];
+          // Three parts of unequal size (one of a single slice), in the sweep's direction.
+          std::vector<SweepPart> order = { { 0, n / 3 - 1 }, { n / 3, n / 3 },
+            { n / 3 + 1, n - 1 } };
+          if (sweep[0].Group % 2 == 1)
+          {
+            std::reverse(order.begin(), order.end());
+          }
+          std::vector<float> rays;
+          for (const SweepPart& part : order)
+          {
+            int low, high;
+            SlabOfPart(volume->Geometry, target, axis, part, low, high);
+            const ClassifiedVolume slab = SlabOfVolume(*volume, axis, low, high);
+            slabPoints = std::max(slabPoints, slab.Geometry.NumberOfPoints());
+            GridGeometry slices = target;
+            slices.Dimensions[axis] = part.Last - part.First + 1;
+            FixedPointIllumination units;
+            units.Reset(slices.NumberOfPoints(), unit);
+            units.StartRecord();
+            if (!handOver)
+            {
+              rays.clear();
+            }
+            ASSERT_TRUE(PropagateSweepPart(slab, target, sweep, part, units, rays, statistics));
+            // The part's units into the whole grid's.
+            const auto& d = target.Dimensions;
+            const auto& m = slices.Dimensions;
+            for (long long i = 0; i < slices.NumberOfPoints(); ++i)
+            {
+              long long index[3] = { i % m[0], (i / m[0]) % m[1], i / (m[0] * m[1]) };
+              index[axis] += part.First;
+              const size_t to = 3 * (index[0] + d[0] * (index[1] + d[1] * index[2]));
+              for (int c = 0; c < 3; ++c)
+              {
+                parts.Values[to + c] += units.Values[3 * i + c];
+                parts.Recorded[to + c] += units.Recorded[3 * i + c];
+              }
+            }
+          }
+        }
+        double difference = 0.0;
+        for (size_t i = 0; i < whole.Values.size(); ++i)
+        {
+          for (const auto* pair : { &whole.Values, &whole.Recorded })
+          {
+            const auto& other = pair == &whole.Values ? parts.Values : parts.Recorded;
+            const double a = static_cast<std::int32_t>((*pair)[i]) / unit;
+            const double b = static_cast<std::int32_t>(other[i]) / unit;
+            difference = std::max(difference, std::abs(a - b));
+          }
+        }
+        (handOver ? largest : unhanded) = std::max(handOver ? largest : unhanded, difference);
+      }
+    }
+  }
+  std::cout << "sweep parts over slabs against whole sweeps: largest difference " << largest
+            << " (without handing the lattices over: " << unhanded << "); largest slab "
+            << slabPoints << " of " << chromatic.Geometry.NumberOfPoints() << " points"
+            << std::endl;
+  EXPECT_LT(largest, 1e-6);
+  EXPECT_GT(unhanded, 1e-2);
+  EXPECT_LT(slabPoints, chromatic.Geometry.NumberOfPoints());
+}
+
+namespace
+{
 // The unit cube cut into n^3 cells of six tetrahedra each (around the main diagonal).
 void CubeMesh(int n, std::vector<double>& points, std::vector<long long>& tets)
 {

@@ -13,6 +13,12 @@ and checks, against the serial run:
   by their coordinates);
 - a one-light change in parallel is a selective update (UpdateMode 1) and equals a fresh
   parallel filter with the new lights;
+- Multi-Light Illumination Volume with directional lights only (scale 1/2 grey and scale 1
+  chromatic) sweeps over slabs without assembling the input: each process classified its
+  block and held slabs of the classification smaller than the input (ClassifiedPoints,
+  SlabPoints); two edits of one light (the second subtracts its record) are selective and
+  equal a fresh filter; DistributedSweeps off assembles the input; the image of one cell
+  (one process sweeps, the others take part in the collective calls only);
 - the files read back whole (the image pieces cover the illumination grid);
 - a tetrahedralised Wavelet (thin layers of other pieces' cells, eight level-1 steps,
   strong scattering) on redistributed pieces equals the serial run too;
@@ -34,7 +40,9 @@ import subprocess
 import sys
 
 TOLERANCE = 1e-5  # largest difference relative to the largest value
-FILES = ["multilight.pvti", "selective.pvti", "fresh.pvti", "filtered.pvti", "filtered_hard.pvti",
+FILES = ["multilight.pvti", "selective.pvti", "fresh.pvti", "swept.pvti", "swept_chromatic.pvti",
+         "swept_selective.pvti", "swept_again.pvti", "swept_fresh.pvti", "swept_assembled.pvti",
+         "tiny_swept.pvti", "filtered.pvti", "filtered_hard.pvti",
          "filtered_soft.pvti", "filtered_axis.pvti", "filtered_assembled.pvti",
          "raymarched.pvti",
          "tiny.pvti", "tiny_raymarched.pvti", "cells_raymarched.pvti",
@@ -46,6 +54,13 @@ HEAD = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Dat
 LIGHTS = [0, -200, -150, 400, 100, 100, 70, 1.0, 0.7, 0.4, 1.0, 90, 1, 1,
           1, 350, 120, 60, 100, 100, 70, 0.4, 0.6, 1.0, 1.0, 90, 1, 1]
 EDITED = LIGHTS[:14] + [1, 330, -40, 90, 100, 100, 70, 0.4, 0.6, 1.0, 0.8, 90, 1, 1]
+# Three directional lights (swept over slabs in parallel: every process a slab of slices
+# along each axis, the light handed from slab to slab), the second edited twice.
+SWEPT = LIGHTS[:14] + [0, 300, 250, -100, 100, 100, 70, 0.3, 0.8, 1.0, 1.0, 90, 1, 1,
+                       0, 40, 90, 380, 100, 100, 70, 1.0, 1.0, 1.0, 0.6, 90, 1, 1]
+SWEPT_EDITED = SWEPT[:14] + [0, 320, 200, -60] + SWEPT[18:]
+SWEPT_AGAIN = SWEPT[:14] + [0, 280, 260, 140, 100, 100, 70, 0.3, 0.8, 1.0, 0.9, 90, 1, 1] + \
+    SWEPT[28:]
 
 
 def worker(plugin, out, grid_file, tiny_file, parallel):
@@ -76,6 +91,23 @@ def worker(plugin, out, grid_file, tiny_file, parallel):
     fresh = image_filter("MultiLightIlluminationVolume", ResolutionScale=0.5)
     fresh.Lights = EDITED
     save(fresh, "fresh.pvti")
+    swept = image_filter("MultiLightIlluminationVolume", ResolutionScale=0.5)
+    swept.Lights = SWEPT
+    save(swept, "swept.pvti")
+    swept.Lights = SWEPT_EDITED
+    save(swept, "swept_selective.pvti")
+    swept.Lights = SWEPT_AGAIN  # the recorded light again: its record is subtracted
+    save(swept, "swept_again.pvti")
+    swept_fresh = image_filter("MultiLightIlluminationVolume", ResolutionScale=0.5)
+    swept_fresh.Lights = SWEPT_AGAIN
+    save(swept_fresh, "swept_fresh.pvti")
+    chromatic = image_filter("MultiLightIlluminationVolume", ChromaticAttenuation=1)
+    chromatic.Lights = SWEPT
+    save(chromatic, "swept_chromatic.pvti")
+    assembled = image_filter("MultiLightIlluminationVolume", ResolutionScale=0.5,
+                             DistributedSweeps=0)
+    assembled.Lights = SWEPT
+    save(assembled, "swept_assembled.pvti")
     save(image_filter("FilteredVolumetricShadows", ResolutionScale=0.5, FilterWidth=3),
          "filtered.pvti")
     # Directional light only: each process builds its tables' windows over its block (hard
@@ -103,11 +135,12 @@ def worker(plugin, out, grid_file, tiny_file, parallel):
     save(cells, "cells_raymarched.pvti")
     # An image of 2 x 2 x 2 points: one cell, so all but one process have an empty block.
     tiny_image = XMLImageDataReader(FileName=[tiny_file])
-    for name, saved in [("MultiLightIlluminationVolume", "tiny.pvti"),
-                        ("RayMarchedIllumination", "tiny_raymarched.pvti")]:
+    for name, saved, lights in [("MultiLightIlluminationVolume", "tiny.pvti", LIGHTS),
+                                ("MultiLightIlluminationVolume", "tiny_swept.pvti", SWEPT),
+                                ("RayMarchedIllumination", "tiny_raymarched.pvti", LIGHTS)]:
         tiny = ns[name](Input=tiny_image, ColorTransferFunction=lut, OpacityFunction=pwf)
         tiny.Scalars = ["POINTS", "scalars"]
-        tiny.Lights = LIGHTS
+        tiny.Lights = lights
         save(tiny, saved)
 
     grid = XMLUnstructuredGridReader(FileName=[grid_file])
@@ -353,8 +386,16 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
                 shadow = compare(serial[f], data, "Transmittance0")
                 if shadow is None or shadow > TOLERANCE:
                     failures.append("%s/%s: Transmittance0 difference %s" % (run, f, shadow))
+            if f in ("swept.pvti", "swept_chromatic.pvti"):
+                # Each process held a slab of the classification along each axis, not all of it.
+                whole = piece_counts(os.path.join(out, "serial", f[:-len(".pvti")]),
+                                     "ClassifiedPoints")
+                slabs = piece_counts(os.path.join(out, run, f[:-len(".pvti")]), "SlabPoints")
+                print("%-5s %-26s largest slab of each process %s of %s" % (run, f, slabs, whole))
+                if len(slabs) != int(run[2:]) or max(slabs) >= whole[0]:
+                    failures.append("%s/%s: a process held the whole classification" % (run, f))
             if f in ("raymarched.pvti", "filtered_hard.pvti", "filtered_soft.pvti",
-                     "filtered_axis.pvti"):
+                     "filtered_axis.pvti", "swept.pvti", "swept_chromatic.pvti"):
                 # Each process classified its block of the input, not the whole input.
                 whole = piece_counts(os.path.join(out, "serial", f[:-len(".pvti")]),
                                      "ClassifiedPoints")
@@ -364,19 +405,22 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
                       % (run, f, held, whole))
                 if len(held) != int(run[2:]) or max(held) >= whole[0]:
                     failures.append("%s/%s: a process held the whole input" % (run, f))
-            if f == "filtered_assembled.pvti":
-                held = piece_counts(os.path.join(out, run, "filtered_assembled"),
+            if f in ("filtered_assembled.pvti", "swept_assembled.pvti"):
+                held = piece_counts(os.path.join(out, run, f[:-len(".pvti")]),
                                     "ClassifiedPoints")
                 whole = serial[f].GetFieldData().GetArray("ClassifiedPoints").GetValue(0)
                 if min(held) != whole:
                     failures.append("%s/%s: the input was not assembled" % (run, f))
-        selective = read_whole(os.path.join(out, run, "selective.pvti"))
-        fresh = read_whole(os.path.join(out, run, "fresh.pvti"))
-        edit_error = compare(fresh, selective)
-        print("%-5s one-light edit: UpdateMode %d, difference from a fresh filter %s"
-              % (run, update_mode(selective), edit_error))
-        if update_mode(selective) != 1 or edit_error is None or edit_error > TOLERANCE:
-            failures.append("%s: the one-light edit was not an exact selective update" % run)
+        for edited, reference in (("selective", "fresh"), ("swept_again", "swept_fresh")):
+            selective = read_whole(os.path.join(out, run, edited + ".pvti"))
+            fresh = read_whole(os.path.join(out, run, reference + ".pvti"))
+            edit_error = compare(fresh, selective)
+            print("%-5s %s: UpdateMode %d, difference from a fresh filter %s"
+                  % (run, edited, update_mode(selective), edit_error))
+            if update_mode(selective) != 1 or edit_error is None or edit_error > TOLERANCE:
+                failures.append("%s/%s: not an exact selective update" % (run, edited))
+        if update_mode(read_whole(os.path.join(out, run, "swept_selective.pvti"))) != 1:
+            failures.append("%s/swept_selective: not a selective update" % run)
     print("\n".join(failures) if failures else "all parallel runs equal the serial run")
     return 1 if failures else 0
 
