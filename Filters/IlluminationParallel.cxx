@@ -1152,8 +1152,8 @@ void Unpack(const std::vector<T>& packed, const int* extent, const int* part, in
 }
 
 template <typename T>
-void ExchangeExtents(vtkMultiProcessController* controller, const int held[6], const int owned[6],
-  const T* values, const int wanted[6], T* into, int components, bool add)
+long long ExchangeExtents(vtkMultiProcessController* controller, const int held[6],
+  const int owned[6], const T* values, const int wanted[6], T* into, int components, bool add)
 {
   const int local = controller->GetLocalProcessId();
   const int processes = controller->GetNumberOfProcesses();
@@ -1163,6 +1163,7 @@ void ExchangeExtents(vtkMultiProcessController* controller, const int held[6], c
   std::vector<int> all(12 * static_cast<size_t>(processes));
   controller->AllGather(mine, all.data(), 12);
   std::vector<T> buffer;
+  long long sent = 0;
   int part[6];
   if (Intersect(owned, wanted, part))
   {
@@ -1197,6 +1198,7 @@ void ExchangeExtents(vtkMultiProcessController* controller, const int held[6], c
         Pack(values, held, piece, components, buffer);
         controller->Send(reinterpret_cast<const char*>(buffer.data()),
           static_cast<vtkIdType>(buffer.size() * sizeof(T)), peers[k], ExtentValuesTag);
+        sent += static_cast<long long>(buffer.size() * sizeof(T));
         return;
       }
       buffer.resize(static_cast<size_t>(components * ExtentPoints(piece)));
@@ -1204,11 +1206,12 @@ void ExchangeExtents(vtkMultiProcessController* controller, const int held[6], c
         static_cast<vtkIdType>(buffer.size() * sizeof(T)), peers[k], ExtentValuesTag);
       Unpack(buffer, wanted, piece, components, add, into);
     });
+  return sent;
 }
 
-template VOLILLUMFILTERS_EXPORT void ExchangeExtents<std::uint16_t>(vtkMultiProcessController*,
+template VOLILLUMFILTERS_EXPORT long long ExchangeExtents<std::uint16_t>(vtkMultiProcessController*,
   const int*, const int*, const std::uint16_t*, const int*, std::uint16_t*, int, bool);
-template VOLILLUMFILTERS_EXPORT void ExchangeExtents<std::uint32_t>(vtkMultiProcessController*,
+template VOLILLUMFILTERS_EXPORT long long ExchangeExtents<std::uint32_t>(vtkMultiProcessController*,
   const int*, const int*, const std::uint32_t*, const int*, std::uint32_t*, int, bool);
 
 bool AllOk(vtkMultiProcessController* controller, bool ok)

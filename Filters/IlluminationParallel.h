@@ -8,20 +8,21 @@
  * steps. Images lit where they are (point scalars): Ray-Marched Illumination marches the
  * parts of the rays in each process's block and multiplies them at the process that holds
  * the point; Filtered Volumetric Shadows with directional lights builds each table's window
- * over the block and sums the parts of the optical depths there (ReduceOverPieces). The
- * other image filters (and those with cell scalars, point or spot shadows) assemble the
- * whole input on every process from the pieces of all processes (collective calls of the
- * filter's vtkMultiProcessController) and output the part of the illumination that belongs
- * to their own piece. The propagation shares its sweeps out among the processes
- * (SweepShare): each process propagates its sweeps over the whole illumination grid into
- * fixed-point units of its own, and the sums over the processes (SumOverPieces, exact in
- * any order) give each process its piece. Every process keeps the same bookkeeping of
- * lights, so selective updates work as in a serial run, each change's sweeps shared out
- * again. Filters that light points independently compute only the points of the piece. The
- * result equals the serial run's: bit for bit in the tests where the input is assembled and
- * for the ray marcher, up to rounding (1e-8 of the largest value) for distributed tables.
- * Sweeps over the distributed pieces are the planned next step for the propagation
- * (Documentation/parallel.md).
+ * over the block and sums the parts of the optical depths there (ReduceOverPieces);
+ * Multi-Light Illumination Volume with directional lights sweeps bands of rows, each process
+ * its band's classification (ExchangeExtents from the blocks), neighbouring bands
+ * exchanging lattice rows after every slice, the units moved to the pieces' processes
+ * (ExchangeExtents). The image filters with cell scalars, point or spot lights (or their
+ * distributed properties off) assemble the whole input on every process from the pieces of
+ * all processes (collective calls of the filter's vtkMultiProcessController) and output the
+ * part of the illumination that belongs to their own piece; the propagation then shares its
+ * sweeps out among the processes (SweepShare): each process propagates its sweeps over the
+ * whole illumination grid into fixed-point units of its own, and the sums over the
+ * processes (SumOverPieces, exact in any order) give each process its piece. Every process
+ * keeps the same bookkeeping of lights, so selective updates work as in a serial run. Filters
+ * that light points independently compute only the points of the piece. The result equals
+ * the serial run's: bit for bit in the tests for the propagation and the ray marcher, up to
+ * rounding (1e-8 of the largest value) for distributed tables.
  *
  * Every process must update the filter together (ParaView does: pipelines update on all
  * processes at once). A process with an empty piece takes part and outputs an empty piece.
@@ -129,15 +130,15 @@ VOLILLUMFILTERS_EXPORT long long ExtentPoints(const int extent[6]);
  * some process owns, copied, or added (modulo 2^32 for unsigned values) with `add`. Points of
  * `wanted` that no process owns are left as they are. Empty extents (second value below the
  * first) take part without data. Only the pairs of processes with points to move exchange
- * (Send/Receive in a global order of pairs).
+ * (Send/Receive in a global order of pairs). Returns the bytes this process sent.
  */
 template <typename T>
-void ExchangeExtents(vtkMultiProcessController* controller, const int held[6], const int owned[6],
-  const T* values, const int wanted[6], T* into, int components, bool add);
-extern template VOLILLUMFILTERS_EXPORT void ExchangeExtents<std::uint16_t>(
+long long ExchangeExtents(vtkMultiProcessController* controller, const int held[6],
+  const int owned[6], const T* values, const int wanted[6], T* into, int components, bool add);
+extern template VOLILLUMFILTERS_EXPORT long long ExchangeExtents<std::uint16_t>(
   vtkMultiProcessController*, const int*, const int*, const std::uint16_t*, const int*,
   std::uint16_t*, int, bool);
-extern template VOLILLUMFILTERS_EXPORT void ExchangeExtents<std::uint32_t>(
+extern template VOLILLUMFILTERS_EXPORT long long ExchangeExtents<std::uint32_t>(
   vtkMultiProcessController*, const int*, const int*, const std::uint32_t*, const int*,
   std::uint32_t*, int, bool);
 

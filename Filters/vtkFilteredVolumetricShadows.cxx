@@ -133,11 +133,7 @@ volillum::PointShading vtkFilteredVolumetricShadows::Shading(
 //------------------------------------------------------------------------------
 bool vtkFilteredVolumetricShadows::LightsDistributedPieces() const
 {
-  const auto states = this->GetLightStates();
-  return this->DistributedTables &&
-    std::none_of(states.begin(), states.end(),
-      [](const volillum::LightState& l)
-      { return l.On && l.Kind != volillum::LightKind::Directional; });
+  return this->DistributedTables && this->OnlyDirectionalLights();
 }
 
 //------------------------------------------------------------------------------

@@ -10,14 +10,13 @@
 #include "vtkObjectFactory.h"
 
 #include <algorithm>
-#include <map>
 #include <memory>
 
 vtkStandardNewMacro(vtkMultiLightIlluminationVolume);
 
 namespace
 {
-constexpr int RaysTag = 8300; // and up: two messages per sweep
+constexpr int LatticeTag = 8300; // and up: one a lattice
 
 long long LightPropagations(const std::vector<volillum::PropagationTask>& tasks)
 {
@@ -261,11 +260,7 @@ bool vtkMultiLightIlluminationVolume::ComputeIllumination(const volillum::Classi
 //------------------------------------------------------------------------------
 bool vtkMultiLightIlluminationVolume::LightsDistributedPieces() const
 {
-  const auto states = this->GetLightStates();
-  return this->DistributedSweeps &&
-    std::none_of(states.begin(), states.end(),
-      [](const volillum::LightState& l)
-      { return l.On && l.Kind != volillum::LightKind::Directional; });
+  return this->DistributedSweeps && this->OnlyDirectionalLights();
 }
 
 //------------------------------------------------------------------------------
@@ -274,9 +269,13 @@ void vtkMultiLightIlluminationVolume::AddOutputFieldData(vtkFieldData* fieldData
   if (this->DistributedLayout)
   {
     vtkNew<vtkIdTypeArray> slab;
-    slab->SetName("SlabPoints");
-    slab->InsertNextValue(this->SlabPoints);
+    slab->SetName("BandPoints");
+    slab->InsertNextValue(this->BandPoints);
     fieldData->AddArray(slab);
+    vtkNew<vtkIdTypeArray> sent;
+    sent->SetName("SentBytes");
+    sent->InsertNextValue(this->SentBytes);
+    fieldData->AddArray(sent);
   }
 }
 
@@ -287,44 +286,46 @@ void vtkMultiLightIlluminationVolume::ComputeDistributedIllumination(
   const volillum::GridGeometry& target, const std::vector<int>& extents, bool inputModified,
   float* rgb, UpdateReport& report)
 {
-  // The processes with a piece (of the data and so of the illumination grid) sweep: the i-th
-  // of them the i-th slab of slices along each axis. The others know no lights (they have
-  // no frame for them) and only take part in the collective calls.
-  this->SlabPoints = 0;
+  this->BandPoints = 0;
+  this->SentBytes = 0;
   this->LastStatistics = volillum::PropagationStatistics();
-  SlabSweeps slabs;
-  slabs.Controller = controller;
+  // The processes with a piece (of the data and so of the illumination grid) sweep. The
+  // others know no lights (they have no frame for them) and only take part in the
+  // collective calls.
+  Bands bands;
+  bands.Controller = controller;
   const int local = controller->GetLocalProcessId();
   for (int p = 0; p < controller->GetNumberOfProcesses(); ++p)
   {
     if (volillum::ExtentPoints(&extents[6 * p]) > 0)
     {
-      slabs.Me = p == local ? static_cast<int>(slabs.Participants.size()) : slabs.Me;
-      slabs.Participants.push_back(p);
+      bands.Me = p == local ? static_cast<int>(bands.Participants.size()) : bands.Me;
+      bands.Participants.push_back(p);
     }
   }
   const int* own = &extents[6 * local];
   const long long points = volillum::ExtentPoints(own);
   // Every process makes the same kind of update.
   const bool mustRecompute = !volillum::AllOk(
-    controller, slabs.Me < 0 || !this->MustRecompute(lights, points, inputModified, true));
+    controller, bands.Me < 0 || !this->MustRecompute(lights, points, inputModified, true));
   double bounds[6];
   target.GetBounds(bounds);
   bool selective = false;
   RecordPlan plan;
   std::vector<volillum::PropagationTask> work, remaining;
   std::vector<std::vector<volillum::PropagationTask>> sweeps;
-  if (slabs.Me >= 0)
+  if (bands.Me >= 0)
   {
     selective = this->PrepareUpdate(lights, bounds, points, mustRecompute, work, plan);
     sweeps = volillum::PlanSweeps(
       work, this->CoherentPropagation, this->MaximumPassesPerUpdate, remaining);
   }
-  // The axes swept and whether a task is recorded, agreed by all.
+  // The row axes of the sweeps (z for sweeps along x and y, y for sweeps along z) and
+  // whether a task is recorded, agreed by all.
   int mine[4] = { 0, 0, 0, 0 };
   for (const auto& sweep : sweeps)
   {
-    mine[sweep[0].Group / 2] = 1;
+    mine[volillum::SweepRowAxis(sweep[0].Group)] = 1;
     mine[3] = std::max<int>(mine[3],
       std::any_of(
         sweep.begin(), sweep.end(), [](const volillum::PropagationTask& t) { return t.Recorded; }));
@@ -333,17 +334,14 @@ void vtkMultiLightIlluminationVolume::ComputeDistributedIllumination(
   }
   int agreed[4];
   controller->AllReduce(mine, agreed, 4, vtkCommunicator::MAX_OP);
-  const int axes = agreed[0] + agreed[1] + agreed[2];
-  int done = 0;
-  for (int axis = 0; axis < 3; ++axis)
+  for (const int rowAxis : { 2, 1 })
   {
-    if (agreed[axis])
+    if (agreed[rowAxis])
     {
-      this->SweepSlabs(slabs, axis, volume, piece, target, sweeps, agreed[3] != 0, own);
-      this->ReportProgress(static_cast<double>(++done) / axes);
+      this->SweepBands(bands, rowAxis, volume, piece, target, sweeps, agreed[3] != 0, own);
     }
   }
-  if (slabs.Me >= 0)
+  if (bands.Me >= 0)
   {
     this->CommitUpdate(selective, plan, remaining, lights, true, report);
     this->Illumination.ToFloat(rgb);
@@ -351,41 +349,53 @@ void vtkMultiLightIlluminationVolume::ComputeDistributedIllumination(
 }
 
 //------------------------------------------------------------------------------
-void vtkMultiLightIlluminationVolume::SweepSlabs(const SlabSweeps& slabs, int axis,
+void vtkMultiLightIlluminationVolume::SweepBands(const Bands& bands, int rowAxis,
   const volillum::ClassifiedVolume& volume, const volillum::VolumePiece& piece,
   const volillum::GridGeometry& target,
   const std::vector<std::vector<volillum::PropagationTask>>& sweeps, bool record, const int own[6])
 {
-  vtkMultiProcessController* controller = slabs.Controller;
-  const int participants = static_cast<int>(slabs.Participants.size());
-  const int n = target.Dimensions[axis];
-  volillum::SweepPart part;
-  int slices[6] = { 0, -1, 0, -1, 0, -1 }; // the part's extent of the illumination grid
-  int wanted[6] = { 0, -1, 0, -1, 0, -1 }; // the slab of the data grid it reads
+  vtkMultiProcessController* controller = bands.Controller;
+  const int local = controller->GetLocalProcessId();
+  // The sweeps with these rows, and the lattice rows a band reads beyond its own.
+  std::vector<size_t> mine;
+  int halo = 1;
+  for (size_t i = 0; i < sweeps.size(); ++i)
+  {
+    if (volillum::SweepRowAxis(sweeps[i][0].Group) == rowAxis)
+    {
+      mine.push_back(i);
+      halo = std::max(halo, volillum::LatticeHalo(target, sweeps[i]));
+    }
+  }
+  // Bands of at least `halo` rows (their neighbours' hold the rows they read), one for each
+  // of the first processes with a piece.
+  const int n = target.Dimensions[rowAxis];
+  const int count = std::max(1, std::min(static_cast<int>(bands.Participants.size()), n / halo));
+  const int b = bands.Me < count ? bands.Me : -1;
+  volillum::SweepBand band;
+  int rows[6] = { 0, -1, 0, -1, 0, -1 };   // the band's extent of the illumination grid
+  int wanted[6] = { 0, -1, 0, -1, 0, -1 }; // the band of the data grid it reads
   volillum::ClassifiedVolume slab;
   slab.Geometry = piece.Whole;
   slab.Channels = volume.Channels;
   slab.Scale = volume.Scale;
-  if (slabs.Me >= 0)
+  if (b >= 0)
   {
-    part.First = static_cast<int>(static_cast<long long>(n) * slabs.Me / participants);
-    part.Last = static_cast<int>(static_cast<long long>(n) * (slabs.Me + 1) / participants) - 1;
-  }
-  if (part.First <= part.Last)
-  {
+    band.First = static_cast<int>(static_cast<long long>(n) * b / count);
+    band.Last = static_cast<int>(static_cast<long long>(n) * (b + 1) / count) - 1;
     int low, high;
-    volillum::SlabOfPart(piece.Whole, target, axis, part, low, high);
+    volillum::BandOfData(piece.Whole, target, rowAxis, band, halo, low, high);
     for (int a = 0; a < 3; ++a)
     {
-      slices[2 * a + 1] = target.Dimensions[a] - 1;
+      rows[2 * a + 1] = target.Dimensions[a] - 1;
       wanted[2 * a + 1] = piece.Whole.Dimensions[a] - 1;
     }
-    slices[2 * axis] = part.First;
-    slices[2 * axis + 1] = part.Last;
-    wanted[2 * axis] = low;
-    wanted[2 * axis + 1] = high;
-    slab.Geometry.Dimensions[axis] = high - low + 1;
-    slab.Geometry.Origin[axis] += low * piece.Whole.Spacing[axis];
+    rows[2 * rowAxis] = band.First;
+    rows[2 * rowAxis + 1] = band.Last;
+    wanted[2 * rowAxis] = low;
+    wanted[2 * rowAxis + 1] = high;
+    slab.Geometry.Dimensions[rowAxis] = high - low + 1;
+    slab.Geometry.Origin[rowAxis] += low * piece.Whole.Spacing[rowAxis];
   }
   // This process's classification covers `held` (indices in the whole data grid); it sends the
   // points of its block, less the boundary planes it shares with the blocks before it.
@@ -401,100 +411,69 @@ void vtkMultiLightIlluminationVolume::SweepSlabs(const SlabSweeps& slabs, int ax
     }
   }
   slab.Properties.resize(slab.Channels * static_cast<size_t>(volillum::ExtentPoints(wanted)));
-  volillum::ExchangeExtents<volillum::PackedValue>(controller, held, owned,
+  this->SentBytes += volillum::ExchangeExtents<volillum::PackedValue>(controller, held, owned,
     volume.Properties.data(), wanted, slab.Properties.data(), volume.Channels, false);
-  this->SlabPoints = std::max(this->SlabPoints, volillum::ExtentPoints(wanted));
-  std::unique_ptr<volillum::EmptyBlocks> empty;
-  if (part.First <= part.Last)
-  {
-    empty = std::make_unique<volillum::EmptyBlocks>(slab);
-  }
+  this->BandPoints = std::max(this->BandPoints, volillum::ExtentPoints(wanted));
 
-  // The sweeps along the axis, each a pipeline of the parts in its direction, run in rounds:
-  // a part runs in the round of its place in its sweep's pipeline plus the sweeps of the same
-  // group before it (so sweeps in opposite directions, and the sweeps of a group one after
-  // the other, overlap), and after each round neighbours exchange the rays the next parts
-  // start from (in the global order of pairs: no blocking send waits in a cycle).
   volillum::FixedPointIllumination units;
-  units.Reset(volillum::ExtentPoints(slices), this->Illumination.Scale);
+  units.Reset(volillum::ExtentPoints(rows), this->Illumination.Scale);
   if (record)
   {
     units.StartRecord();
   }
-  struct Item
+  if (b >= 0)
   {
-    int Sweep, Sign, Rank; // Rank: sweeps of the same group before it
-  };
-  std::vector<Item> items;
-  int inGroup[volillum::NumberOfPropagationGroups] = {};
-  int rounds = 0;
-  for (size_t i = 0; i < sweeps.size() && slabs.Me >= 0; ++i)
-  {
-    const int group = sweeps[i][0].Group;
-    if (group / 2 == axis)
+    const volillum::EmptyBlocks empty(slab);
+    // After every slice each band sends its first and last `halo` lattice rows to the
+    // neighbouring bands and gets theirs (in the global order of pairs).
+    std::vector<int> peers;
+    for (const int m : { b - 1, b + 1 })
     {
-      items.push_back({ static_cast<int>(i), group % 2 == 0 ? 1 : -1, inGroup[group]++ });
-      rounds = std::max(rounds, participants + items.back().Rank);
-    }
-  }
-  auto round = [participants](const Item& item, int m)
-  { return (item.Sign > 0 ? m : participants - 1 - m) + item.Rank; };
-  std::vector<int> peers; // the neighbouring slabs' processes
-  for (const int m : { slabs.Me - 1, slabs.Me + 1 })
-  {
-    if (slabs.Me >= 0 && m >= 0 && m < participants)
-    {
-      peers.push_back(slabs.Participants[m]);
-    }
-  }
-  std::map<int, std::vector<float>> rays; // by sweep: where the part before left them
-  for (int r = 0; r < rounds; ++r)
-  {
-    for (const Item& item : items)
-    {
-      if (round(item, slabs.Me) == r)
+      if (m >= 0 && m < count)
       {
-        volillum::PropagateSweepPart(slab, target, sweeps[item.Sweep], part, units,
-          rays[item.Sweep], this->LastStatistics, empty.get());
+        peers.push_back(bands.Participants[m]);
       }
     }
-    volillum::WithEachPeer(controller->GetLocalProcessId(), peers,
-      [&](size_t k, bool send)
-      {
-        const int neighbour =
-          peers[k] < controller->GetLocalProcessId() ? slabs.Me - 1 : slabs.Me + 1;
-        for (const Item& item : items)
+    const int ownLast = band.Last + (band.Last == n - 1 ? 1 : 0); // and the lattice's extra row
+    auto exchange = [&](const std::vector<float*>& lattices, size_t rowValues)
+    {
+      volillum::WithEachPeer(local, peers,
+        [&](size_t k, bool send)
         {
-          // Rays to the neighbour downstream of this part, or from the one upstream.
-          const int from = send ? slabs.Me : neighbour;
-          const int to = send ? neighbour : slabs.Me;
-          if (to - from != item.Sign || round(item, from) != r)
+          const bool below = peers[k] < local;
+          const int first = below ? (send ? band.First : band.First - halo)
+                                  : (send ? ownLast - halo + 1 : ownLast + 1);
+          const vtkIdType size = static_cast<vtkIdType>(rowValues) * halo;
+          for (size_t m = 0; m < lattices.size(); ++m)
           {
-            continue;
+            float* at = lattices[m] + rowValues * first;
+            const int tag = LatticeTag + static_cast<int>(m);
+            if (send)
+            {
+              controller->Send(at, size, peers[k], tag);
+              this->SentBytes += size * static_cast<long long>(sizeof(float));
+            }
+            else
+            {
+              controller->Receive(at, size, peers[k], tag);
+            }
           }
-          const int tag = RaysTag + 2 * item.Sweep;
-          auto& light = rays[item.Sweep];
-          vtkIdType size = static_cast<vtkIdType>(light.size());
-          if (send)
-          {
-            controller->Send(&size, 1, peers[k], tag);
-            controller->Send(light.data(), size, peers[k], tag + 1);
-            rays.erase(item.Sweep);
-            continue;
-          }
-          controller->Receive(&size, 1, peers[k], tag);
-          light.resize(static_cast<size_t>(size));
-          controller->Receive(light.data(), size, peers[k], tag + 1);
-        }
-      });
+        });
+    };
+    for (size_t m = 0; m < mine.size(); ++m)
+    {
+      volillum::PropagateSweepBand(
+        slab, target, sweeps[mine[m]], band, units, exchange, this->LastStatistics, &empty);
+      this->ReportProgress(static_cast<double>(m + 1) / mine.size());
+    }
   }
-  // Each part's units to the processes whose pieces hold its points (parts do not overlap).
-  volillum::ExchangeExtents<std::uint32_t>(controller, slices, slices, units.Values.data(), own,
-    this->Illumination.Values.data(), 3, true);
+  // Each band's units to the processes whose pieces hold its points (bands do not overlap).
+  this->SentBytes += volillum::ExchangeExtents<std::uint32_t>(
+    controller, rows, rows, units.Values.data(), own, this->Illumination.Values.data(), 3, true);
   if (record)
   {
-    volillum::ExchangeExtents<std::uint32_t>(controller, slices, slices, units.Recorded.data(), own,
-      this->Illumination.Recorded.data(), 3, true);
+    this->SentBytes += volillum::ExchangeExtents<std::uint32_t>(controller, rows, rows,
+      units.Recorded.data(), own, this->Illumination.Recorded.data(), 3, true);
   }
 }
 

@@ -105,24 +105,30 @@ public:
   ///@{
   /**
    * In a parallel run with directional lights only and point scalars (default on): sweep the
-   * light over slabs of the grid instead of assembling the whole input on every process. Along
-   * each axis the slices are shared out in slabs, one per process with a piece; a process gets
-   * the classification of its slab from the others and sweeps its slices, receiving the light
-   * of the ray lattices where the slab before it (in the sweep's direction) left them and
-   * handing them on. Memory per process follows its block and slab; a sweep is a pipeline
-   * through the processes, so a process waits for those upwind of it (sweeps in opposite
-   * directions run at once). With a point or spot light on, cell scalars or this off, the input
-   * is assembled and the sweeps shared out (see vtkIlluminationVolumeAlgorithm::SetController).
-   * The result equals the serial run's.
+   * light over bands of the grid instead of assembling the whole input on every process. A
+   * sweep computes its slices row by row; the rows are shared out in bands, one per process
+   * with a piece (bands of at least the rows a light's lattice moves across between slices
+   * and a bicubic read, LatticeHalo). A process gets the classification of its band from the
+   * others' blocks, every process sweeps all slices of its rows at once, and after each slice
+   * neighbouring bands exchange the few lattice rows either side of their boundary; the units
+   * go to the processes whose pieces hold them. Memory per process follows its block and
+   * band. With a point or spot light on, cell scalars or this off, the input is assembled and
+   * the sweeps shared out (see vtkIlluminationVolumeAlgorithm::SetController). The result
+   * equals the serial run's.
    */
   vtkSetMacro(DistributedSweeps, bool);
   vtkGetMacro(DistributedSweeps, bool);
   vtkBooleanMacro(DistributedSweeps, bool);
   ///@}
 
-  /// The points of the largest slab of the classification this process held in the last
-  /// parallel update with DistributedSweeps (0 otherwise; field array SlabPoints).
-  long long GetLastSlabPoints() const { return this->SlabPoints; }
+  /// The points of the largest band of the classification this process held in the last
+  /// parallel update with DistributedSweeps (0 otherwise; field array BandPoints).
+  long long GetLastBandPoints() const { return this->BandPoints; }
+
+  /// The bytes this process sent in the last parallel update with DistributedSweeps: the
+  /// classification of its block in others' bands, lattice rows and units (field array
+  /// SentBytes).
+  long long GetLastSentBytes() const { return this->SentBytes; }
 
   /// Sweeps left for later updates by MaximumPassesPerUpdate.
   int GetNumberOfPendingPasses() const;
@@ -144,7 +150,7 @@ protected:
     const std::vector<volillum::LightState>& lights, const volillum::GridGeometry& target,
     bool inputModified, float* rgb, UpdateReport& report) override;
   bool LightsDistributedPieces() const override;
-  /// Field array SlabPoints after a parallel update over slabs (GetLastSlabPoints).
+  /// Field arrays BandPoints and SentBytes after a parallel update over bands.
   void AddOutputFieldData(vtkFieldData* fieldData) override;
   void ComputeDistributedIllumination(vtkMultiProcessController* controller,
     const volillum::ClassifiedVolume& volume, const volillum::VolumePiece& piece,
@@ -195,17 +201,18 @@ private:
   void CommitUpdate(bool selective, const RecordPlan& plan,
     std::vector<volillum::PropagationTask>& remaining,
     const std::vector<volillum::LightState>& lights, bool distributed, UpdateReport& report);
-  // The processes of a parallel update over slabs: those with a piece (Participants, in
+  // The processes of a parallel update over bands: those with a piece (Participants, in
   // process order) and this one's place among them (-1: none).
-  struct SlabSweeps
+  struct Bands
   {
     vtkMultiProcessController* Controller = nullptr;
     std::vector<int> Participants;
     int Me = -1;
   };
-  // Collective: the planned sweeps along `axis` over the slabs (see DistributedSweeps), their
-  // units added to this process's illumination over its extent `own`.
-  void SweepSlabs(const SlabSweeps& slabs, int axis, const volillum::ClassifiedVolume& volume,
+  // Collective: the planned sweeps whose rows lie along `rowAxis`, over bands of those rows
+  // (see DistributedSweeps), their units added to this process's illumination over its
+  // extent `own`.
+  void SweepBands(const Bands& bands, int rowAxis, const volillum::ClassifiedVolume& volume,
     const volillum::VolumePiece& piece, const volillum::GridGeometry& target,
     const std::vector<std::vector<volillum::PropagationTask>>& sweeps, bool record,
     const int own[6]);
@@ -216,10 +223,11 @@ private:
   std::vector<volillum::PropagationTask> Pending;
   bool Valid = false;
   int RecordedLight = -1; // whose contribution Illumination.Recorded holds
-  // Whether Illumination holds this process's extent of a parallel run over slabs (else the
+  // Whether Illumination holds this process's extent of a parallel run over bands (else the
   // whole grid).
   bool DistributedLayout = false;
-  long long SlabPoints = 0;
+  long long BandPoints = 0;
+  long long SentBytes = 0;
   volillum::PropagationStatistics LastStatistics;
 };
 

@@ -273,10 +273,10 @@ struct SweepContext
   double Origin[3], Spacing[3];
   double Bounds[6];
   // The layout of the units the sweep deposits into: point (i, j, k) of the grid at
-  // 3 ((i, j, k) - UnitFirst e_Axis) . UnitStride: the whole grid (Stride, UnitFirst 0), or
-  // the slices of a part of the sweep (SweepPart).
+  // 3 ((i, j, k) - UnitFirst) . UnitStride: the whole grid (Stride, UnitFirst 0), or the
+  // rows of a band (SweepBand).
   long long UnitStride[3];
-  int UnitFirst;
+  int UnitFirst[3];
   // Whether rows of segments may share their samples' cells (RowSegments for directional
   // sources, DivergingRowSegments for point and spot sources); false integrates every segment
   // on its own.
@@ -1323,11 +1323,11 @@ SweepContext MakeSweepContext(const ClassifiedVolume& volume, const EmptyBlocks*
     { g.Dimensions[0], g.Dimensions[1], g.Dimensions[2] },
     { 1, g.Dimensions[0], static_cast<long long>(g.Dimensions[0]) * g.Dimensions[1] },
     { g.Origin[0], g.Origin[1], g.Origin[2] }, { g.Spacing[0], g.Spacing[1], g.Spacing[2] }, {},
-    { 1, g.Dimensions[0], static_cast<long long>(g.Dimensions[0]) * g.Dimensions[1] }, 0, false,
-    volume.IsChromatic() ? 3 : 1 };
+    { 1, g.Dimensions[0], static_cast<long long>(g.Dimensions[0]) * g.Dimensions[1] }, { 0, 0, 0 },
+    false, volume.IsChromatic() ? 3 : 1 };
   g.GetBounds(s.Bounds);
-  // Row kernels take a ray inside the volume's grid to be inside the box: across the axis
-  // the two must coincide; along it the volume may be a slab of the box (SweepPart).
+  // Row kernels take a ray inside the volume's grid to be inside the box: along the rows
+  // the two must coincide; across them the volume may be a band of the box (SweepBand).
   double volumeBounds[6];
   volume.Geometry.GetBounds(volumeBounds);
   s.RowKernels = rowKernels;
@@ -1337,8 +1337,8 @@ SweepContext MakeSweepContext(const ClassifiedVolume& volume, const EmptyBlocks*
     const double low = volumeBounds[2 * a] - s.Bounds[2 * a];
     const double high = s.Bounds[2 * a + 1] - volumeBounds[2 * a + 1];
     s.RowKernels = s.RowKernels &&
-      (a == s.Axis ? low >= -tolerance && high >= -tolerance
-                   : std::abs(low) <= tolerance && std::abs(high) <= tolerance);
+      (a != s.B ? low >= -tolerance && high >= -tolerance
+                : std::abs(low) <= tolerance && std::abs(high) <= tolerance);
   }
   return s;
 }
@@ -1511,8 +1511,11 @@ struct SweepSlices
   std::vector<Deposit> Deposits;
   std::vector<std::vector<float>> Read, Write;
   std::vector<size_t> Anchored; // the point and spot sources
-  int Rows = 0;                 // items of the rows step: a lattice has a row more
-  int FirstSlice = 0;           // the first slice t swept (a part's)
+  // The rows this sweep computes (all, or a band's): lattice and deposit rows FirstRow to
+  // FirstRow + Rows - 1, of which the first DepositRows are the grid's (a lattice has a row
+  // more than the grid).
+  int FirstRow = 0, Rows = 0, DepositRows = 0;
+  int ChunkFirst = 0; // the first slice t of the chunk being swept
   std::uint32_t* Values = nullptr;
   std::uint32_t* Recorded = nullptr; // when a task is recorded
   // A sweep along x, whose rows run along y, deposits BufferSlices slices at a time into
@@ -1536,7 +1539,8 @@ struct SweepSlices
   };
 
   SweepSlices(const SweepContext& s, const std::vector<PropagationTask>& tasks,
-    FixedPointIllumination& illumination, PropagationStatistics& statistics)
+    FixedPointIllumination& illumination, PropagationStatistics& statistics, int firstRow,
+    int lastRow)
     : S(s)
     , Values(illumination.Values.data())
   {
@@ -1552,7 +1556,9 @@ struct SweepSlices
         this->Anchored.push_back(j);
       }
     }
-    this->Rows = lattices ? s.N[s.C] + 1 : s.N[s.C];
+    this->FirstRow = firstRow;
+    this->DepositRows = lastRow - firstRow + 1;
+    this->Rows = this->DepositRows + (lattices && lastRow == s.N[s.C] - 1 ? 1 : 0);
     if (illumination.Recorded.size() == illumination.Values.size() &&
       std::any_of(tasks.begin(), tasks.end(), [](const PropagationTask& t) { return t.Recorded; }))
     {
@@ -1641,7 +1647,7 @@ struct SweepSlices
   // The units of point (0, 0, k) (3 a point).
   long long SliceStart(int k) const
   {
-    return 3 * (k - this->S.UnitFirst) * this->S.UnitStride[this->S.Axis];
+    return 3 * (k - this->S.UnitFirst[this->S.Axis]) * this->S.UnitStride[this->S.Axis];
   }
 
   // Directions and group factors are kept only with a point or spot source (a directional
@@ -1692,12 +1698,12 @@ struct SweepSlices
     }
     // The row's units: contiguous in the illumination when rows run along x, else in the
     // deposit buffers.
-    long long start = this->SliceStart(k) + 3 * ic * s.UnitStride[s.C];
+    long long start = this->SliceStart(k) + 3 * (ic - s.UnitFirst[s.C]) * s.UnitStride[s.C];
     std::uint32_t* values = this->Values;
     std::uint32_t* recorded = this->Recorded;
     if (this->BufferSlices > 0)
     {
-      const int slot = (t - this->FirstSlice) % this->BufferSlices;
+      const int slot = t - this->ChunkFirst;
       start = 3 * (static_cast<long long>(slot) * s.N[s.C] + ic) * nb;
       values = this->Buffer.data();
       recorded = this->Recorded ? this->BufferRecorded.data() : nullptr;
@@ -1707,8 +1713,8 @@ struct SweepSlices
       scratch.Factors.data());
   }
 
-  // Adds the buffered units of row ic of slices [first, first + count) (first FirstSlice
-  // plus a multiple of BufferSlices) to the illumination, and clears them.
+  // Adds the buffered units of row ic of slices [first, first + count) (the chunk) to the
+  // illumination, and clears them.
   void Flush(int first, int count, int ic)
   {
     const SweepContext& s = this->S;
@@ -1719,7 +1725,8 @@ struct SweepSlices
       for (int ib = 0; ib < nb; ++ib)
       {
         std::uint32_t* in = buffer + 3 * (static_cast<size_t>(ic) * nb + ib);
-        const long long row = 3 * (ib * s.UnitStride[s.B] + ic * s.UnitStride[s.C]);
+        const long long row =
+          3 * (ib * s.UnitStride[s.B] + (ic - s.UnitFirst[s.C]) * s.UnitStride[s.C]);
         if (ib + RowsAhead < nb)
         {
           // The units of a pixel lie rows apart: ask for those of a later one meanwhile.
@@ -1774,48 +1781,16 @@ struct SweepSlices
   }
 };
 
-// The slices of a sweep one call runs: the whole sweep, or a part (SweepPart) whose units
-// hold only its slices and whose ray lattices come from the part before and go to the next.
+// The rows of a sweep one call runs: all, or a band's (SweepBand), whose units hold only its
+// rows and whose ray lattices' neighbouring rows `Exchange` fills after every slice.
 struct SweepSpan
 {
-  bool Whole = true;
-  SweepPart Part;
-  std::vector<float>* Rays = nullptr;
+  bool Banded = false;
+  SweepBand Band;
+  LatticeExchange Exchange;
 };
 
-// Copies the ray lattices of a sweep's directional sources from (in) or to (out) rays, one
-// after the other.
-void TransferLattices(SweepSlices& slices, std::vector<float>& rays, bool in)
-{
-  size_t size = 0;
-  for (size_t j = 0; j < slices.Prepared.size(); ++j)
-  {
-    size += slices.Prepared[j].FollowsRays() ? slices.Read[j].size() : 0;
-  }
-  if (!in)
-  {
-    rays.resize(size);
-  }
-  size_t at = 0;
-  for (size_t j = 0; j < slices.Prepared.size() && rays.size() == size; ++j)
-  {
-    if (slices.Prepared[j].FollowsRays())
-    {
-      auto& lattice = slices.Read[j];
-      if (in)
-      {
-        std::copy_n(rays.begin() + at, lattice.size(), lattice.begin());
-      }
-      else
-      {
-        std::copy(lattice.begin(), lattice.end(), rays.begin() + at);
-      }
-      at += lattice.size();
-    }
-  }
-}
-
-// One sweep of the tasks (all in the same group) through the grid, or the part of it `span`
+// One sweep of the tasks (all in the same group) through the grid, or over the rows `span`
 // gives: its slices' steps run by one team of threads per chunk of slices (ForSteps),
 // progress reported between chunks from this thread.
 bool Sweep(const ClassifiedVolume& volume, const EmptyBlocks* empty, bool rowKernels,
@@ -1827,32 +1802,38 @@ bool Sweep(const ClassifiedVolume& volume, const EmptyBlocks* empty, bool rowKer
   // step that copies it.
   SweepContext s = MakeSweepContext(volume, empty, rowKernels, g, group);
   const int na = s.N[s.Axis];
-  int begin = 0, end = na; // slices t from the sweep's start
-  if (!span.Whole)
+  int firstRow = 0, lastRow = s.N[s.C] - 1;
+  if (span.Banded)
   {
-    const SweepPart& part = span.Part;
-    begin = s.Sign > 0 ? part.First : na - 1 - part.Last;
-    end = begin + part.Last - part.First + 1;
-    long long dimensions[3] = { s.N[0], s.N[1], s.N[2] };
-    dimensions[s.Axis] = part.Last - part.First + 1;
-    s.UnitStride[1] = dimensions[0];
-    s.UnitStride[2] = dimensions[0] * dimensions[1];
-    s.UnitFirst = part.First;
+    firstRow = span.Band.First;
+    lastRow = span.Band.Last;
+    const long long rows[3] = { s.C == 0 ? lastRow - firstRow + 1 : s.N[0],
+      s.C == 1 ? lastRow - firstRow + 1 : s.N[1], 0 };
+    s.UnitStride[1] = rows[0];
+    s.UnitStride[2] = rows[0] * rows[1];
+    s.UnitFirst[s.C] = firstRow;
   }
-  SweepSlices slices(s, tasks, illumination, statistics);
-  slices.FirstSlice = begin;
-  if (span.Rays && begin > 0)
+  SweepSlices slices(s, tasks, illumination, statistics, firstRow, lastRow);
+  std::vector<float*> lattices; // a band's, for the exchange
+  for (size_t j = 0; j < slices.Prepared.size(); ++j)
   {
-    TransferLattices(slices, *span.Rays, true);
+    if (slices.Prepared[j].FollowsRays())
+    {
+      lattices.push_back(nullptr);
+    }
   }
   const int perSlice = slices.StepsPerSlice();
   // A chunk of buffered slices ends with their flush, a step of a row each; one with a slab
   // starts by copying it, a step of a row along y each.
-  const int chunk = slices.BufferSlices > 0 ? slices.BufferSlices : std::max(1, na / 16);
+  // A band's lattices are completed by the exchange after every slice.
+  const int chunk = span.Banded ? 1
+    : slices.BufferSlices > 0   ? slices.BufferSlices
+                                : std::max(1, na / 16);
   const int flush = slices.BufferSlices > 0 ? 1 : 0;
-  for (int first = begin; first < end; first += chunk)
+  for (int first = 0; first < na; first += chunk)
   {
-    const int count = std::min(chunk, end - first);
+    const int count = std::min(chunk, na - first);
+    slices.ChunkFirst = first;
     s.Slab = slices.SlabFor(first, count);
     const int copy = s.Slab.Low <= s.Slab.High ? 1 : 0;
     ForSteps(
@@ -1866,7 +1847,7 @@ bool Sweep(const ClassifiedVolume& volume, const EmptyBlocks* empty, bool rowKer
         step -= copy;
         if (step == count * perSlice)
         {
-          return s.N[s.C];
+          return slices.DepositRows;
         }
         const int part = step % perSlice;
         return part == 0         ? slices.Rows
@@ -1892,14 +1873,14 @@ bool Sweep(const ClassifiedVolume& volume, const EmptyBlocks* empty, bool rowKer
           {
             for (long long ic = begin; ic < end; ++ic)
             {
-              slices.Flush(first, count, static_cast<int>(ic));
+              slices.Flush(first, count, slices.FirstRow + static_cast<int>(ic));
             }
           }
           else if (part == 0)
           {
             for (long long ic = begin; ic < end; ++ic)
             {
-              slices.Row(t, static_cast<int>(ic), scratch);
+              slices.Row(t, slices.FirstRow + static_cast<int>(ic), scratch);
             }
           }
           else if (part == perSlice - 1)
@@ -1913,14 +1894,21 @@ bool Sweep(const ClassifiedVolume& volume, const EmptyBlocks* empty, bool rowKer
           }
         };
       });
-    if (progress && !progress(static_cast<double>(first + count - begin) / (end - begin)))
+    if (span.Banded && first + count < na)
+    {
+      for (size_t j = 0, m = 0; j < slices.Prepared.size(); ++j)
+      {
+        if (slices.Prepared[j].FollowsRays())
+        {
+          lattices[m++] = slices.Read[j].data();
+        }
+      }
+      span.Exchange(lattices, s.Channels * static_cast<size_t>(s.N[s.B] + 1));
+    }
+    if (progress && !progress(static_cast<double>(first + count) / na))
     {
       return false;
     }
-  }
-  if (span.Rays)
-  {
-    TransferLattices(slices, *span.Rays, false);
   }
   return true;
 }
@@ -2130,37 +2118,64 @@ bool PropagateTasks(const ClassifiedVolume& volume, const GridGeometry& target,
   return true;
 }
 
-bool SweepsInParts(const std::vector<PropagationTask>& tasks)
+bool SweepsInBands(const std::vector<PropagationTask>& tasks)
 {
   return std::all_of(tasks.begin(), tasks.end(),
     [](const PropagationTask& t) { return t.Light.Kind == LightKind::Directional; });
 }
 
-void SlabOfPart(const GridGeometry& data, const GridGeometry& target, int axis,
-  const SweepPart& part, int& first, int& last)
+int SweepRowAxis(int group)
 {
-  const int n = data.Dimensions[axis];
-  auto point = [&](int slice)
-  {
-    const double x = target.Origin[axis] + slice * target.Spacing[axis];
-    return (x - data.Origin[axis]) / data.Spacing[axis];
-  };
-  first = static_cast<int>(std::max(0.0, std::floor(point(part.First - 1)) - 1));
-  last = static_cast<int>(std::min(n - 1.0, std::ceil(point(part.Last + 1)) + 1));
+  return group / 2 == 2 ? 1 : 2;
 }
 
-bool PropagateSweepPart(const ClassifiedVolume& volume, const GridGeometry& target,
-  const std::vector<PropagationTask>& tasks, const SweepPart& part, FixedPointIllumination& units,
-  std::vector<float>& rays, PropagationStatistics& statistics, const EmptyBlocks* empty)
+int LatticeHalo(const GridGeometry& target, const std::vector<PropagationTask>& tasks)
 {
-  if (tasks.empty() || !SweepsInParts(tasks) || part.First > part.Last)
+  double offset = 0.0;
+  for (const auto& task : tasks)
   {
-    return tasks.empty() || part.First > part.Last;
+    const RaySource source = SourceOf(task);
+    const int axis = task.Group / 2, c = SweepRowAxis(task.Group);
+    const double along = (task.Group % 2 == 0 ? 1 : -1) * source.Travel[axis];
+    if (source.Directional && along > MinimumAlong)
+    {
+      offset = std::max(
+        offset, std::abs(source.Travel[c]) * target.Spacing[axis] / (along * target.Spacing[c]));
+    }
+  }
+  // The lattice rows a point's bicubic read takes (two either side of its ray's crossing)
+  // and those a lattice row's predecessor lies away, with one for rounding.
+  return static_cast<int>(std::ceil(offset)) + 3;
+}
+
+void BandOfData(const GridGeometry& data, const GridGeometry& target, int rowAxis,
+  const SweepBand& band, int halo, int& first, int& last)
+{
+  const int n = data.Dimensions[rowAxis];
+  auto point = [&](int row)
+  {
+    const double x = target.Origin[rowAxis] + row * target.Spacing[rowAxis];
+    return (x - data.Origin[rowAxis]) / data.Spacing[rowAxis];
+  };
+  // The lattice rows a band computes lie up to a row before its first point; their segments
+  // and its points' move fewer rows across than the halo less its three rows for the reads.
+  const int reach = halo - 1;
+  first = static_cast<int>(std::max(0.0, std::floor(point(band.First - reach)) - 1));
+  last = static_cast<int>(std::min(n - 1.0, std::ceil(point(band.Last + reach)) + 1));
+}
+
+bool PropagateSweepBand(const ClassifiedVolume& volume, const GridGeometry& target,
+  const std::vector<PropagationTask>& tasks, const SweepBand& band, FixedPointIllumination& units,
+  const LatticeExchange& exchange, PropagationStatistics& statistics, const EmptyBlocks* empty)
+{
+  if (tasks.empty() || !SweepsInBands(tasks))
+  {
+    return tasks.empty();
   }
   SweepSpan span;
-  span.Whole = false;
-  span.Part = part;
-  span.Rays = &rays;
+  span.Banded = true;
+  span.Band = band;
+  span.Exchange = exchange;
   return Sweep(
     volume, empty, true, target, tasks[0].Group, tasks, units, statistics, nullptr, span);
 }

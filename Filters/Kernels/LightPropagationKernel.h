@@ -56,6 +56,7 @@
 #include "VolIllumKernelsModule.h"
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace volillum
@@ -212,40 +213,57 @@ VOLILLUMKERNELS_EXPORT std::vector<std::vector<PropagationTask>> PlanSweeps(
   const std::vector<PropagationTask>& tasks, bool coherent, int maxSweeps,
   std::vector<PropagationTask>& remaining);
 
-/// Consecutive slices [First, Last] (indices along the sweep's axis of the illumination grid)
-/// of a sweep, which one process runs in a parallel run over slabs (PropagateSweepPart).
-struct SweepPart
+/**
+ * Rows [First, Last] of the illumination grid along a sweep's row axis (SweepRowAxis), which
+ * one process sweeps in a parallel run over bands (PropagateSweepBand): every slice of the
+ * sweep, those rows of it.
+ */
+struct SweepBand
 {
   int First = 0;
   int Last = -1;
 };
 
-/// Whether a sweep of the tasks can run in parts (PropagateSweepPart): directional lights
-/// only. Their light between two slices is that of their ray lattices; a point or spot
-/// light's rays are integrated from their anchor slice or a side face, slices back.
-VOLILLUMKERNELS_EXPORT bool SweepsInParts(const std::vector<PropagationTask>& tasks);
+/// The axis along which a sweep of `group` orders its rows (the one across the rows, which
+/// run along the other axis of its slices): z for sweeps along x and y, y for sweeps along z.
+VOLILLUMKERNELS_EXPORT int SweepRowAxis(int group);
 
-/// The points [first, last] along `axis` of the data grid `data` that a part of a sweep over
-/// the illumination grid `target` reads in either direction (PropagateSweepPart's slab): those
-/// from the slice before the part to the slice after it, and one more each side.
-VOLILLUMKERNELS_EXPORT void SlabOfPart(const GridGeometry& data, const GridGeometry& target,
-  int axis, const SweepPart& part, int& first, int& last);
+/// Whether a sweep of the tasks can run in bands (PropagateSweepBand): directional lights
+/// only. Their light at a slice is that of their ray lattices, which comes from the previous
+/// slice's lattice a few rows away; a point or spot light's rays are integrated from their
+/// anchor slice or from a side face, any number of slices and rows back.
+VOLILLUMKERNELS_EXPORT bool SweepsInBands(const std::vector<PropagationTask>& tasks);
+
+/// The rows of the ray lattices beyond its own that a band reads on either side at every
+/// slice, for a sweep of the tasks (one group) over the illumination grid `target`: the rows
+/// its rays move across between slices and those of a point's bicubic read.
+VOLILLUMKERNELS_EXPORT int LatticeHalo(
+  const GridGeometry& target, const std::vector<PropagationTask>& tasks);
+
+/// The points [first, last] along `rowAxis` of the data grid `data` whose material a band of
+/// rows of `target` reads: its rows' and lattice rows' segments back to the previous slice,
+/// which move fewer rows across than the halo (LatticeHalo), and one more point either side.
+VOLILLUMKERNELS_EXPORT void BandOfData(const GridGeometry& data, const GridGeometry& target,
+  int rowAxis, const SweepBand& band, int halo, int& first, int& last);
+
+/// Fills, after every slice but the last, the rows of the ray lattices (one pointer per
+/// lattice; rows of rowValues floats, row r at lattice + r rowValues) that a band reads and
+/// other bands compute (LatticeHalo rows either side of its own).
+using LatticeExchange = std::function<void(const std::vector<float*>& lattices, size_t rowValues)>;
 
 /**
- * The slices `part` of one sweep of the tasks (one group, SweepsInParts): `volume` is a slab
- * of the data grid that holds, at full extent across the axis, the material between the
- * slice before the part (in the sweep's direction) and its last slice; `units` the fixed-point
- * illumination of the part's slices only (target's points with Dimensions[axis] = the part's
- * slices, x fastest; Recorded as in PropagateTasks); `rays` on entry the light of the ray
- * lattices where the part before left them (ignored for the part that starts the sweep), on
- * return where this part leaves them. Running the parts of a sweep in its direction, each
- * with the rays of the one before, deposits the sweep's units of PropagateTasks (up to the
- * rounding of sample positions in the slab's grid). Returns false for tasks that cannot run
- * in parts.
+ * One sweep of the tasks (one group, SweepsInBands) over the rows `band`: `volume` is a band
+ * of the data grid holding, at full extent along the rows and the sweep's axis, the material
+ * its rows read (BandOfData); `units` the fixed-point illumination of the band's points only
+ * (target's points with the band's rows along the row axis, x fastest; Recorded as in
+ * PropagateTasks). A band's own lattice rows are its points' rows (the last band's also the
+ * lattice's extra row). Sweeping every band this way, each band's neighbouring lattice rows
+ * filled by `exchange` from the bands that compute them, deposits PropagateTasks's units of
+ * the sweep. Returns false for tasks that cannot run in bands.
  */
-VOLILLUMKERNELS_EXPORT bool PropagateSweepPart(const ClassifiedVolume& volume,
-  const GridGeometry& target, const std::vector<PropagationTask>& tasks, const SweepPart& part,
-  FixedPointIllumination& units, std::vector<float>& rays, PropagationStatistics& statistics,
+VOLILLUMKERNELS_EXPORT bool PropagateSweepBand(const ClassifiedVolume& volume,
+  const GridGeometry& target, const std::vector<PropagationTask>& tasks, const SweepBand& band,
+  FixedPointIllumination& units, const LatticeExchange& exchange, PropagationStatistics& statistics,
   const EmptyBlocks* empty = nullptr);
 
 }

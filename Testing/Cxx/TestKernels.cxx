@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <iostream>
@@ -228,10 +229,10 @@ TEST(Kernels, RayMarchThroughASlabIsItsAnalyticTransmittance)
 namespace
 {
 // A chromatic volume of 13 x 11 x 9 points with smoothly varying extinction and absorption.
-ClassifiedVolume ChromaticVolume()
+ClassifiedVolume ChromaticVolume(const std::array<int, 3>& dimensions = { { 13, 11, 9 } })
 {
   ClassifiedVolume whole;
-  whole.Geometry.Dimensions = { { 13, 11, 9 } };
+  whole.Geometry.Dimensions = dimensions;
   whole.Geometry.Spacing = { { 0.5, 0.7, 0.6 } };
   whole.Geometry.Origin = { { -1.0, 2.0, 0.5 } };
   whole.Channels = 4;
@@ -491,16 +492,16 @@ TEST(Kernels, PropagationThroughASlabAndSelectiveRemovalIsExact)
 namespace
 {
 // The points [first, last] along `axis` of a volume, a volume of their own.
-ClassifiedVolume SlabOfVolume(const ClassifiedVolume& whole, int axis, int first, int last)
+ClassifiedVolume BandOfVolume(const ClassifiedVolume& whole, int axis, int first, int last)
 {
-  ClassifiedVolume slab;
-  slab.Channels = whole.Channels;
-  slab.Scale = whole.Scale;
-  slab.Geometry = whole.Geometry;
-  slab.Geometry.Dimensions[axis] = last - first + 1;
-  slab.Geometry.Origin[axis] += first * whole.Geometry.Spacing[axis];
+  ClassifiedVolume band;
+  band.Channels = whole.Channels;
+  band.Scale = whole.Scale;
+  band.Geometry = whole.Geometry;
+  band.Geometry.Dimensions[axis] = last - first + 1;
+  band.Geometry.Origin[axis] += first * whole.Geometry.Spacing[axis];
   const auto& d = whole.Geometry.Dimensions;
-  const auto& n = slab.Geometry.Dimensions;
+  const auto& n = band.Geometry.Dimensions;
   for (int k = 0; k < n[2]; ++k)
   {
     for (int j = 0; j < n[1]; ++j)
@@ -512,24 +513,27 @@ ClassifiedVolume SlabOfVolume(const ClassifiedVolume& whole, int axis, int first
         const size_t from = index[0] + d[0] * (index[1] + static_cast<size_t>(d[1]) * index[2]);
         for (int c = 0; c < whole.Channels; ++c)
         {
-          slab.Properties.push_back(whole.Properties[whole.Channels * from + c]);
+          band.Properties.push_back(whole.Properties[whole.Channels * from + c]);
         }
       }
     }
   }
-  return slab;
+  return band;
 }
 }
 
-// A sweep run in parts over slabs (PropagateSweepPart: each part holds only the material and
-// the illumination of its slices, the ray lattices handed from part to part) deposits what
-// the whole sweep does: oblique directional lights in both their groups, chromatic and grey
-// material, the illumination grid at the data's resolution and at half of it, a recorded
-// task. The parts' slabs are smaller than the volume. A lattice not handed over (the part
-// starting from unattenuated light) changes the units by far more (checked).
-TEST(Kernels, SweepPartsOverSlabsEqualTheWholeSweep)
+// A sweep run in bands of rows (PropagateSweepBand: each band holds only the material and the
+// illumination its rows need, its neighbouring lattice rows filled after every slice)
+// deposits what the whole sweep does: oblique directional lights in both their groups
+// (lattices moving up to several rows a slice), chromatic and grey material, the
+// illumination grid at the data's resolution and at half of it, a recorded task. Here the
+// neighbouring rows come from a run of one band of all rows, and every band's own rows must
+// equal that run's at every slice (so bands that exchange their rows compute the same).
+// The bands' volumes are smaller than the whole. Without the exchange the units differ
+// (checked).
+TEST(Kernels, SweepBandsEqualTheWholeSweep)
 {
-  const ClassifiedVolume chromatic = ChromaticVolume();
+  const ClassifiedVolume chromatic = ChromaticVolume({ { 13, 23, 25 } });
   ClassifiedVolume grey;
   grey.Geometry = chromatic.Geometry;
   grey.Channels = 1;
@@ -545,8 +549,9 @@ TEST(Kernels, SweepPartsOverSlabsEqualTheWholeSweep)
   second.Position = { { 7.0, -2.0, 4.0 } };
   second.FocalPoint = { { 2.0, 5.5, 2.5 } };
   second.Color = { { 0.3, 0.9, 0.6 } };
-  double largest = 0.0, unhanded = 0.0;
-  long long slabPoints = 0;
+  double largest = 0.0, rows = 0.0, unexchanged = 0.0;
+  long long bandPoints = chromatic.Geometry.NumberOfPoints();
+  int halo = 0;
   for (const ClassifiedVolume* volume : { &chromatic, static_cast<const ClassifiedVolume*>(&grey) })
   {
     for (const double scale : { 1.0, 0.5 })
@@ -569,52 +574,84 @@ TEST(Kernels, SweepPartsOverSlabsEqualTheWholeSweep)
       PropagationStatistics statistics;
       ASSERT_TRUE(
         PropagateTasks(*volume, target, tasks, true, 0, whole, remaining, statistics, nullptr));
-      for (const bool handOver : { true, false })
+      for (const bool exchanged : { true, false })
       {
-        FixedPointIllumination parts;
-        parts.Reset(target.NumberOfPoints(), unit);
-        parts.StartRecord();
+        FixedPointIllumination bands;
+        bands.Reset(target.NumberOfPoints(), unit);
+        bands.StartRecord();
         for (const auto& sweep : PlanSweeps(tasks, true, 0, remaining))
         {
-          ASSERT_TRUE(SweepsInParts(sweep));
-          const int axis = sweep[0].Group / 2;
-          const int n = target.Dimensions[axis];
-          // Three parts of unequal size (one of a single slice), in the sweep's direction.
-          std::vector<SweepPart> order = { { 0, n / 3 - 1 }, { n / 3, n / 3 },
-            { n / 3 + 1, n - 1 } };
-          if (sweep[0].Group % 2 == 1)
-          {
-            std::reverse(order.begin(), order.end());
-          }
-          std::vector<float> rays;
-          for (const SweepPart& part : order)
+          ASSERT_TRUE(SweepsInBands(sweep));
+          const int c = SweepRowAxis(sweep[0].Group);
+          const int n = target.Dimensions[c];
+          const int h = LatticeHalo(target, sweep);
+          halo = std::max(halo, h);
+          // The lattices of every slice from a band of all rows.
+          std::vector<std::vector<std::vector<float>>> history;
+          FixedPointIllumination all;
+          all.Reset(target.NumberOfPoints(), unit);
+          ASSERT_TRUE(PropagateSweepBand(
+            *volume, target, sweep, { 0, n - 1 }, all,
+            [&](const std::vector<float*>& lattices, size_t rowValues)
+            {
+              history.emplace_back();
+              for (float* lattice : lattices)
+              {
+                history.back().emplace_back(lattice, lattice + rowValues * (n + 1));
+              }
+            },
+            statistics));
+          // Three bands of unequal size (one of a single row).
+          for (const SweepBand& band :
+            { SweepBand{ 0, n / 3 - 1 }, SweepBand{ n / 3, n / 3 }, SweepBand{ n / 3 + 1, n - 1 } })
           {
             int low, high;
-            SlabOfPart(volume->Geometry, target, axis, part, low, high);
-            const ClassifiedVolume slab = SlabOfVolume(*volume, axis, low, high);
-            slabPoints = std::max(slabPoints, slab.Geometry.NumberOfPoints());
-            GridGeometry slices = target;
-            slices.Dimensions[axis] = part.Last - part.First + 1;
+            BandOfData(volume->Geometry, target, c, band, h, low, high);
+            const ClassifiedVolume part = BandOfVolume(*volume, c, low, high);
+            bandPoints = std::min(bandPoints, part.Geometry.NumberOfPoints());
+            GridGeometry layout = target;
+            layout.Dimensions[c] = band.Last - band.First + 1;
             FixedPointIllumination units;
-            units.Reset(slices.NumberOfPoints(), unit);
+            units.Reset(layout.NumberOfPoints(), unit);
             units.StartRecord();
-            if (!handOver)
-            {
-              rays.clear();
-            }
-            ASSERT_TRUE(PropagateSweepPart(slab, target, sweep, part, units, rays, statistics));
-            // The part's units into the whole grid's.
+            size_t slice = 0;
+            const int own = band.Last + (band.Last == n - 1 ? 1 : 0);
+            ASSERT_TRUE(PropagateSweepBand(
+              part, target, sweep, band, units,
+              [&](const std::vector<float*>& lattices, size_t rowValues)
+              {
+                for (size_t m = 0; m < lattices.size(); ++m)
+                {
+                  const auto& reference = history[slice][m];
+                  for (size_t v = rowValues * band.First; v < rowValues * (own + 1) && exchanged;
+                       ++v)
+                  {
+                    rows = std::max(rows, std::abs(double(lattices[m][v]) - reference[v]));
+                  }
+                  for (int r = std::max(0, band.First - h); r <= std::min(n, own + h); ++r)
+                  {
+                    if (exchanged && (r < band.First || r > own))
+                    {
+                      std::copy_n(
+                        &reference[rowValues * r], rowValues, lattices[m] + rowValues * r);
+                    }
+                  }
+                }
+                ++slice;
+              },
+              statistics));
+            // The band's units into the whole grid's.
             const auto& d = target.Dimensions;
-            const auto& m = slices.Dimensions;
-            for (long long i = 0; i < slices.NumberOfPoints(); ++i)
+            const auto& m = layout.Dimensions;
+            for (long long i = 0; i < layout.NumberOfPoints(); ++i)
             {
               long long index[3] = { i % m[0], (i / m[0]) % m[1], i / (m[0] * m[1]) };
-              index[axis] += part.First;
+              index[c] += band.First;
               const size_t to = 3 * (index[0] + d[0] * (index[1] + d[1] * index[2]));
-              for (int c = 0; c < 3; ++c)
+              for (int ch = 0; ch < 3; ++ch)
               {
-                parts.Values[to + c] += units.Values[3 * i + c];
-                parts.Recorded[to + c] += units.Recorded[3 * i + c];
+                bands.Values[to + ch] += units.Values[3 * i + ch];
+                bands.Recorded[to + ch] += units.Recorded[3 * i + ch];
               }
             }
           }
@@ -622,25 +659,27 @@ TEST(Kernels, SweepPartsOverSlabsEqualTheWholeSweep)
         double difference = 0.0;
         for (size_t i = 0; i < whole.Values.size(); ++i)
         {
-          for (const auto* pair : { &whole.Values, &whole.Recorded })
+          for (const bool record : { false, true })
           {
-            const auto& other = pair == &whole.Values ? parts.Values : parts.Recorded;
-            const double a = static_cast<std::int32_t>((*pair)[i]) / unit;
-            const double b = static_cast<std::int32_t>(other[i]) / unit;
-            difference = std::max(difference, std::abs(a - b));
+            const auto& a = record ? whole.Recorded : whole.Values;
+            const auto& b = record ? bands.Recorded : bands.Values;
+            difference = std::max(difference,
+              std::abs(static_cast<std::int32_t>(a[i]) - static_cast<std::int32_t>(b[i])) / unit);
           }
         }
-        (handOver ? largest : unhanded) = std::max(handOver ? largest : unhanded, difference);
+        (exchanged ? largest : unexchanged) =
+          std::max(exchanged ? largest : unexchanged, difference);
       }
     }
   }
-  std::cout << "sweep parts over slabs against whole sweeps: largest difference " << largest
-            << " (without handing the lattices over: " << unhanded << "); largest slab "
-            << slabPoints << " of " << chromatic.Geometry.NumberOfPoints() << " points"
-            << std::endl;
-  EXPECT_LT(largest, 1e-6);
-  EXPECT_GT(unhanded, 1e-2);
-  EXPECT_LT(slabPoints, chromatic.Geometry.NumberOfPoints());
+  std::cout << "sweep bands against whole sweeps: largest difference " << largest
+            << " (own lattice rows " << rows << "; without the exchange " << unexchanged
+            << "); halo up to " << halo << " rows; smallest band " << bandPoints << " of "
+            << chromatic.Geometry.NumberOfPoints() << " points" << std::endl;
+  EXPECT_EQ(largest, 0.0);
+  EXPECT_EQ(rows, 0.0);
+  EXPECT_GT(unexchanged, 1e-2);
+  EXPECT_LT(bandPoints, chromatic.Geometry.NumberOfPoints());
 }
 
 namespace

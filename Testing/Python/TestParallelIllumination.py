@@ -14,9 +14,9 @@ and checks, against the serial run:
 - a one-light change in parallel is a selective update (UpdateMode 1) and equals a fresh
   parallel filter with the new lights;
 - Multi-Light Illumination Volume with directional lights only (scale 1/2 grey and scale 1
-  chromatic) sweeps over slabs without assembling the input: each process classified its
-  block and held slabs of the classification smaller than the input (ClassifiedPoints,
-  SlabPoints); two edits of one light (the second subtracts its record) are selective and
+  chromatic) sweeps over bands of rows without assembling the input: each process classified its
+  block and held bands of the classification smaller than the input (ClassifiedPoints,
+  BandPoints); two edits of one light (the second subtracts its record) are selective and
   equal a fresh filter; DistributedSweeps off assembles the input; the image of one cell
   (one process sweeps, the others take part in the collective calls only);
 - the files read back whole (the image pieces cover the illumination grid);
@@ -54,8 +54,9 @@ HEAD = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Dat
 LIGHTS = [0, -200, -150, 400, 100, 100, 70, 1.0, 0.7, 0.4, 1.0, 90, 1, 1,
           1, 350, 120, 60, 100, 100, 70, 0.4, 0.6, 1.0, 1.0, 90, 1, 1]
 EDITED = LIGHTS[:14] + [1, 330, -40, 90, 100, 100, 70, 0.4, 0.6, 1.0, 0.8, 90, 1, 1]
-# Three directional lights (swept over slabs in parallel: every process a slab of slices
-# along each axis, the light handed from slab to slab), the second edited twice.
+# Three directional lights (swept over bands of rows in parallel: every process sweeps its
+# rows, neighbouring bands exchanging lattice rows after every slice), the second edited
+# twice.
 SWEPT = LIGHTS[:14] + [0, 300, 250, -100, 100, 100, 70, 0.3, 0.8, 1.0, 1.0, 90, 1, 1,
                        0, 40, 90, 380, 100, 100, 70, 1.0, 1.0, 1.0, 0.6, 90, 1, 1]
 SWEPT_EDITED = SWEPT[:14] + [0, 320, 200, -60] + SWEPT[18:]
@@ -75,39 +76,30 @@ def worker(plugin, out, grid_file, tiny_file, parallel):
     pwf.Points = [0, 0, 0.5, 0, 500, 0, 0.5, 0, 1200, 0.3, 0.5, 0, 3000, 0.8, 0.5, 0]
     head = XMLImageDataReader(FileName=[HEAD])
 
-    def image_filter(name, **properties):
+    def image_filter(name, lights=LIGHTS, **properties):
         f = ns[name](Input=head, ColorTransferFunction=lut, OpacityFunction=pwf, **properties)
         f.Scalars = ["POINTS", "scalars"]
-        f.Lights = LIGHTS
+        f.Lights = lights
         return f
 
     def save(proxy, name):
         SaveData(os.path.join(out, name), proxy=proxy)
 
-    multilight = image_filter("MultiLightIlluminationVolume", ResolutionScale=0.5)
-    save(multilight, "multilight.pvti")
-    multilight.Lights = EDITED
-    save(multilight, "selective.pvti")
-    fresh = image_filter("MultiLightIlluminationVolume", ResolutionScale=0.5)
-    fresh.Lights = EDITED
-    save(fresh, "fresh.pvti")
-    swept = image_filter("MultiLightIlluminationVolume", ResolutionScale=0.5)
-    swept.Lights = SWEPT
-    save(swept, "swept.pvti")
-    swept.Lights = SWEPT_EDITED
-    save(swept, "swept_selective.pvti")
-    swept.Lights = SWEPT_AGAIN  # the recorded light again: its record is subtracted
-    save(swept, "swept_again.pvti")
-    swept_fresh = image_filter("MultiLightIlluminationVolume", ResolutionScale=0.5)
-    swept_fresh.Lights = SWEPT_AGAIN
-    save(swept_fresh, "swept_fresh.pvti")
-    chromatic = image_filter("MultiLightIlluminationVolume", ChromaticAttenuation=1)
-    chromatic.Lights = SWEPT
-    save(chromatic, "swept_chromatic.pvti")
-    assembled = image_filter("MultiLightIlluminationVolume", ResolutionScale=0.5,
-                             DistributedSweeps=0)
-    assembled.Lights = SWEPT
-    save(assembled, "swept_assembled.pvti")
+    # Each edit's lights, saved after the edit; then a fresh filter with the last lights.
+    for edits, fresh in (([("multilight", LIGHTS), ("selective", EDITED)], "fresh"),
+                         ([("swept", SWEPT), ("swept_selective", SWEPT_EDITED),
+                           # the recorded light again: its record subtracted
+                           ("swept_again", SWEPT_AGAIN)], "swept_fresh")):
+        multilight = image_filter("MultiLightIlluminationVolume", ResolutionScale=0.5)
+        for name, edit in edits:
+            multilight.Lights = edit
+            save(multilight, name + ".pvti")
+        save(image_filter("MultiLightIlluminationVolume", edits[-1][1], ResolutionScale=0.5),
+             fresh + ".pvti")
+    save(image_filter("MultiLightIlluminationVolume", SWEPT, ChromaticAttenuation=1),
+         "swept_chromatic.pvti")
+    save(image_filter("MultiLightIlluminationVolume", SWEPT, ResolutionScale=0.5,
+                      DistributedSweeps=0), "swept_assembled.pvti")
     save(image_filter("FilteredVolumetricShadows", ResolutionScale=0.5, FilterWidth=3),
          "filtered.pvti")
     # Directional light only: each process builds its tables' windows over its block (hard
@@ -387,12 +379,12 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
                 if shadow is None or shadow > TOLERANCE:
                     failures.append("%s/%s: Transmittance0 difference %s" % (run, f, shadow))
             if f in ("swept.pvti", "swept_chromatic.pvti"):
-                # Each process held a slab of the classification along each axis, not all of it.
+                # Each process held bands of the classification, not all of it.
                 whole = piece_counts(os.path.join(out, "serial", f[:-len(".pvti")]),
                                      "ClassifiedPoints")
-                slabs = piece_counts(os.path.join(out, run, f[:-len(".pvti")]), "SlabPoints")
-                print("%-5s %-26s largest slab of each process %s of %s" % (run, f, slabs, whole))
-                if len(slabs) != int(run[2:]) or max(slabs) >= whole[0]:
+                bands = piece_counts(os.path.join(out, run, f[:-len(".pvti")]), "BandPoints")
+                print("%-5s %-26s largest band of each process %s of %s" % (run, f, bands, whole))
+                if len(bands) != int(run[2:]) or max(bands) >= whole[0]:
                     failures.append("%s/%s: a process held the whole classification" % (run, f))
             if f in ("raymarched.pvti", "filtered_hard.pvti", "filtered_soft.pvti",
                      "filtered_axis.pvti", "swept.pvti", "swept_chromatic.pvti"):
