@@ -4,7 +4,10 @@ The engine resampled to 256^3 (../shared/data/volumes/engine.vti; --smoke: the C
 at 64^3) is lit at scale 1 by 4 oblique directional lights with pvbatch on 1 process and
 with `MPIEXEC -np 2 pvbatch`, each process single-threaded (Sequential SMP backend) so the
 comparison is fair on a 2-core machine. Printed: full update and one-light edit times on
-1 and 2 processes and their ratios (speed-up), the same for a full update of Filtered
+1 and 2 processes and their ratios (speed-up) of Multi-Light Illumination Volume (on 2
+processes over bands of rows, DistributedSweeps, and with the input assembled: a second run,
+so that each peak memory is its own; over bands also the largest band of the classification
+process 0 held and the bytes it sent), the same for a full update of Filtered
 Volumetric Shadows (which lights only each process's piece) and of Ray-Marched
 Illumination (scale 1/4, one light; each process classifies and marches through its block
 of the input only: the points process 0 classified and the bytes of the products each
@@ -12,7 +15,8 @@ process sends are printed), the bytes each process
 receives when the data changes (the gathered pieces; a light edit gathers nothing), the
 bytes of the propagation's sums each process sends per update, the propagation's peak
 memory per process (largest over the processes), and
-the efficiency the planned block sweeps would reach at 8, 64 and 512 processes by the
+the propagation's peak memory per process also on 4 processes (oversubscribed: memory only),
+and the efficiency a sweep over bands reaches at 8, 64 and 204 processes for 1024^3 by the
 model of Documentation/parallel.md with this run's compute cost per voxel and light.
 Writes the figures as JSON with --json FILE.
 Usage: pvpython ParallelBenchmark.py PLUGIN DATA_DIR OUT_DIR MPIEXEC "MPI_FLAGS"
@@ -40,9 +44,12 @@ def lights(bounds, count, turn=0.0):
     return rows
 
 
-def worker(plugin, volume):
-    """Times a full update and a one-light edit of the propagation and a full update of
-    filtered shadows; prints one JSON line."""
+def worker(plugin, volume, mode):
+    """Times a full update and a one-light edit of the propagation and (mode "all") a full
+    update of filtered shadows and of the ray marcher; prints one JSON line. Mode "bands":
+    the propagation only; "assembled": the propagation only, with DistributedSweeps off
+    (each process assembles the input)."""
+    assembled = mode == "assembled"
     from paraview.simple import (LoadPlugin, XMLImageDataReader, GetColorTransferFunction,
                                  GetOpacityTransferFunction)
     LoadPlugin(plugin, remote=False, ns=globals())
@@ -69,13 +76,25 @@ def worker(plugin, volume):
     import resource
     before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     f = filter_with_lights("MultiLightIlluminationVolume")
+    f.DistributedSweeps = 0 if assembled else 1
     full = seconds(f)
+
+    def field(name):
+        array = f.GetClientSideObject().GetOutputDataObject(0).GetFieldData().GetArray(name)
+        return int(array.GetValue(0)) if array else 0
+    band, full_sent = field("BandPoints"), field("SentBytes")
     edited = lights(bounds, LIGHTS)
     edited[1:4] = lights(bounds, 1, turn=0.4)[1:4]
     f.Lights = edited
     edit = seconds(f)
     # The process's peak resident memory during the propagation above what it held before.
     peak = 1024 * (resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before)
+    info = reader.GetDataInformation()
+    if mode != "all":
+        print("RESULT " + json.dumps({"full_s": full, "edit_s": edit, "peak_bytes": peak,
+                                      "points": info.GetNumberOfPoints()}))
+        return
+    edit_sent = field("SentBytes")
     # Filtered shadows light points independently: each process lights its own piece.
     filtered = seconds(filter_with_lights("FilteredVolumetricShadows"))
     assembling = filter_with_lights("FilteredVolumetricShadows")
@@ -91,7 +110,6 @@ def worker(plugin, volume):
     classified = marched.GetClientSideObject().GetOutputDataObject(0).GetFieldData().GetArray(
         "ClassifiedPoints")
     from vtkmodules.vtkCommonCore import vtkDataArray
-    info = reader.GetDataInformation()
     lit = info.GetPointDataInformation().GetArrayInformation(array)
     value = vtkDataArray.CreateDataArray(lit.GetDataType())
     print("RESULT " + json.dumps({"full_s": full, "edit_s": edit, "filtered_s": filtered,
@@ -101,17 +119,20 @@ def worker(plugin, volume):
                                   "marched_points": math.prod(
                                       extent[2 * a + 1] - extent[2 * a] + 1 for a in range(3)),
                                   "peak_bytes": peak,
+                                  "band_points": band, "full_sent_bytes": full_sent,
+                                  "edit_sent_bytes": edit_sent,
                                   "points": info.GetNumberOfPoints(),
                                   "bytes": info.GetNumberOfPoints() *
                                   lit.GetNumberOfComponents() * value.GetDataTypeSize()}))
 
 
-def run(command, plugin, volume):
+def run(command, plugin, volume, mode="all"):
     sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Python"))
     from IlluminatedVolumeTestUtilities import environment_for_mpiexec
     environment = environment_for_mpiexec()
     environment["VTK_SMP_BACKEND_IN_USE"] = "Sequential"
-    result = subprocess.run(command + [os.path.abspath(__file__), "--worker", plugin, volume],
+    result = subprocess.run(command + [os.path.abspath(__file__), "--worker", plugin, volume,
+                                       mode],
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                             env=environment, timeout=3000)
     # Every process prints its result: the first one's times, the largest peak memory.
@@ -137,18 +158,18 @@ def prepare(data_dir, out, smoke):
     return path, "engine resampled to 256^3"
 
 
-def model(compute_per_voxel_light):
-    """Efficiency of one block sweep of a 1024^3 volume (Documentation/parallel.md)."""
+def model(compute_per_voxel_light, halo=5):
+    """Efficiency of one sweep of a 1024^3 volume over bands of rows (Documentation/parallel.md):
+    per slice each process computes its n^2 / P points and exchanges `halo` lattice rows (4
+    bytes a ray, one light) with each of its two neighbours. Bands hold at least `halo` rows,
+    so at most n / halo processes share a sweep."""
     rows = []
-    n, h, latency, bandwidth = 1024, 4, 2e-6, 10e9
-    for p in (2, 4, 8):
-        block = n // p
-        chunks = block // h
-        chunk = block * block * h * compute_per_voxel_light
-        message = latency + block * block * 12 / bandwidth
-        efficiency = chunks * chunk / ((chunks + p - 1) * (chunk + message))
-        rows.append({"processes": p ** 3, "efficiency": efficiency, "chunk_s": chunk,
-                     "message_s": message})
+    n, latency, bandwidth = 1024, 2e-6, 10e9
+    for p in (8, 64, n // halo):
+        compute = n * n / p * compute_per_voxel_light
+        exchange = 2 * (latency + halo * (n + 1) * 4 / bandwidth)
+        rows.append({"processes": p, "efficiency": compute / (compute + exchange),
+                     "slice_s": compute, "exchange_s": exchange})
     return rows
 
 
@@ -163,16 +184,24 @@ def main():
     pvbatch = shutil.which("pvbatch")
     one = run([pvbatch], plugin, volume)
     two = run([mpiexec] + flags.split() + ["-np", "2", pvbatch], plugin, volume)
+    two_assembled = run([mpiexec] + flags.split() + ["-np", "2", pvbatch], plugin, volume,
+                        "assembled")
+    # Memory on 4 processes (oversubscribed on 2 cores: their times mean nothing).
+    four = {mode: run([mpiexec] + flags.split() + ["-np", "4", pvbatch], plugin, volume, mode)
+            for mode in ("bands", "assembled")}
     # Each process receives the other pieces of the lit array: (N - 1) / N of it.
     received = two["bytes"] / 2
-    # The propagation's sums: each process sends the fixed-point units (3 x 4 bytes a point)
-    # of the other pieces, (N - 1) / N of the grid (scale 1: one point per data point).
+    # Assembled: each process sends the fixed-point units (3 x 4 bytes a point) of the other
+    # pieces, (N - 1) / N of the grid (scale 1: one point per data point).
     summed = 12 * one["points"] / 2
     # Directional lights travel in two groups each: light sweeps of one full update.
     per_voxel_light = one["full_s"] / (one["points"] * 2 * LIGHTS)
     results = {"volume": name, "lights": LIGHTS,
                "full_update_s": {"1": one["full_s"], "2": two["full_s"]},
                "one_light_edit_s": {"1": one["edit_s"], "2": two["edit_s"]},
+               "full_update_assembled_s": {"2": two_assembled["full_s"]},
+               "one_light_edit_assembled_s": {"2": two_assembled["edit_s"]},
+               "band_points_of_process_0": {"2": two["band_points"]},
                "speedup_full": one["full_s"] / two["full_s"],
                "speedup_edit": one["edit_s"] / two["edit_s"],
                "filtered_shadows_s": {"1": one["filtered_s"], "2": two["filtered_s"]},
@@ -187,9 +216,15 @@ def main():
                "ray_marched_product_bytes_sent_per_process_per_update":
                    24 * one["marched_points"],
                "bytes_received_per_process_on_data_change": received,
-               "propagation_sum_bytes_sent_per_process_per_update": summed,
+               "propagation_sum_bytes_sent_per_process_per_update": {
+                   "assembled (computed)": summed,
+                   "bands, full update (measured, process 0)": two["full_sent_bytes"],
+                   "bands, one-light edit (measured, process 0)": two["edit_sent_bytes"]},
                "propagation_peak_bytes_per_point_per_process": {
-                   "1": one["peak_bytes"] / one["points"], "2": two["peak_bytes"] / two["points"]},
+                   "1": one["peak_bytes"] / one["points"], "2": two["peak_bytes"] / two["points"],
+                   "2 assembled": two_assembled["peak_bytes"] / two["points"],
+                   "4": four["bands"]["peak_bytes"] / two["points"],
+                   "4 assembled": four["assembled"]["peak_bytes"] / two["points"]},
                "compute_s_per_voxel_light_sweep": per_voxel_light,
                "model_1024_cubed": model(per_voxel_light)}
     print("Multi-Light Illumination Volume (propagation) and Filtered Volumetric Shadows, %s, "
@@ -199,6 +234,10 @@ def main():
                                          results["speedup_full"]))
     print("%-22s %10.2f %10.2f %8.2f" % ("one-light edit (s)", one["edit_s"], two["edit_s"],
                                          results["speedup_edit"]))
+    print("%-22s %10s %10.2f %8.2f" % ("  assembled: full (s)", "", two_assembled["full_s"],
+                                       one["full_s"] / two_assembled["full_s"]))
+    print("%-22s %10s %10.2f %8.2f" % ("  assembled: edit (s)", "", two_assembled["edit_s"],
+                                       one["edit_s"] / two_assembled["edit_s"]))
     print("%-22s %10.2f %10.2f %8.2f" % ("filtered shadows (s)", one["filtered_s"],
                                          two["filtered_s"], results["speedup_filtered_shadows"]))
     print("%-22s %10.2f %10.2f %8.2f" % ("  assembled input (s)", one["filtered_assembled_s"],
@@ -213,17 +252,24 @@ def main():
              results["ray_marched_product_bytes_sent_per_process_per_update"] / 1e6))
     print("bytes each process receives when the data changes: %.1f MB (light edits: none)"
           % (received / 1e6))
-    print("bytes of the propagation's sums each process sends per update: %.1f MB"
-          % (summed / 1e6))
+    print("bytes of the propagation process 0 sends over bands: %.1f MB a full update, %.1f MB "
+          "an edit (measured); assembled: %.1f MB an update (sums, computed)"
+          % (two["full_sent_bytes"] / 1e6, two["edit_sent_bytes"] / 1e6, summed / 1e6))
+    print("propagation over bands: largest band of process 0 %d of %d points"
+          % (two["band_points"], one["points"]))
     print("propagation's peak memory per process above the input, bytes a point: "
-          "%.1f on 1 process, %.1f on 2" % (one["peak_bytes"] / one["points"],
-                                            two["peak_bytes"] / two["points"]))
-    print("model of the planned block sweeps, 1024^3 (%.0f ns per voxel and light sweep):"
-          % (per_voxel_light * 1e9))
+          "%.1f on 1 process, %.1f on 2 over bands, %.1f on 2 assembled, %.1f on 4 over bands, "
+          "%.1f on 4 assembled"
+          % (one["peak_bytes"] / one["points"], two["peak_bytes"] / two["points"],
+             two_assembled["peak_bytes"] / two["points"],
+             four["bands"]["peak_bytes"] / two["points"],
+             four["assembled"]["peak_bytes"] / two["points"]))
+    print("model of a sweep over bands, 1024^3 (%.0f ns per voxel and light sweep, halo of 5 "
+          "rows):" % (per_voxel_light * 1e9))
     for row in results["model_1024_cubed"]:
-        print("  %4d processes: efficiency %.0f %% (chunk %.1f ms, face message %.0f us)"
-              % (row["processes"], 100 * row["efficiency"], 1e3 * row["chunk_s"],
-                 1e6 * row["message_s"]))
+        print("  %4d processes: efficiency %.1f %% (slice %.3f ms, exchange %.0f us)"
+              % (row["processes"], 100 * row["efficiency"], 1e3 * row["slice_s"],
+                 1e6 * row["exchange_s"]))
     if json_path:
         with open(json_path, "w") as f:
             json.dump(results, f, indent=2)
@@ -231,7 +277,7 @@ def main():
 
 if __name__ == "__main__":
     if sys.argv[1] == "--worker":
-        worker(sys.argv[2], sys.argv[3])
+        worker(sys.argv[2], sys.argv[3], sys.argv[4])
     else:
         main()
     sys.stdout.flush()
