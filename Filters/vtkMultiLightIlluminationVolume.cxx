@@ -346,6 +346,16 @@ void vtkMultiLightIlluminationVolume::ComputeDistributedIllumination(
     this->CommitUpdate(selective, plan, remaining, lights, true, report);
     this->Illumination.ToFloat(rgb);
   }
+  else
+  {
+    // Nothing applied here: the next update of this process recomputes every light, as the
+    // others' do after a change of layout.
+    this->Illumination = volillum::FixedPointIllumination();
+    this->Applied.Reset();
+    this->Pending.clear();
+    this->Valid = false;
+    this->DistributedLayout = true;
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -355,7 +365,6 @@ void vtkMultiLightIlluminationVolume::SweepBands(const Bands& bands, int rowAxis
   const std::vector<std::vector<volillum::PropagationTask>>& sweeps, bool record, const int own[6])
 {
   vtkMultiProcessController* controller = bands.Controller;
-  const int local = controller->GetLocalProcessId();
   // The sweeps with these rows, and the lattice rows a band reads beyond its own.
   std::vector<size_t> mine;
   int halo = 1;
@@ -425,45 +434,52 @@ void vtkMultiLightIlluminationVolume::SweepBands(const Bands& bands, int rowAxis
   {
     const volillum::EmptyBlocks empty(slab);
     // After every slice each band sends its first and last `halo` lattice rows to the
-    // neighbouring bands and gets theirs (in the global order of pairs).
-    std::vector<int> peers;
-    for (const int m : { b - 1, b + 1 })
+    // neighbouring bands and gets theirs: first the pairs of bands (2i, 2i + 1), then the
+    // pairs (2i + 1, 2i + 2), the lower band of a pair sending first, so that the exchange
+    // takes two steps however many bands there are.
+    const int ownLast = band.Last + (band.Last == n - 1 ? 1 : 0); // and the lattice's extra row
+    std::vector<int> neighbours; // bands, in the order of the steps
+    for (const int m : { b % 2 == 0 ? b + 1 : b - 1, b % 2 == 0 ? b - 1 : b + 1 })
     {
       if (m >= 0 && m < count)
       {
-        peers.push_back(bands.Participants[m]);
+        neighbours.push_back(m);
       }
     }
-    const int ownLast = band.Last + (band.Last == n - 1 ? 1 : 0); // and the lattice's extra row
     auto exchange = [&](const std::vector<float*>& lattices, size_t rowValues)
     {
-      volillum::WithEachPeer(local, peers,
-        [&](size_t k, bool send)
+      const vtkIdType size = static_cast<vtkIdType>(rowValues) * halo;
+      for (const int m : neighbours)
+      {
+        const int process = bands.Participants[m];
+        for (const bool send : { m > b, m < b })
         {
-          const bool below = peers[k] < local;
-          const int first = below ? (send ? band.First : band.First - halo)
+          const int first = m < b ? (send ? band.First : band.First - halo)
                                   : (send ? ownLast - halo + 1 : ownLast + 1);
-          const vtkIdType size = static_cast<vtkIdType>(rowValues) * halo;
-          for (size_t m = 0; m < lattices.size(); ++m)
+          for (size_t j = 0; j < lattices.size(); ++j)
           {
-            float* at = lattices[m] + rowValues * first;
-            const int tag = LatticeTag + static_cast<int>(m);
+            float* at = lattices[j] + rowValues * first;
+            const int tag = LatticeTag + static_cast<int>(j);
             if (send)
             {
-              controller->Send(at, size, peers[k], tag);
+              controller->Send(at, size, process, tag);
               this->SentBytes += size * static_cast<long long>(sizeof(float));
             }
             else
             {
-              controller->Receive(at, size, peers[k], tag);
+              controller->Receive(at, size, process, tag);
             }
           }
-        });
+        }
+      }
     };
     for (size_t m = 0; m < mine.size(); ++m)
     {
-      volillum::PropagateSweepBand(
-        slab, target, sweeps[mine[m]], band, units, exchange, this->LastStatistics, &empty);
+      if (!volillum::PropagateSweepBand(
+            slab, target, sweeps[mine[m]], band, units, exchange, this->LastStatistics, &empty))
+      {
+        vtkErrorMacro("A sweep of point or spot lights cannot run over bands.");
+      }
       this->ReportProgress(static_cast<double>(m + 1) / mine.size());
     }
   }

@@ -1519,10 +1519,11 @@ struct SweepSlices
   std::uint32_t* Values = nullptr;
   std::uint32_t* Recorded = nullptr; // when a task is recorded
   // A sweep along x, whose rows run along y, deposits BufferSlices slices at a time into
-  // slice-major buffers (the units of slice t at slot t % BufferSlices) and then adds them
-  // to the illumination point by point along x (Flush): a point's deposits of those slices
-  // then share cache lines instead of taking one line each. 0: deposits go straight to the
-  // illumination.
+  // slice-major buffers (the units of the chunk's slice t at slot t - ChunkFirst, its deposit
+  // rows only) and then adds them to the illumination point by point along x (Flush): a
+  // point's deposits of those slices then share cache lines instead of taking one line
+  // each. 0: deposits go straight to the illumination. A band (chunks of one slice) buffers
+  // one slice.
   int BufferSlices = 0;
   std::vector<std::uint32_t> Buffer, BufferRecorded;
   // A sweep along x with a directional source and without chromatic attenuation copies the
@@ -1540,7 +1541,7 @@ struct SweepSlices
 
   SweepSlices(const SweepContext& s, const std::vector<PropagationTask>& tasks,
     FixedPointIllumination& illumination, PropagationStatistics& statistics, int firstRow,
-    int lastRow)
+    int lastRow, bool banded)
     : S(s)
     , Values(illumination.Values.data())
   {
@@ -1566,8 +1567,9 @@ struct SweepSlices
     }
     if (s.UnitStride[s.B] != 1)
     {
-      this->BufferSlices = std::min(DepositSlices, s.N[s.Axis]);
-      const size_t size = 3 * static_cast<size_t>(this->BufferSlices) * s.N[s.B] * s.N[s.C];
+      this->BufferSlices = banded ? 1 : std::min(DepositSlices, s.N[s.Axis]);
+      const size_t size =
+        3 * static_cast<size_t>(this->BufferSlices) * s.N[s.B] * this->DepositRows;
       this->Buffer.assign(size, 0);
       if (this->Recorded)
       {
@@ -1704,7 +1706,7 @@ struct SweepSlices
     if (this->BufferSlices > 0)
     {
       const int slot = t - this->ChunkFirst;
-      start = 3 * (static_cast<long long>(slot) * s.N[s.C] + ic) * nb;
+      start = 3 * (static_cast<long long>(slot) * this->DepositRows + ic - this->FirstRow) * nb;
       values = this->Buffer.data();
       recorded = this->Recorded ? this->BufferRecorded.data() : nullptr;
     }
@@ -1719,12 +1721,12 @@ struct SweepSlices
   {
     const SweepContext& s = this->S;
     const int nb = s.N[s.B];
-    const size_t perSlice = 3 * static_cast<size_t>(nb) * s.N[s.C];
+    const size_t perSlice = 3 * static_cast<size_t>(nb) * this->DepositRows;
     auto add = [&](std::uint32_t* buffer, std::uint32_t* out)
     {
       for (int ib = 0; ib < nb; ++ib)
       {
-        std::uint32_t* in = buffer + 3 * (static_cast<size_t>(ic) * nb + ib);
+        std::uint32_t* in = buffer + 3 * (static_cast<size_t>(ic - this->FirstRow) * nb + ib);
         const long long row =
           3 * (ib * s.UnitStride[s.B] + (ic - s.UnitFirst[s.C]) * s.UnitStride[s.C]);
         if (ib + RowsAhead < nb)
@@ -1813,7 +1815,7 @@ bool Sweep(const ClassifiedVolume& volume, const EmptyBlocks* empty, bool rowKer
     s.UnitStride[2] = rows[0] * rows[1];
     s.UnitFirst[s.C] = firstRow;
   }
-  SweepSlices slices(s, tasks, illumination, statistics, firstRow, lastRow);
+  SweepSlices slices(s, tasks, illumination, statistics, firstRow, lastRow, span.Banded);
   std::vector<float*> lattices; // a band's, for the exchange
   for (size_t j = 0; j < slices.Prepared.size(); ++j)
   {

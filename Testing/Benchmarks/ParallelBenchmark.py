@@ -161,13 +161,13 @@ def prepare(data_dir, out, smoke):
 def model(compute_per_voxel_light, halo=5):
     """Efficiency of one sweep of a 1024^3 volume over bands of rows (Documentation/parallel.md):
     per slice each process computes its n^2 / P points and exchanges `halo` lattice rows (4
-    bytes a ray, one light) with each of its two neighbours. Bands hold at least `halo` rows,
-    so at most n / halo processes share a sweep."""
+    bytes a ray, one light) with each of its two neighbours, in two steps of a message each
+    way. Bands hold at least `halo` rows, so at most n / halo processes share a sweep."""
     rows = []
     n, latency, bandwidth = 1024, 2e-6, 10e9
     for p in (8, 64, n // halo):
         compute = n * n / p * compute_per_voxel_light
-        exchange = 2 * (latency + halo * (n + 1) * 4 / bandwidth)
+        exchange = 4 * (latency + halo * (n + 1) * 4 / bandwidth)
         rows.append({"processes": p, "efficiency": compute / (compute + exchange),
                      "slice_s": compute, "exchange_s": exchange})
     return rows

@@ -18,7 +18,9 @@ and checks, against the serial run:
   block and held bands of the classification smaller than the input (ClassifiedPoints,
   BandPoints); two edits of one light (the second subtracts its record) are selective and
   equal a fresh filter; DistributedSweeps off assembles the input; the image of one cell
-  (one process sweeps, the others take part in the collective calls only);
+  (one process sweeps, the others take part in the collective calls only); a filter whose
+  lights switch between directional only and a point light (bands and assembled input),
+  also on the image of one cell;
 - the files read back whole (the image pieces cover the illumination grid);
 - a tetrahedralised Wavelet (thin layers of other pieces' cells, eight level-1 steps,
   strong scattering) on redistributed pieces equals the serial run too;
@@ -42,7 +44,7 @@ import sys
 TOLERANCE = 1e-5  # largest difference relative to the largest value
 FILES = ["multilight.pvti", "selective.pvti", "fresh.pvti", "swept.pvti", "swept_chromatic.pvti",
          "swept_selective.pvti", "swept_again.pvti", "swept_fresh.pvti", "swept_assembled.pvti",
-         "tiny_swept.pvti", "filtered.pvti", "filtered_hard.pvti",
+         "tiny_swept.pvti", "switched.pvti", "tiny_switched.pvti", "filtered.pvti", "filtered_hard.pvti",
          "filtered_soft.pvti", "filtered_axis.pvti", "filtered_assembled.pvti",
          "raymarched.pvti",
          "tiny.pvti", "tiny_raymarched.pvti", "cells_raymarched.pvti",
@@ -98,6 +100,13 @@ def worker(plugin, out, grid_file, tiny_file, parallel):
              fresh + ".pvti")
     save(image_filter("MultiLightIlluminationVolume", SWEPT, ChromaticAttenuation=1),
          "swept_chromatic.pvti")
+    # One filter switching between the assembled input (a point light on) and bands
+    # (directional lights only): each switch recomputes every light on every process.
+    switched = image_filter("MultiLightIlluminationVolume", ResolutionScale=0.5)
+    for lights in (SWEPT, EDITED):
+        switched.Lights = lights
+        switched.UpdatePipeline()
+    save(switched, "switched.pvti")
     save(image_filter("MultiLightIlluminationVolume", SWEPT, ResolutionScale=0.5,
                       DistributedSweeps=0), "swept_assembled.pvti")
     save(image_filter("FilteredVolumetricShadows", ResolutionScale=0.5, FilterWidth=3),
@@ -127,12 +136,18 @@ def worker(plugin, out, grid_file, tiny_file, parallel):
     save(cells, "cells_raymarched.pvti")
     # An image of 2 x 2 x 2 points: one cell, so all but one process have an empty block.
     tiny_image = XMLImageDataReader(FileName=[tiny_file])
-    for name, saved, lights in [("MultiLightIlluminationVolume", "tiny.pvti", LIGHTS),
-                                ("MultiLightIlluminationVolume", "tiny_swept.pvti", SWEPT),
-                                ("RayMarchedIllumination", "tiny_raymarched.pvti", LIGHTS)]:
+    # tiny_switched: lights switched from a point light (assembled) to directional only (one
+    # process sweeps, the others have no piece) and back.
+    for name, saved, sequence in [("MultiLightIlluminationVolume", "tiny.pvti", [LIGHTS]),
+                                  ("MultiLightIlluminationVolume", "tiny_swept.pvti", [SWEPT]),
+                                  ("MultiLightIlluminationVolume", "tiny_switched.pvti",
+                                   [LIGHTS, SWEPT, EDITED]),
+                                  ("RayMarchedIllumination", "tiny_raymarched.pvti", [LIGHTS])]:
         tiny = ns[name](Input=tiny_image, ColorTransferFunction=lut, OpacityFunction=pwf)
         tiny.Scalars = ["POINTS", "scalars"]
-        tiny.Lights = lights
+        for lights in sequence:
+            tiny.Lights = lights
+            tiny.UpdatePipeline()
         save(tiny, saved)
 
     grid = XMLUnstructuredGridReader(FileName=[grid_file])
