@@ -20,7 +20,7 @@ and checks, against the serial run:
   equal a fresh filter; DistributedSweeps off assembles the input; the image of one cell
   (one process sweeps, the others take part in the collective calls only); a filter whose
   lights switch between directional only and a point light (bands and assembled input),
-  also on the image of one cell;
+  also on the image of one cell; a new opacity function after an update over bands;
 - the files read back whole (the image pieces cover the illumination grid);
 - a tetrahedralised Wavelet (thin layers of other pieces' cells, eight level-1 steps,
   strong scattering) on redistributed pieces equals the serial run too;
@@ -44,7 +44,8 @@ import sys
 TOLERANCE = 1e-5  # largest difference relative to the largest value
 FILES = ["multilight.pvti", "selective.pvti", "fresh.pvti", "swept.pvti", "swept_chromatic.pvti",
          "swept_selective.pvti", "swept_again.pvti", "swept_fresh.pvti", "swept_assembled.pvti",
-         "tiny_swept.pvti", "switched.pvti", "tiny_switched.pvti", "filtered.pvti", "filtered_hard.pvti",
+         "tiny_swept.pvti", "switched.pvti", "tiny_switched.pvti", "swept_reclassified.pvti",
+         "filtered.pvti", "filtered_hard.pvti",
          "filtered_soft.pvti", "filtered_axis.pvti", "filtered_assembled.pvti",
          "raymarched.pvti",
          "tiny.pvti", "tiny_raymarched.pvti", "cells_raymarched.pvti",
@@ -107,6 +108,14 @@ def worker(plugin, out, grid_file, tiny_file, parallel):
         switched.Lights = lights
         switched.UpdatePipeline()
     save(switched, "switched.pvti")
+    # A new opacity function after an update over bands: the bands' classification is
+    # gathered again.
+    reclassified = image_filter("MultiLightIlluminationVolume", SWEPT, ResolutionScale=0.5)
+    reclassified.UpdatePipeline()
+    steeper = GetOpacityTransferFunction("steeper")
+    steeper.Points = [0, 0, 0.5, 0, 900, 0, 0.5, 0, 1500, 0.6, 0.5, 0, 3000, 0.9, 0.5, 0]
+    reclassified.OpacityFunction = steeper
+    save(reclassified, "swept_reclassified.pvti")
     save(image_filter("MultiLightIlluminationVolume", SWEPT, ResolutionScale=0.5,
                       DistributedSweeps=0), "swept_assembled.pvti")
     save(image_filter("FilteredVolumetricShadows", ResolutionScale=0.5, FilterWidth=3),
