@@ -311,19 +311,25 @@ struct SweepSource
   double OffsetV = 0.0;
 
   SweepSource(const RaySource& source, const SweepContext& s)
+    : SweepSource(source, s.Axis, s.Sign, s.B, s.C, s.Spacing)
+  {
+  }
+  // The source in a sweep along `axis` toward `sign` of a grid of `spacing`, its rows along
+  // b, ordered along c.
+  SweepSource(const RaySource& source, int axis, int sign, int b, int c, const double spacing[3])
     : Source(source)
   {
     if (!source.Directional)
     {
       return;
     }
-    const double along = s.Sign * source.Travel[s.Axis];
+    const double along = sign * source.Travel[axis];
     this->Enters = along <= MinimumAlong;
     if (!this->Enters)
     {
-      this->Step = s.Spacing[s.Axis] / along;
-      this->OffsetU = source.Travel[s.B] * this->Step / s.Spacing[s.B];
-      this->OffsetV = source.Travel[s.C] * this->Step / s.Spacing[s.C];
+      this->Step = spacing[axis] / along;
+      this->OffsetU = source.Travel[b] * this->Step / spacing[b];
+      this->OffsetV = source.Travel[c] * this->Step / spacing[c];
     }
   }
 
@@ -1311,16 +1317,30 @@ void RowFromLattice(const SweepContext& s, const SweepSource& sweep, const Latti
   RowSegments(s, p, s.Spacing[s.B], nb, d, sweep.Step, out);
 }
 
-// The geometry of a sweep of the grid g in a group, and whether row kernels apply. Rows
-// run along x (B = x) in sweeps along y and z, so that their volume reads and deposits are
-// contiguous; sweeps along x run their rows along y.
+// A group's sweep axis, direction, and the axes its rows run along (B) and are ordered
+// along (C, SweepRowAxis). Rows run along x (B = x) in sweeps along y and z, so that their
+// volume reads and deposits are contiguous; sweeps along x run their rows along y.
+struct SweepAxes
+{
+  int Axis, Sign, B, C;
+  explicit SweepAxes(int group)
+    : Axis(group / 2)
+    , Sign(group % 2 == 0 ? 1 : -1)
+    , B(group / 2 == 0 ? 1 : 0)
+    , C(group / 2 == 2 ? 1 : 2)
+  {
+  }
+};
+
+// The geometry of a sweep of the grid g in a group (SweepAxes), and whether row kernels
+// apply.
 SweepContext MakeSweepContext(const ClassifiedVolume& volume, const EmptyBlocks* empty,
   bool rowKernels, const GridGeometry& g, int group)
 {
   const auto& sp = volume.Geometry.Spacing;
-  SweepContext s{ volume, empty, std::min(sp[0], std::min(sp[1], sp[2])), group / 2,
-    group % 2 == 0 ? 1 : -1, group / 2 == 0 ? 1 : 0, group / 2 == 2 ? 1 : 2,
-    { g.Dimensions[0], g.Dimensions[1], g.Dimensions[2] },
+  const SweepAxes axes(group);
+  SweepContext s{ volume, empty, std::min(sp[0], std::min(sp[1], sp[2])), axes.Axis, axes.Sign,
+    axes.B, axes.C, { g.Dimensions[0], g.Dimensions[1], g.Dimensions[2] },
     { 1, g.Dimensions[0], static_cast<long long>(g.Dimensions[0]) * g.Dimensions[1] },
     { g.Origin[0], g.Origin[1], g.Origin[2] }, { g.Spacing[0], g.Spacing[1], g.Spacing[2] }, {},
     { 1, g.Dimensions[0], static_cast<long long>(g.Dimensions[0]) * g.Dimensions[1] }, { 0, 0, 0 },
@@ -2128,7 +2148,7 @@ bool SweepsInBands(const std::vector<PropagationTask>& tasks)
 
 int SweepRowAxis(int group)
 {
-  return group / 2 == 2 ? 1 : 2;
+  return SweepAxes(group).C;
 }
 
 int LatticeHalo(const GridGeometry& target, const std::vector<PropagationTask>& tasks)
@@ -2136,13 +2156,11 @@ int LatticeHalo(const GridGeometry& target, const std::vector<PropagationTask>& 
   double offset = 0.0;
   for (const auto& task : tasks)
   {
-    const RaySource source = SourceOf(task);
-    const int axis = task.Group / 2, c = SweepRowAxis(task.Group);
-    const double along = (task.Group % 2 == 0 ? 1 : -1) * source.Travel[axis];
-    if (source.Directional && along > MinimumAlong)
+    const SweepAxes a(task.Group);
+    const SweepSource sweep(SourceOf(task), a.Axis, a.Sign, a.B, a.C, target.Spacing.data());
+    if (sweep.FollowsRays())
     {
-      offset = std::max(
-        offset, std::abs(source.Travel[c]) * target.Spacing[axis] / (along * target.Spacing[c]));
+      offset = std::max(offset, std::abs(sweep.OffsetV));
     }
   }
   // The lattice rows a point's bicubic read takes (two either side of its ray's crossing)
