@@ -10,7 +10,6 @@
 #include "vtkObjectFactory.h"
 
 #include <algorithm>
-#include <memory>
 
 vtkStandardNewMacro(vtkMultiLightIlluminationVolume);
 
