@@ -4,10 +4,11 @@
 #include "IlluminationFilterSupport.h"
 #include "IlluminationParallel.h"
 #include "vtkCommunicator.h"
+#include "vtkFieldData.h"
+#include "vtkIdTypeArray.h"
 #include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
-#include "vtkSMPTools.h"
 
 #include <algorithm>
 #include <cmath>
@@ -75,8 +76,9 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
   std::vector<volillum::SphericalLookup> sphericalLookups;
   volillum::GroupShadowLights(lights, frames, lookups, sphericalLookups);
   report.Passes = 0;
+  this->DistributedUpdate = false;
   if (!this->UpdateTables(volume, frames, sphericalLookups, minSpacing / scale, channels,
-        inputModified, report.Passes))
+        inputModified, report.Passes, this->GetEmptyBlocks()))
   {
     return false;
   }
@@ -84,7 +86,8 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
   double bounds[6];
   volume.Geometry.GetBounds(bounds);
   const volillum::PointShading shading = this->Shading(volume, bounds, lookups, sphericalLookups,
-    this->AllocateTransmittances(lights, channels, target.NumberOfPoints()));
+    this->AllocateTransmittances(lights, channels, target.NumberOfPoints()),
+    this->GetEmptyBlocks());
   if (!volillum::ShadePoints(shading, target, rgb,
         [this](double fraction) { return this->ReportProgress(0.5 + 0.5 * fraction); }))
   {
@@ -99,7 +102,7 @@ volillum::PointShading vtkFilteredVolumetricShadows::Shading(
   const volillum::ClassifiedVolume& volume, const double bounds[6],
   const std::vector<volillum::ShadowLookup>& lookups,
   const std::vector<volillum::SphericalLookup>& sphericalLookups,
-  std::vector<float*> transmittances)
+  std::vector<float*> transmittances, const volillum::EmptyBlocks* empty)
 {
   const double minSpacing = volume.Geometry.MinimumSpacing();
   const double cell = minSpacing / this->SATResolutionScale;
@@ -125,7 +128,7 @@ volillum::PointShading vtkFilteredVolumetricShadows::Shading(
     std::any_of(
       shading.SphericalNear.begin(), shading.SphericalNear.end(), [](double l) { return l > 0.0; }))
   {
-    shading.Empty = this->GetEmptyBlocks();
+    shading.Empty = empty;
   }
   return shading;
 }
@@ -146,113 +149,183 @@ void vtkFilteredVolumetricShadows::ComputeDistributedIllumination(
   report.Mode = 0;
   report.Passes = 0;
   this->Transmittances.clear(); // none from an earlier update
-  const long long points =
-    volillum::ExtentPoints(extents.data() + 6 * controller->GetLocalProcessId());
+  this->DistributedUpdate = true;
+  this->GrownPoints = 0;
+  this->SentBytes = 0;
+  const int* own = &extents[6 * controller->GetLocalProcessId()];
+  const long long points = volillum::ExtentPoints(own);
   const double scale = this->SATResolutionScale;
   if (scale != 1.0 && scale != 0.5 && scale != 0.25)
   {
     vtkErrorMacro("SATResolutionScale must be 1, 0.5 or 0.25; it is " << scale << ".");
     return;
   }
-  // The directional lights that are on (the same on every process; a process without a
-  // piece has no lights in the data's frame and adds nothing).
-  const auto states = this->GetLightStates();
-  const int count = static_cast<int>(std::count_if(
-    states.begin(), states.end(), [](const volillum::LightState& l) { return l.On; }));
-  if (count == 0)
-  {
-    return;
-  }
-  const bool marches = volume.Geometry.NumberOfPoints() > 0;
+  // A window holds its neighbours' cells: every process rebuilds its tables when any
+  // process's input changed.
+  inputModified = !volillum::AllOk(controller, !inputModified);
+  const bool lit = volume.Geometry.NumberOfPoints() > 0 && points > 0;
   const int channels = this->ChromaticAttenuation ? 3 : 1;
+  const volillum::GridGeometry& data = piece.Whole;
+  const double cell = data.MinimumSpacing() / scale;
+  double bounds[6];
+  data.GetBounds(bounds);
+  // The lights that are on (a process without a piece has none: it only takes part).
   std::vector<volillum::SatFrame> frames;
   std::vector<volillum::ShadowLookup> lookups;
   std::vector<volillum::SphericalLookup> none;
-  double bounds[6];
-  piece.Whole.GetBounds(bounds);
-  if (marches)
+  volillum::GroupShadowLights(lights, frames, lookups, none);
+  // The points that the shadows of this process's points read: its block and the data
+  // points around its extent of the illumination grid, grown by the reach of a patch and a
+  // near segment (CartesianSAT::LocalReach) and a spacing.
+  const volillum::PointShading settings = this->Shading(
+    volume, bounds, lookups, none, std::vector<float*>(lights.size(), nullptr), nullptr);
+  const double reach =
+    volillum::CartesianSAT::LocalReach(cell, settings.HalfWidth, settings.NearLength);
+  int wanted[6] = { 0, -1, 0, -1, 0, -1 };
+  if (lit)
   {
-    volillum::GroupShadowLights(lights, frames, lookups, none);
-    this->UpdateTables(volume, frames, none, piece.Whole.MinimumSpacing() / scale, channels,
-      inputModified, report.Passes, &piece);
+    for (int a = 0; a < 3; ++a)
+    {
+      const double u[2] = {
+        (target.Origin[a] + own[2 * a] * target.Spacing[a] - data.Origin[a]) / data.Spacing[a],
+        (target.Origin[a] + own[2 * a + 1] * target.Spacing[a] - data.Origin[a]) / data.Spacing[a]
+      };
+      const int halo = static_cast<int>(std::ceil(reach / std::abs(data.Spacing[a]))) + 1;
+      const int first = std::min(piece.FirstCell[a], static_cast<int>(std::floor(u[0])));
+      const int last = std::max(piece.LastCell[a] + 1, static_cast<int>(std::ceil(u[1])));
+      wanted[2 * a] = std::max(0, first - halo);
+      wanted[2 * a + 1] = std::min(data.Dimensions[a] - 1, last + halo);
+    }
   }
-  std::unique_ptr<const volillum::PointShading> shading;
-  if (marches)
+  volillum::ClassifiedVolume grownVolume;
+  this->SentBytes = GatherClassification(controller, volume, piece, wanted, grownVolume);
+  this->GrownPoints = volillum::ExtentPoints(wanted);
+  const std::vector<int> grownExtents = volillum::GatherExtents(controller, lit ? wanted : nullptr);
+  volillum::VolumePiece grown;
+  grown.Whole = data;
+  for (int a = 0; a < 3; ++a)
   {
-    shading = std::make_unique<const volillum::PointShading>(
-      this->Shading(volume, bounds, lookups, none, std::vector<float*>(lights.size(), nullptr)));
+    grown.Offset[a] = grown.FirstCell[a] = wanted[2 * a];
+    grown.LastCell[a] = wanted[2 * a + 1] - 1;
   }
-  std::vector<float*> transmittances =
-    this->AllocateTransmittances(lights, channels, marches ? points : 0);
-  // Each process adds the parts of the optical depths its piece holds, for the points of
-  // every extent; the sums arrive at the extent's process.
-  const int components = channels * count;
-  volillum::ReduceOverPieces(
-    controller, extents, components, vtkCommunicator::SUM_OP,
-    [&](const int* e, size_t first, size_t rows, double* depths)
+  std::unique_ptr<const volillum::EmptyBlocks> empty;
+  if (lit)
+  {
+    empty = std::make_unique<const volillum::EmptyBlocks>(grownVolume);
+    this->UpdateTables(
+      grownVolume, frames, none, cell, channels, inputModified, report.Passes, empty.get(), &grown);
+  }
+  this->ShareCellsBeyond(controller, piece, lookups, cell, channels, grownExtents);
+  if (!lit)
+  {
+    return;
+  }
+  // Every point of the piece, from the grown block and its tables alone.
+  volillum::GridGeometry mine = target;
+  for (int a = 0; a < 3; ++a)
+  {
+    mine.Dimensions[a] = own[2 * a + 1] - own[2 * a] + 1;
+    mine.Origin[a] = target.Origin[a] + own[2 * a] * target.Spacing[a];
+  }
+  const volillum::PointShading shading = this->Shading(grownVolume, bounds, lookups, none,
+    this->AllocateTransmittances(lights, channels, points), empty.get());
+  volillum::ShadePoints(shading, mine, rgb,
+    [this](double fraction)
     {
-      const long long width = e[1] - e[0] + 1, rowsY = e[3] - e[2] + 1;
-      std::fill(depths, depths + rows * width * components, 0.0);
-      if (!marches)
-      {
-        return;
-      }
-      vtkSMPTools::For(0, static_cast<long long>(rows),
-        [&](long long begin, long long end)
-        {
-          std::vector<double> x(width);
-          for (long long r = begin; r < end; ++r)
-          {
-            const long long row = static_cast<long long>(first) + r;
-            double p[3];
-            target.PointPosition(e[0], e[2] + row % rowsY, e[4] + row / rowsY, p);
-            for (long long i = 0; i < width; ++i)
-            {
-              x[i] = target.Origin[0] + (e[0] + i) * target.Spacing[0]; // PointPosition's x
-            }
-            volillum::DirectionalDepthParts(*shading, piece, x.data(), static_cast<int>(width),
-              p[1], p[2], depths + components * r * width);
-          }
-        });
-    },
-    [&](const int* e, size_t first, size_t rows, const double* depths)
+      this->ReportProgress(0.5 + 0.5 * fraction);
+      return true; // computed whole: the output is a piece of the others'
+    });
+}
+
+//------------------------------------------------------------------------------
+void vtkFilteredVolumetricShadows::ShareCellsBeyond(vtkMultiProcessController* controller,
+  const volillum::VolumePiece& piece, const std::vector<volillum::ShadowLookup>& lookups,
+  double cellSize, int channels, const std::vector<int>& grownExtents)
+{
+  // The boxes read: a table's axis and the end toward the light, the same on every process
+  // (those of the first process with a piece: the others have no lights).
+  const int processes = controller->GetNumberOfProcesses();
+  const int local = controller->GetLocalProcessId();
+  int root = 0;
+  while (root < processes - 1 && volillum::ExtentPoints(&grownExtents[6 * root]) <= 0)
+  {
+    ++root;
+  }
+  std::vector<double> keys; // per box: the table, its frame's axes, the axis and the sign
+  for (const auto& l : lookups)
+  {
+    bool known = false;
+    for (size_t k = 0; k < keys.size(); k += 12)
     {
-      const long long width = e[1] - e[0] + 1;
-      for (long long n = 0; n < static_cast<long long>(rows) * width; ++n)
+      known = known || (keys[k] == l.Table && keys[k + 10] == l.Axis && keys[k + 11] == l.Sign);
+    }
+    if (!known)
+    {
+      keys.push_back(static_cast<double>(l.Table));
+      for (const auto& axis : this->Tables[l.Table].GetFrame().Axes)
       {
-        const long long id = static_cast<long long>(first) * width + n;
-        double sum[3] = { 0.0, 0.0, 0.0 };
-        for (size_t m = 0; m < lookups.size(); ++m)
-        {
-          const volillum::ShadowLookup& l = lookups[m];
-          double transmittance[3] = { 1.0, 1.0, 1.0 };
-          for (int c = 0; c < channels; ++c)
-          {
-            transmittance[c] = std::exp(-std::max(depths[components * n + channels * m + c], 0.0));
-          }
-          for (int c = 0; c < 3; ++c)
-          {
-            sum[c] += l.Radiance[c] * transmittance[channels == 3 ? c : 0];
-          }
-          if (float* out = transmittances[l.Index])
-          {
-            std::copy_n(transmittance, channels, out + channels * id);
-          }
-        }
-        for (int c = 0; c < 3; ++c)
-        {
-          rgb[3 * id + c] = static_cast<float>(sum[c]);
-        }
+        keys.insert(keys.end(), axis.begin(), axis.end());
       }
-    },
-    [this](double fraction) { this->ReportProgress(0.5 + 0.5 * fraction); });
+      keys.push_back(l.Axis);
+      keys.push_back(l.Sign);
+    }
+  }
+  vtkIdType count = static_cast<vtkIdType>(keys.size());
+  controller->Broadcast(&count, 1, root);
+  keys.resize(count);
+  if (count > 0)
+  {
+    controller->Broadcast(keys.data(), count, root);
+  }
+  const bool lit = volillum::ExtentPoints(&grownExtents[6 * local]) > 0;
+  for (vtkIdType k = 0; k < count; k += 12)
+  {
+    const size_t table = static_cast<size_t>(keys[k]);
+    volillum::SatFrame frame;
+    for (int a = 0; a < 3; ++a)
+    {
+      std::copy_n(&keys[k + 1 + 3 * a], 3, frame.Axes[a].begin());
+    }
+    const int axis = static_cast<int>(keys[k + 10]), sign = static_cast<int>(keys[k + 11]);
+    for (int p = 0; p < processes; ++p)
+    {
+      const int* e = &grownExtents[6 * p];
+      if (volillum::ExtentPoints(e) <= 0)
+      {
+        continue;
+      }
+      volillum::VolumePiece grown;
+      grown.Whole = piece.Whole;
+      for (int a = 0; a < 3; ++a)
+      {
+        grown.Offset[a] = grown.FirstCell[a] = e[2 * a];
+        grown.LastCell[a] = e[2 * a + 1] - 1;
+      }
+      std::array<double, 3> unused;
+      const auto window =
+        volillum::CartesianSAT::Layout(piece.Whole, frame, cellSize, &grown, unused);
+      const vtkIdType size =
+        static_cast<vtkIdType>(channels) * window.N[(axis + 1) % 3] * window.N[(axis + 2) % 3];
+      std::vector<double> sums(size, 0.0), total(size, 0.0);
+      if (lit && p != local)
+      {
+        this->Tables[table].AddCellsBeyond(piece, grown, window, axis, sign, sums.data());
+      }
+      controller->Reduce(sums.data(), total.data(), size, vtkCommunicator::SUM_OP, p);
+      if (p == local)
+      {
+        this->Tables[table].SetBeyond(axis, sign, total.data());
+      }
+    }
+  }
 }
 
 //------------------------------------------------------------------------------
 bool vtkFilteredVolumetricShadows::UpdateTables(const volillum::ClassifiedVolume& volume,
   const std::vector<volillum::SatFrame>& frames,
   const std::vector<volillum::SphericalLookup>& sphericalLookups, double cellSize, int channels,
-  bool inputModified, int& built, const volillum::VolumePiece* piece)
+  bool inputModified, int& built, const volillum::EmptyBlocks* empty,
+  const volillum::VolumePiece* piece)
 {
   const double scale = this->SATResolutionScale;
   // Where the tables lie: the whole grid and the piece's cells for windows, nothing for whole
@@ -282,7 +355,7 @@ bool vtkFilteredVolumetricShadows::UpdateTables(const volillum::ClassifiedVolume
     {
       continue;
     }
-    tables[f].Build(volume, frames[f], cellSize, channels, this->GetEmptyBlocks(), piece);
+    tables[f].Build(volume, frames[f], cellSize, channels, empty, piece);
     ++built;
     if (!this->ReportProgress(0.5 * (f + 1) / frames.size()) && !piece)
     {
@@ -349,6 +422,22 @@ void vtkFilteredVolumetricShadows::AddOutputArrays(vtkPointData* pointData)
     {
       pointData->AddArray(array);
     }
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkFilteredVolumetricShadows::AddOutputFieldData(vtkFieldData* fieldData)
+{
+  if (this->DistributedUpdate)
+  {
+    vtkNew<vtkIdTypeArray> grown;
+    grown->SetName("GrownPoints");
+    grown->InsertNextValue(this->GrownPoints);
+    fieldData->AddArray(grown);
+    vtkNew<vtkIdTypeArray> sent;
+    sent->SetName("SentBytes");
+    sent->InsertNextValue(this->SentBytes);
+    fieldData->AddArray(sent);
   }
 }
 

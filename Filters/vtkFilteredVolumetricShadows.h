@@ -86,14 +86,16 @@ public:
 
   ///@{
   /**
-   * In a parallel run with directional lights only (and point scalars): each process builds
-   * the part of each table that covers its own block of the input and the parts of the
-   * shadows' optical depths are summed over the processes (on, the default: no process
-   * holds the whole input or whole tables, but a shadow ray is read in every block it
-   * crosses, so a process upwind of the others reads about as many as a serial run). Off:
-   * every process assembles the whole input and builds whole tables, then lights only the
-   * points of its piece (faster on a few processes, whole-volume memory on each). The
-   * result is the same either way, up to rounding.
+   * In a parallel run with directional lights only (and point scalars), on (the default):
+   * each process lights the points of its own piece from its block of the input grown by
+   * the reach of a shadow's patch and near segment (a few data spacings, taken from its
+   * neighbours) and the part of each table over that grown block, and receives, per column
+   * of that part, the sum of the table's cells beyond it toward each light from the others.
+   * No process holds the whole input or whole tables, and each reads only its own points'
+   * shadows. Off: every process assembles the whole input and builds whole tables, then
+   * lights only the points of its piece (whole-volume memory on each). The result is the same
+   * either way, up to rounding. Field arrays GrownPoints and SentBytes report the grown
+   * block's points and the bytes a process sent.
    */
   vtkSetMacro(DistributedTables, bool);
   vtkGetMacro(DistributedTables, bool);
@@ -128,6 +130,7 @@ protected:
   bool DistributedTables = true;
 
   void AddOutputArrays(vtkPointData* pointData) override;
+  void AddOutputFieldData(vtkFieldData* fieldData) override;
   double SATResolutionScale = 0.5;
 
 private:
@@ -139,13 +142,20 @@ private:
   bool UpdateTables(const volillum::ClassifiedVolume& volume,
     const std::vector<volillum::SatFrame>& frames,
     const std::vector<volillum::SphericalLookup>& sphericalLookups, double cellSize, int channels,
-    bool inputModified, int& built, const volillum::VolumePiece* piece = nullptr);
+    bool inputModified, int& built, const volillum::EmptyBlocks* empty,
+    const volillum::VolumePiece* piece = nullptr);
   // The shading (PointShading) of the lookups with the current tables, for the classification
-  // `volume` in a grid with these bounds.
+  // `volume` (its empty blocks `empty`) in a grid with these bounds.
   volillum::PointShading Shading(const volillum::ClassifiedVolume& volume, const double bounds[6],
     const std::vector<volillum::ShadowLookup>& lookups,
     const std::vector<volillum::SphericalLookup>& sphericalLookups,
-    std::vector<float*> transmittances);
+    std::vector<float*> transmittances, const volillum::EmptyBlocks* empty);
+  // Distributed tables: what each window lacks of the whole table beyond its grown block
+  // (CartesianSAT::AddCellsBeyond on every process, summed at the window's process).
+  // Collective; `grownExtents`: every process's grown block (GatherExtents).
+  void ShareCellsBeyond(vtkMultiProcessController* controller, const volillum::VolumePiece& piece,
+    const std::vector<volillum::ShadowLookup>& lookups, double cellSize, int channels,
+    const std::vector<int>& grownExtents);
   // The per-light transmittance arrays (PerLightTransmittance), null for the others.
   std::vector<float*> AllocateTransmittances(
     const std::vector<volillum::LightState>& lights, int channels, long long points);
@@ -157,6 +167,10 @@ private:
   double TablesScale = 0.0;
   std::vector<double> TablesWindow; // the whole grid and piece of windows; empty: whole tables
   std::vector<vtkSmartPointer<vtkFloatArray>> Transmittances;
+  // The last parallel update with distributed tables (field arrays GrownPoints, SentBytes).
+  bool DistributedUpdate = false;
+  long long GrownPoints = 0;
+  long long SentBytes = 0;
 };
 
 #endif

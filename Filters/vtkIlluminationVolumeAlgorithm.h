@@ -233,6 +233,16 @@ protected:
     const std::vector<int>& extents, bool inputModified, float* rgb, UpdateReport& report);
 
   /**
+   * Collective, for ComputeDistributedIllumination: the classification of the points `wanted`
+   * of the whole data grid (index ranges; empty: none) into `into` (its geometry, channels,
+   * scales and values), each point from the process whose block owns it (`volume` and
+   * `piece`: this process's). Returns the bytes this process sent.
+   */
+  static long long GatherClassification(vtkMultiProcessController* controller,
+    const volillum::ClassifiedVolume& volume, const volillum::VolumePiece& piece,
+    const int wanted[6], volillum::ClassifiedVolume& into);
+
+  /**
    * The sweeps this process runs: in a parallel run of a filter that does not light points
    * independently, its share of them (ComputeIllumination then propagates only those and
    * gives its units to OutputIllumination); otherwise all of them. Such a parallel run

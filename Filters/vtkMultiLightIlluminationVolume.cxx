@@ -383,10 +383,6 @@ void vtkMultiLightIlluminationVolume::SweepBands(const Bands& bands, int rowAxis
   volillum::SweepBand band;
   int rows[6] = { 0, -1, 0, -1, 0, -1 };   // the band's extent of the illumination grid
   int wanted[6] = { 0, -1, 0, -1, 0, -1 }; // the band of the data grid it reads
-  volillum::ClassifiedVolume slab;
-  slab.Geometry = piece.Whole;
-  slab.Channels = volume.Channels;
-  slab.Scale = volume.Scale;
   if (b >= 0)
   {
     band.First = static_cast<int>(static_cast<long long>(n) * b / count);
@@ -402,25 +398,9 @@ void vtkMultiLightIlluminationVolume::SweepBands(const Bands& bands, int rowAxis
     rows[2 * rowAxis + 1] = band.Last;
     wanted[2 * rowAxis] = low;
     wanted[2 * rowAxis + 1] = high;
-    slab.Geometry.Dimensions[rowAxis] = high - low + 1;
-    slab.Geometry.Origin[rowAxis] += low * piece.Whole.Spacing[rowAxis];
   }
-  // This process's classification covers `held` (indices in the whole data grid); it sends the
-  // points of its block, less the boundary planes it shares with the blocks before it.
-  int held[6] = { 0, -1, 0, -1, 0, -1 }, owned[6] = { 0, -1, 0, -1, 0, -1 };
-  if (volume.Geometry.NumberOfPoints() > 0)
-  {
-    for (int a = 0; a < 3; ++a)
-    {
-      held[2 * a] = piece.Offset[a];
-      held[2 * a + 1] = piece.Offset[a] + volume.Geometry.Dimensions[a] - 1;
-      owned[2 * a] = piece.FirstCell[a] + (piece.FirstCell[a] > 0 ? 1 : 0);
-      owned[2 * a + 1] = piece.LastCell[a] + 1;
-    }
-  }
-  slab.Properties.resize(slab.Channels * static_cast<size_t>(volillum::ExtentPoints(wanted)));
-  this->SentBytes += volillum::ExchangeExtents<volillum::PackedValue>(controller, held, owned,
-    volume.Properties.data(), wanted, slab.Properties.data(), volume.Channels, false);
+  volillum::ClassifiedVolume slab;
+  this->SentBytes += GatherClassification(controller, volume, piece, wanted, slab);
   this->BandPoints = std::max(this->BandPoints, volillum::ExtentPoints(wanted));
 
   volillum::FixedPointIllumination units;

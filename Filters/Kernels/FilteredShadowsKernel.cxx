@@ -265,54 +265,6 @@ void ShadeRow(const PointShading& shading, const GridGeometry& target, long long
 }
 }
 
-void DirectionalDepthParts(const PointShading& shading, const VolumePiece& piece, const double* x,
-  int count, double y, double z, double* depth)
-{
-  const bool near = shading.Empty && shading.NearLength > 0.0;
-  const size_t lights = shading.Lookups.size();
-  const int channels = shading.Channels;
-  std::fill(depth, depth + channels * lights * count, 0.0);
-  std::vector<double> far(3 * static_cast<size_t>(count)), tau(count), line;
-  for (size_t m = 0; m < lights; ++m)
-  {
-    const ShadowLookup& l = shading.Lookups[m];
-    for (int i = 0; i < count; ++i)
-    {
-      const double p[3] = { x[i], y, z };
-      double reach = 0.0;
-      if (near)
-      {
-        reach = std::min(shading.NearLength, DistanceToBoxExit(p, l.Toward.data(), shading.Bounds));
-        double part[3];
-        PartialOpticalDepth(
-          shading.Volume, piece, p, l.Toward.data(), reach, channels, part, shading.Empty);
-        std::copy_n(part, channels, depth + channels * (i * lights + m));
-        reach = std::max(reach, 0.0);
-      }
-      for (int a = 0; a < 3; ++a)
-      {
-        far[3 * i + a] = p[a] + reach * l.Toward[a];
-      }
-    }
-    const auto& table = shading.Tables[l.Table];
-    for (int c = 0; c < channels; ++c)
-    {
-      if (shading.Gaussian.empty())
-      {
-        table.FilteredOpticalDepths(
-          c, far.data(), count, l.Axis, l.Sign, shading.HalfWidth, tau.data(), line);
-      }
-      for (int i = 0; i < count; ++i)
-      {
-        depth[channels * (i * lights + m) + c] += shading.Gaussian.empty()
-          ? tau[i]
-          : table.KernelFilteredOpticalDepth(
-              c, &far[3 * i], l.Axis, l.Sign, shading.HalfWidth, shading.Gaussian);
-      }
-    }
-  }
-}
-
 bool ShadePoints(const PointShading& shading, const GridGeometry& target, float* rgb,
   const ProgressCallback& progress)
 {

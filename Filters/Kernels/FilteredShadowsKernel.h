@@ -80,18 +80,6 @@ struct VOLILLUMKERNELS_EXPORT PointShading
   std::vector<float*> Transmittances; // per light, or null
 };
 
-/**
- * The parts of the optical depths of the shadow rays toward the directional lights
- * (shading.Lookups) that a piece of a distributed volume holds, for a row of `count` world
- * points (x[i], y, z): the near segments' samples in its cells (PartialOpticalDepth) and the
- * box integrals of its tables' windows (CartesianSAT::Build with the piece). shading.Volume
- * is the piece and shading.Bounds the whole grid's. depth receives shading.Channels values a
- * light and point (point i, light m: from channels x (i x lights + m)). Summed over the pieces they
- * are the depths ShadePoints reads, up to rounding.
- */
-VOLILLUMKERNELS_EXPORT void DirectionalDepthParts(const PointShading& shading,
-  const VolumePiece& piece, const double* x, int count, double y, double z, double* depth);
-
 /// Shade every point of the grid target into rgb (3 floats a point: the light reaching it
 /// from every light that is on), row by row along x, in 20 chunks with progress (the fraction
 /// done) after each; false when progress asked to stop. The near segments of a row toward a

@@ -252,47 +252,6 @@ std::array<double, 3> PartialTransmittance(const ClassifiedVolume& volume, const
   return t;
 }
 
-void PartialOpticalDepth(const ClassifiedVolume& volume, const VolumePiece& piece,
-  const double p[3], const double d[3], double length, int channels, double depth[3],
-  const EmptyBlocks* empty)
-{
-  depth[0] = depth[1] = depth[2] = 0.0;
-  if (length <= 0.0)
-  {
-    return;
-  }
-  const GridGeometry& g = piece.Whole;
-  const int n =
-    std::max(1, static_cast<int>(std::ceil(length / g.MinimumSpacing() - GeometricTolerance)));
-  const double h = length / n;
-  const double hs = h * volume.Scale[0];
-  const bool chromatic = channels == 3 && volume.IsChromatic();
-  const FieldLayout layout(volume.Geometry, volume.Channels);
-  const long long dx = layout.Corner[0], dy = layout.Corner[1], dz = layout.Corner[2];
-  long long first, last;
-  if (!StepsNearPiece(piece, p, d, h, n, first, last))
-  {
-    return;
-  }
-  for (long long m = first; m <= last; ++m)
-  {
-    const double t = (m + 0.5) * h;
-    const double q[3] = { p[0] + t * d[0], p[1] + t * d[1], p[2] + t * d[2] };
-    TrilinearCell cell;
-    if (!SampleInPiece(piece, q, empty, cell))
-    {
-      continue;
-    }
-    const auto& f = cell.Fraction;
-    AddStepDepth(volume, volume.Properties.data() + layout.Offset(cell.Index), dx, dy, dz, f[0],
-      f[1], f[2], hs, chromatic, depth);
-  }
-  if (channels == 3 && !chromatic)
-  {
-    depth[1] = depth[2] = depth[0];
-  }
-}
-
 std::array<double, 3> DarkenedTransmittance(
   double cone, const std::array<double, 3>& product, const RayMarchSettings& settings)
 {

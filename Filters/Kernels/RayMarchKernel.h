@@ -131,12 +131,6 @@ VOLILLUMKERNELS_EXPORT std::array<double, 3> PartialTransmittance(const Classifi
   const VolumePiece& piece, const Incidence& incidence, const double p[3],
   const RayMarchSettings& settings, double cut, const EmptyBlocks* empty = nullptr);
 
-/// The part of SegmentOpticalDepth's segment (the same steps through the whole grid) that
-/// lies in the piece: the optical depth per channel of its samples in the piece's cells.
-VOLILLUMKERNELS_EXPORT void PartialOpticalDepth(const ClassifiedVolume& volume,
-  const VolumePiece& piece, const double p[3], const double d[3], double length, int channels,
-  double depth[3], const EmptyBlocks* empty = nullptr);
-
 /// A ray's transmittance from its cone factor and the product of its steps' transmittances:
 /// 0 where every channel is below MinimumTransmittance.
 VOLILLUMKERNELS_EXPORT std::array<double, 3> DarkenedTransmittance(

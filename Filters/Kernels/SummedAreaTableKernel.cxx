@@ -113,13 +113,9 @@ void CartesianSAT::ToFrame(const double p[3], double q[3]) const
   }
 }
 
-void CartesianSAT::Build(const ClassifiedVolume& data, const SatFrame& frame, double cellSize,
-  int channels, const EmptyBlocks* empty, const VolumePiece* piece)
+CartesianSAT::Window CartesianSAT::Layout(const GridGeometry& g, const SatFrame& frame,
+  double cellSize, const VolumePiece* piece, std::array<double, 3>& wholeOrigin)
 {
-  this->Frame = frame;
-  this->H = cellSize;
-  // The grid whose bounds the table covers and in which samples find their cells.
-  const GridGeometry& g = piece ? piece->Whole : data.Geometry;
   double bounds[6];
   g.GetBounds(bounds);
   double lo[3] = { VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
@@ -135,73 +131,245 @@ void CartesianSAT::Build(const ClassifiedVolume& data, const SatFrame& frame, do
       hi[a] = std::max(hi[a], c);
     }
   }
-  std::array<int, 3> n;
+  Window w;
   for (int a = 0; a < 3; ++a)
   {
     // One cell more than the box holds, centred on it: in a frame of the data's axes the
     // cell centres are the data points (every one, or every second or fourth), so a hard
     // shadow (a box one cell wide) at a point reads exactly the column through it.
-    n[a] =
+    w.Whole[a] =
       1 + std::max(0, static_cast<int>(std::ceil((hi[a] - lo[a]) / cellSize - GeometricTolerance)));
-    this->Origin[a] = 0.5 * (lo[a] + hi[a]) - 0.5 * n[a] * cellSize;
+    w.N[a] = w.Whole[a];
+    wholeOrigin[a] = 0.5 * (lo[a] + hi[a]) - 0.5 * w.Whole[a] * cellSize;
   }
-  // Cell centres are placed from the whole table's origin and index, so that every piece's
-  // window puts a cell's centre at the same place, to the bit (a centre on a plane between
-  // pieces must fall in the same cell for all of them).
-  const std::array<double, 3> wholeOrigin = this->Origin;
-  std::array<int, 3> firstCell{ { 0, 0, 0 } };
-  if (piece)
+  if (!piece)
   {
-    // The window: the cells whose centres may lie in the piece's cells (a cell's margin on
-    // each side).
-    double wlo[3] = { VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
-    double whi[3] = { -VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX };
-    for (int corner = 0; corner < 8; ++corner)
+    return w;
+  }
+  // The window: the cells whose centres may lie in the piece's cells (a cell's margin on
+  // each side).
+  double wlo[3] = { VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
+  double whi[3] = { -VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX };
+  for (int corner = 0; corner < 8; ++corner)
+  {
+    double p[3];
+    for (int a = 0; a < 3; ++a)
     {
-      double p[3];
-      for (int a = 0; a < 3; ++a)
-      {
-        const int index = (corner >> a) & 1 ? piece->LastCell[a] + 1 : piece->FirstCell[a];
-        p[a] = g.Origin[a] + index * g.Spacing[a];
-      }
-      for (int a = 0; a < 3; ++a)
-      {
-        const double c = vtkMath::Dot(p, frame.Axes[a].data());
-        wlo[a] = std::min(wlo[a], c);
-        whi[a] = std::max(whi[a], c);
-      }
+      const int index = (corner >> a) & 1 ? piece->LastCell[a] + 1 : piece->FirstCell[a];
+      p[a] = g.Origin[a] + index * g.Spacing[a];
     }
     for (int a = 0; a < 3; ++a)
     {
-      const auto cellOf = [&](double c)
-      { return std::min(std::max((c - this->Origin[a]) / cellSize, 0.0), n[a] - 1.0); };
-      const int first = std::max(0, static_cast<int>(std::floor(cellOf(wlo[a]))) - 1);
-      const int last = std::min(n[a] - 1, static_cast<int>(std::ceil(cellOf(whi[a]))) + 1);
-      n[a] = last - first + 1;
-      firstCell[a] = first;
-      this->Origin[a] = wholeOrigin[a] + first * cellSize;
+      const double c = vtkMath::Dot(p, frame.Axes[a].data());
+      wlo[a] = std::min(wlo[a], c);
+      whi[a] = std::max(whi[a], c);
     }
+  }
+  for (int a = 0; a < 3; ++a)
+  {
+    const auto cellOf = [&](double c)
+    { return std::min(std::max((c - wholeOrigin[a]) / cellSize, 0.0), w.Whole[a] - 1.0); };
+    const int first = std::max(0, static_cast<int>(std::floor(cellOf(wlo[a]))) - 1);
+    const int last = std::min(w.Whole[a] - 1, static_cast<int>(std::ceil(cellOf(whi[a]))) + 1);
+    w.N[a] = last - first + 1;
+    w.First[a] = first;
+  }
+  return w;
+}
+
+namespace
+{
+// Where the centres of a table's cells lie in the grid it covers. A centre is placed from
+// the whole table's origin and its index there, so that every piece's window puts it at the
+// same place, to the bit (a centre on a plane between pieces must fall in the same cell for
+// all of them).
+struct CellCentres
+{
+  CellCentres(const GridGeometry& grid, const SatFrame& frame,
+    const std::array<double, 3>& wholeOrigin, double cellSize)
+    : Grid(grid)
+    , Frame(frame)
+    , Origin(wholeOrigin)
+    , H(cellSize)
+  {
+    grid.GetBounds(this->Bounds);
+    this->Eps = GeometricTolerance * std::max(this->Bounds[1] - this->Bounds[0], 1.0);
+  }
+
+  // Frame coordinate of the centres of the whole table's cells of index i along frame axis b.
+  double Coordinate(int b, long long i) const { return this->Origin[b] + (i + 0.5) * this->H; }
+
+  // Along data axis a, the centre whose frame coordinates' terms are tx, ty[a] and tz[a]
+  // (Coordinate times the frame's axes): its cell along a, and whether it lies inside the
+  // bounds (within Eps).
+  bool Locate(int a, double tx, const double* ty, const double* tz, TrilinearCell& cell) const
+  {
+    const double p = tx * this->Frame.Axes[0][a] + ty[a] + tz[a];
+    AxisCell(this->Grid.Dimensions[a], (p - this->Grid.Origin[a]) / this->Grid.Spacing[a],
+      cell.Index[a], cell.Fraction[a]);
+    return p >= this->Bounds[2 * a] - this->Eps && p <= this->Bounds[2 * a + 1] + this->Eps;
+  }
+
+  const GridGeometry& Grid;
+  const SatFrame& Frame;
+  const std::array<double, 3>& Origin;
+  double H;
+  double Bounds[6];
+  double Eps;
+};
+}
+
+namespace
+{
+// The run [first, last] of the whole table's cells along frame axis `axis` of a column (the
+// whole table's cell indices on the other axes; column[axis] is overwritten) of n cells
+// whose centres lie in the piece's cells: as Build takes them (strict: inside the grid's
+// bounds too) or by their cell alone (a centre beyond a face of the grid then lies in the
+// cell it clamps to, so the piece's cells at a face reach beyond it). Each test is monotone
+// along the column, so those cells form one run; first > last when there is none. The run
+// is estimated from the straight line through the centres and settled with the tests.
+void TakenRun(const CellCentres& centres, const VolumePiece& piece, bool strict, int axis,
+  long long column[3], int n, int& first, int& last)
+{
+  const GridGeometry& g = centres.Grid;
+  // Whether the piece takes the centre of cell k along data axis `only` (all three: -1).
+  auto takes = [&](long long k, int only)
+  {
+    column[axis] = k;
+    const double qy = centres.Coordinate(1, column[1]), qz = centres.Coordinate(2, column[2]);
+    const double ty[3] = { qy * centres.Frame.Axes[1][0], qy * centres.Frame.Axes[1][1],
+      qy * centres.Frame.Axes[1][2] };
+    const double tz[3] = { qz * centres.Frame.Axes[2][0], qz * centres.Frame.Axes[2][1],
+      qz * centres.Frame.Axes[2][2] };
+    const double tx = centres.Coordinate(0, column[0]);
+    for (int a = 0; a < 3; ++a)
+    {
+      TrilinearCell cell;
+      if (only >= 0 && a != only)
+      {
+        continue;
+      }
+      const bool inside = centres.Locate(a, tx, ty, tz, cell);
+      if ((strict && !inside) || cell.Index[a] < piece.FirstCell[a] ||
+        cell.Index[a] > piece.LastCell[a])
+      {
+        return false;
+      }
+    }
+    return true;
+  };
+  double t0 = 0.0, t1 = n - 1.0;
+  double start[3], end[3];
+  column[axis] = 0;
+  for (int b = 0; b < 3; ++b)
+  {
+    start[b] = centres.Coordinate(b, column[b]);
+    end[b] = start[b];
+  }
+  end[axis] = centres.Coordinate(axis, n - 1);
+  for (int a = 0; a < 3 && t0 <= t1; ++a)
+  {
+    // Grid coordinate along data axis a at the column's first and last centres.
+    double u[2] = { 0.0, 0.0 };
+    for (int b = 0; b < 3; ++b)
+    {
+      u[0] += start[b] * centres.Frame.Axes[b][a];
+      u[1] += end[b] * centres.Frame.Axes[b][a];
+    }
+    u[0] = (u[0] - g.Origin[a]) / g.Spacing[a];
+    u[1] = (u[1] - g.Origin[a]) / g.Spacing[a];
+    if (centres.Frame.Axes[axis][a] == 0.0)
+    {
+      // Constant along the column: its test decides for all.
+      if (!takes(0, a))
+      {
+        first = 0;
+        last = -1;
+        return;
+      }
+      continue;
+    }
+    const bool lowFace = !strict && piece.FirstCell[a] == 0;
+    const bool highFace = !strict && piece.LastCell[a] >= g.Dimensions[a] - 2;
+    const double lo = lowFace ? -VTK_DOUBLE_MAX : piece.FirstCell[a];
+    const double hi = highFace ? VTK_DOUBLE_MAX : piece.LastCell[a] + 1.0;
+    const double slope = n > 1 ? (u[1] - u[0]) / (n - 1) : 0.0;
+    if (slope == 0.0)
+    {
+      continue; // too steep to estimate: the tests settle it
+    }
+    const double k0 = (lo - u[0]) / slope, k1 = (hi - u[0]) / slope;
+    t0 = std::max(t0, std::min(k0, k1));
+    t1 = std::min(t1, std::max(k0, k1));
+  }
+  first = static_cast<int>(std::max(0.0, std::floor(std::max(t0, -1.0)) - 1.0));
+  last = static_cast<int>(std::min(n - 1.0, std::ceil(std::min(t1, double(n))) + 1.0));
+  while (first <= last && !takes(first, -1))
+  {
+    ++first;
+  }
+  if (first > last)
+  {
+    return;
+  }
+  while (first > 0 && takes(first - 1, -1))
+  {
+    --first;
+  }
+  while (!takes(last, -1))
+  {
+    --last;
+  }
+  while (last < n - 1 && takes(last + 1, -1))
+  {
+    ++last;
+  }
+}
+}
+
+void CartesianSAT::Build(const ClassifiedVolume& data, const SatFrame& frame, double cellSize,
+  int channels, const EmptyBlocks* empty, const VolumePiece* piece)
+{
+  this->Frame = frame;
+  this->H = cellSize;
+  // The grid whose bounds the table covers and in which samples find their cells.
+  const GridGeometry& g = piece ? piece->Whole : data.Geometry;
+  this->Cells = Layout(g, frame, cellSize, piece, this->WholeOrigin);
+  const std::array<int, 3>& n = this->Cells.N;
+  const std::array<int, 3>& firstCell = this->Cells.First;
+  for (int a = 0; a < 3; ++a)
+  {
+    this->Origin[a] = this->WholeOrigin[a] + firstCell[a] * cellSize;
+  }
+  for (auto& beyond : this->Beyond)
+  {
+    beyond = RunningIntegralTable();
   }
   this->Table.Allocate(n, channels);
 
   // Cell integrals: extinction at the cell centre (zero outside the data) times volume. The
   // centres of a row along the frame's first axis share the other axes' terms of their world
   // positions, and their cell along each data axis the row does not move along.
-  const double eps = GeometricTolerance * std::max(bounds[1] - bounds[0], 1.0);
+  const CellCentres centres(g, frame, this->WholeOrigin, cellSize);
+  // The cells whose centres are sampled: the piece's, or all the grid's.
+  VolumePiece taken;
+  if (piece)
+  {
+    taken = *piece;
+  }
+  else
+  {
+    taken.Whole = g;
+    for (int a = 0; a < 3; ++a)
+    {
+      taken.LastCell[a] = std::max(0, g.Dimensions[a] - 2);
+    }
+  }
   const double volume = cellSize * cellSize * cellSize;
   const PackedValue* field = data.Properties.data();
   const bool chromatic = channels == 3 && data.IsChromatic();
   const FieldLayout layout(data.Geometry, data.Channels);
   const long long dx = layout.Corner[0], dy = layout.Corner[1], dz = layout.Corner[2];
-  // Position along data axis a of the centre of cell i of a row (ty, tz: the row's terms), and
-  // whether it lies inside the bounds; its cell in cell.
-  auto locate = [&](int a, long long i, const double* ty, const double* tz, TrilinearCell& cell)
-  {
-    const double qx = wholeOrigin[0] + (firstCell[0] + i + 0.5) * cellSize;
-    const double p = qx * frame.Axes[0][a] + ty[a] + tz[a];
-    AxisCell(g.Dimensions[a], (p - g.Origin[a]) / g.Spacing[a], cell.Index[a], cell.Fraction[a]);
-    return p >= bounds[2 * a] - eps && p <= bounds[2 * a + 1] + eps;
-  };
   vtkSMPTools::For(0, static_cast<long long>(n[2]),
     [&](long long k0, long long k1)
     {
@@ -209,29 +377,47 @@ void CartesianSAT::Build(const ClassifiedVolume& data, const SatFrame& frame, do
       {
         for (long long j = 0; j < n[1]; ++j)
         {
-          const double qy = wholeOrigin[1] + (firstCell[1] + j + 0.5) * cellSize;
-          const double qz = wholeOrigin[2] + (firstCell[2] + k + 0.5) * cellSize;
+          const double qy = centres.Coordinate(1, firstCell[1] + j);
+          const double qz = centres.Coordinate(2, firstCell[2] + k);
           const double ty[3] = { qy * frame.Axes[1][0], qy * frame.Axes[1][1],
             qy * frame.Axes[1][2] };
           const double tz[3] = { qz * frame.Axes[2][0], qz * frame.Axes[2][1],
             qz * frame.Axes[2][2] };
+          const double rowX = centres.Coordinate(0, firstCell[0]);
+          // Only the centres the piece takes are sampled (a run along the row).
+          long long begin = 0, end = n[0];
+          {
+            long long row[3] = { 0, firstCell[1] + j, firstCell[2] + k };
+            int first, last;
+            TakenRun(centres, taken, true, 0, row, this->Cells.Whole[0], first, last);
+            begin = std::min<long long>(n[0], std::max(0, first - firstCell[0]));
+            end = std::max(begin, std::min<long long>(n[0], last + 1LL - firstCell[0]));
+            for (long long i = 0; i < n[0]; ++i)
+            {
+              for (int c = 0; c < channels && (i < begin || i >= end); ++c)
+              {
+                this->Table.SetCell(c, i, j, k, 0.0);
+              }
+            }
+          }
           TrilinearCell cell;
           bool rowInside = true;
           for (int a = 0; a < 3; ++a)
           {
             if (frame.Axes[0][a] == 0.0)
             {
-              rowInside = locate(a, 0, ty, tz, cell) && rowInside;
+              rowInside = centres.Locate(a, rowX, ty, tz, cell) && rowInside;
             }
           }
-          for (long long i = 0; i < n[0]; ++i)
+          for (long long i = begin; i < end; ++i)
           {
             bool inside = rowInside;
             for (int a = 0; a < 3; ++a)
             {
               if (frame.Axes[0][a] != 0.0)
               {
-                inside = locate(a, i, ty, tz, cell) && inside;
+                inside = centres.Locate(a, centres.Coordinate(0, firstCell[0] + i), ty, tz, cell) &&
+                  inside;
               }
             }
             TrilinearCell at = cell; // in data's grid
@@ -305,9 +491,12 @@ double RunningIntegralTable::Box(
   {
     taps[axis].Set(a[axis], b[axis], this->N[axis]);
   }
-  const AxisTaps& x = taps[0];
-  const AxisTaps& y = taps[1];
-  const AxisTaps& z = taps[2];
+  return this->Sum(channel, taps[0], taps[1], taps[2]);
+}
+
+double RunningIntegralTable::Sum(
+  int channel, const AxisTaps& x, const AxisTaps& y, const AxisTaps& z) const
+{
   double sum = 0.0;
   for (int k = 0; k < z.Count; ++k)
   {
@@ -410,6 +599,113 @@ void RunningIntegralTable::Integrate()
     });
 }
 
+double CartesianSAT::LocalReach(double cellSize, double halfWidth, double near)
+{
+  // The box's cells across the light reach half a cell beyond its side, and the cell where it
+  // starts holds its start within half a cell.
+  const double across = halfWidth + 0.5 * cellSize;
+  const double along = near + 0.5 * cellSize;
+  return std::sqrt(2.0 * across * across + along * along);
+}
+
+void CartesianSAT::AddCellsBeyond(const VolumePiece& own, const VolumePiece& grown,
+  const Window& window, int axis, int sign, double* sums) const
+{
+  const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+  const CellCentres centres(own.Whole, this->Frame, this->WholeOrigin, this->H);
+  const int channels = this->Table.GetNumberOfChannels();
+  const auto& mine = this->Cells;
+  // The columns both windows have.
+  const int u0 = std::max(window.First[u], mine.First[u]);
+  const int u1 = std::min(window.First[u] + window.N[u], mine.First[u] + mine.N[u]);
+  const int v0 = std::max(window.First[v], mine.First[v]);
+  const int v1 = std::min(window.First[v] + window.N[v], mine.First[v] + mine.N[v]);
+  vtkSMPTools::For(v0, std::max(v0, v1),
+    [&](int begin, int end)
+    {
+      for (int cv = begin; cv < end; ++cv)
+      {
+        for (int cu = u0; cu < u1; ++cu)
+        {
+          long long column[3];
+          column[u] = cu;
+          column[v] = cv;
+          int first, last;
+          TakenRun(centres, own, true, axis, column, mine.Whole[axis], first, last);
+          first = std::max(first, mine.First[axis]);
+          last = std::min(last, mine.First[axis] + mine.N[axis] - 1);
+          int grownFirst, grownLast;
+          TakenRun(centres, grown, false, axis, column, mine.Whole[axis], grownFirst, grownLast);
+          if (grownFirst <= grownLast)
+          {
+            first = sign > 0 ? std::max(first, grownLast + 1) : first;
+            last = sign > 0 ? last : std::min(last, grownFirst - 1);
+          }
+          if (first > last)
+          {
+            continue;
+          }
+          double lo[3], hi[3];
+          lo[u] = cu - mine.First[u];
+          lo[v] = cv - mine.First[v];
+          lo[axis] = first - mine.First[axis];
+          hi[u] = lo[u] + 1.0;
+          hi[v] = lo[v] + 1.0;
+          hi[axis] = last + 1.0 - mine.First[axis];
+          double* out = sums +
+            (static_cast<long long>(cv - window.First[v]) * window.N[u] + (cu - window.First[u])) *
+              channels;
+          for (int c = 0; c < channels; ++c)
+          {
+            out[c] += this->Table.Box(c, lo, hi);
+          }
+        }
+      }
+    });
+}
+
+void CartesianSAT::SetBeyond(int axis, int sign, const double* sums)
+{
+  const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+  std::array<int, 3> n = this->Cells.N;
+  n[axis] = 1;
+  const int channels = this->Table.GetNumberOfChannels();
+  RunningIntegralTable& beyond = this->Beyond[2 * axis + (sign > 0 ? 1 : 0)];
+  beyond.Allocate(n, channels);
+  long long cell[3] = { 0, 0, 0 };
+  for (cell[v] = 0; cell[v] < n[v]; ++cell[v])
+  {
+    for (cell[u] = 0; cell[u] < n[u]; ++cell[u])
+    {
+      const double* in = sums + (cell[v] * n[u] + cell[u]) * channels;
+      for (int c = 0; c < channels; ++c)
+      {
+        beyond.SetCell(c, cell[0], cell[1], cell[2], in[c]);
+      }
+    }
+  }
+  beyond.Integrate();
+}
+
+double CartesianSAT::BeyondBox(
+  int channel, int axis, int sign, const RunningIntegralTable::BoxTaps& taps) const
+{
+  const RunningIntegralTable& beyond = this->Beyond[2 * axis + (sign > 0 ? 1 : 0)];
+  if (beyond.GetDimensions()[axis] == 0)
+  {
+    return 0.0;
+  }
+  // The one cell along the axis, whole.
+  static const RunningIntegralTable::AxisTaps whole = []
+  {
+    RunningIntegralTable::AxisTaps t;
+    t.Set(0.0, 1.0, 1);
+    return t;
+  }();
+  return beyond.Sum(
+    channel, axis == 0 ? whole : taps[0], axis == 1 ? whole : taps[1], axis == 2 ? whole : taps[2]);
+}
+
 double CartesianSAT::BoxIntegral(int channel, const double lo[3], const double hi[3]) const
 {
   const double a[3] = { lo[0] / this->H, lo[1] / this->H, lo[2] / this->H };
@@ -479,6 +775,11 @@ void CartesianSAT::FilteredOpticalDepths(int channel, const double* points, int 
     along = differing == 1 && 3LL * count > n[along] ? along : -1;
   }
   RunningIntegralTable::BoxTaps taps;
+  // The key's columns beyond the window (SetBeyond): a sum when the row runs along the
+  // light's axis, else collapsed onto the row's axis (beyondLine).
+  const RunningIntegralTable& beyond = this->Beyond[2 * axis + (sign > 0 ? 1 : 0)];
+  double keyBeyond = 0.0;
+  bool beyondLine = false;
   if (along >= 0)
   {
     RunningIntegralTable::BoxTaps keyTaps;
@@ -486,8 +787,19 @@ void CartesianSAT::FilteredOpticalDepths(int channel, const double* points, int 
     {
       keyTaps[a].Set(keyLo[a], keyHi[a], n[a]);
     }
-    line.resize(n[along] + 1);
+    line.resize(2 * (n[along] + 1LL));
     this->Table.CollapseToLine(channel, along, keyTaps, line.data());
+    if (along == axis)
+    {
+      keyBeyond = this->BeyondBox(channel, axis, sign, keyTaps);
+    }
+    else if (beyond.GetDimensions()[axis] > 0)
+    {
+      // The columns beyond, collapsed onto the row's axis too (after the table's line).
+      keyTaps[axis].Set(0.0, 1.0, 1);
+      beyond.CollapseToLine(channel, along, keyTaps, line.data() + n[along] + 1);
+      beyondLine = true;
+    }
   }
   for (int i = 0; i < count; ++i)
   {
@@ -505,10 +817,14 @@ void CartesianSAT::FilteredOpticalDepths(int channel, const double* points, int 
       hi[v] == keyHi[v])
     {
       taps[along].Set(lo[along], hi[along], n[along]);
-      depth[i] = RunningIntegralTable::LineBox(line.data(), taps[along]) / area;
+      const double far = beyondLine
+        ? RunningIntegralTable::LineBox(line.data() + n[along] + 1, taps[along])
+        : keyBeyond;
+      depth[i] = (RunningIntegralTable::LineBox(line.data(), taps[along]) + far) / area;
       continue;
     }
-    depth[i] = this->Table.Box(channel, lo, hi, taps) / area;
+    const double inWindow = this->Table.Box(channel, lo, hi, taps);
+    depth[i] = (inWindow + this->BeyondBox(channel, axis, sign, taps)) / area;
   }
 }
 
@@ -524,20 +840,23 @@ double CartesianSAT::KernelFilteredOpticalDepth(int channel, const double p[3], 
   const double ends[2] = { (sign > 0 ? q[axis] : 0.0) / this->H,
     (sign > 0 ? this->Table.GetDimensions()[axis] * this->H : q[axis]) / this->H };
   // Running integrals at the corners of the count x count squares, at both ends of the
-  // cuboids: neighbouring squares share them (eq. 25 with 2 (count+1)^2 table reads).
-  std::vector<double> corner(2 * (count + 1) * (count + 1));
-  for (int e = 0; e < 2; ++e)
+  // cuboids: neighbouring squares share them (eq. 25 with 2 (count+1)^2 table reads); and
+  // those of the columns beyond the window (SetBeyond), one cell along the axis.
+  const RunningIntegralTable& beyond = this->Beyond[2 * axis + (sign > 0 ? 1 : 0)];
+  const int levels = beyond.GetDimensions()[axis] > 0 ? 3 : 2;
+  std::vector<double> corner(levels * (count + 1) * (count + 1));
+  for (int e = 0; e < levels; ++e)
   {
     for (int i = 0; i <= count; ++i)
     {
       for (int j = 0; j <= count; ++j)
       {
         double c[3];
-        c[axis] = ends[e];
+        c[axis] = e < 2 ? ends[e] : 1.0;
         c[a1] = (q[a1] - halfWidth + i * side) / this->H;
         c[a2] = (q[a2] - halfWidth + j * side) / this->H;
         corner[(e * (count + 1) + i) * (count + 1) + j] =
-          this->Table.Cumulative(channel, c[0], c[1], c[2]);
+          (e < 2 ? this->Table : beyond).Cumulative(channel, c[0], c[1], c[2]);
       }
     }
   }
@@ -548,10 +867,10 @@ double CartesianSAT::KernelFilteredOpticalDepth(int channel, const double p[3], 
     for (int j = 0; j < count; ++j)
     {
       double square = 0.0;
-      for (int e = 0; e < 2; ++e)
+      for (int e = 0; e < levels; ++e)
       {
         const double face = at(e, i + 1, j + 1) - at(e, i, j + 1) - at(e, i + 1, j) + at(e, i, j);
-        square += e == 1 ? face : -face;
+        square += e == 0 ? -face : face;
       }
       depth += weights[i] * weights[j] * square / (side * side);
     }

@@ -127,6 +127,10 @@ public:
   /// (boxes around a row of points along another axis) reuses them.
   double Box(int channel, const double lo[3], const double hi[3], BoxTaps& taps) const;
 
+  /// The integral over the box whose ends on each axis are those of its taps (AxisTaps::Set
+  /// with this table's number of cells on the axis).
+  double Sum(int channel, const AxisTaps& x, const AxisTaps& y, const AxisTaps& z) const;
+
   /// Boxes whose ends on the two axes other than `axis` are those of taps: the table summed
   /// over those axes' taps into line, one value a plane of `axis` (N[axis] + 1 values).
   /// LineBox then gives each such box from at most four of them.
@@ -173,6 +177,21 @@ private:
 class VOLILLUMKERNELS_EXPORT CartesianSAT
 {
 public:
+  /// Where a table's cells lie among the whole grid's table's: its first cell and number of
+  /// cells per axis, and the whole table's number of cells.
+  struct Window
+  {
+    std::array<int, 3> First{ { 0, 0, 0 } };
+    std::array<int, 3> N{ { 0, 0, 0 } };
+    std::array<int, 3> Whole{ { 0, 0, 0 } };
+  };
+
+  /// The cells Build gives a table in the frame: the window of a piece (VolumePiece: Whole
+  /// is the grid whose table it is part of), or with none the whole table of `whole`; in
+  /// wholeOrigin the whole table's first corner (frame coordinates).
+  static Window Layout(const GridGeometry& whole, const SatFrame& frame, double cellSize,
+    const VolumePiece* piece, std::array<double, 3>& wholeOrigin);
+
   /**
    * Resample the extinction (times the channel's absorption k_c when channels is 3) onto
    * cells of size cellSize in the frame, covering the data's bounds, and integrate. Cells
@@ -187,6 +206,37 @@ public:
 
   /// Coordinates of a world point in the table's frame, measured from its first corner.
   void ToFrame(const double p[3], double q[3]) const;
+
+  /**
+   * Distance from a point within which lie the centres of the cells where its shadow box
+   * starts (FilteredOpticalDepth, the kernel's squares too) for tables of cells of size
+   * cellSize, a patch of half-width halfWidth and a box that starts `near` toward the light
+   * from the point (its near segment). A piece grown by this distance (and a spacing) holds
+   * them for every point of the piece: see AddCellsBeyond.
+   */
+  static double LocalReach(double cellSize, double halfWidth, double near);
+
+  /**
+   * Tables of a distributed volume, each process's built over its piece grown by LocalReach
+   * (Build with the grown piece: its window holds every cell whose centre the grown piece
+   * takes, from its own data and its neighbours'). A shadow box of a point of the piece then
+   * starts in the grown piece's cells on each of its columns along the light's axis, so the
+   * window holds the box up to where the grown piece's cells end on each column, and beyond
+   * that lie only cells of other pieces. This gives them: for each column along `axis` of
+   * another process's window (`window`, Layout of `grown`, that process's grown piece), the
+   * sum of the cells of this table whose centres lie in the cells of `own` (this process's
+   * piece, whose cells the grown piece this table was built over holds) and beyond every
+   * cell `grown` takes on the column, toward `sign`. Added into sums: Channels values a
+   * column, columns of the window's axes other than `axis` in their order (the first
+   * fastest). Summed over the processes, the other process's SetBeyond takes them.
+   */
+  void AddCellsBeyond(const VolumePiece& own, const VolumePiece& grown, const Window& window,
+    int axis, int sign, double* sums) const;
+
+  /// The cells of the whole table beyond this window's grown piece toward `sign` along
+  /// `axis`, summed per column (AddCellsBeyond summed over the processes): boxes toward that
+  /// end read them as well. A new Build forgets them.
+  void SetBeyond(int axis, int sign, const double* sums);
 
   /// Integral of extinction over the box [lo, hi] (frame coordinates, clamped to the table).
   double BoxIntegral(int channel, const double lo[3], const double hi[3]) const;
@@ -223,10 +273,21 @@ public:
   size_t GetMemoryBytes() const { return this->Table.GetMemoryBytes(); }
 
 private:
+  /// The integral over the columns of a box (taps: those of its ends in this table; the
+  /// axis's are not read) of the cells beyond the window toward sign along axis (SetBeyond;
+  /// 0 without).
+  double BeyondBox(
+    int channel, int axis, int sign, const RunningIntegralTable::BoxTaps& taps) const;
+
   SatFrame Frame;
-  std::array<double, 3> Origin{ { 0.0, 0.0, 0.0 } };
+  std::array<double, 3> Origin{ { 0.0, 0.0, 0.0 } };      // of the window
+  std::array<double, 3> WholeOrigin{ { 0.0, 0.0, 0.0 } }; // of the whole table
+  Window Cells;
   double H = 1.0;
   RunningIntegralTable Table;
+  /// Per axis and sign (2 axis + (sign > 0)): running integrals of the columns' sums beyond
+  /// the window, one cell along the axis (SetBeyond).
+  std::array<RunningIntegralTable, 6> Beyond;
 };
 
 /**
