@@ -7,8 +7,10 @@
  * pieces near it (NeighborhoodGrid), and values cross between processes as the solver
  * steps. Images lit where they are (point scalars): Ray-Marched Illumination marches the
  * parts of the rays in each process's block and multiplies them at the process that holds
- * the point; Filtered Volumetric Shadows with directional lights builds each table's window
- * over the block and sums the parts of the optical depths there (ReduceOverPieces);
+ * the point; Filtered Volumetric Shadows with directional lights lights each process's
+ * points from its block grown by a shadow's reach (ExchangeExtents from the neighbours), the
+ * tables' windows over it and, per column, the sums of the cells beyond it from the others (a
+ * Reduce to the window's process);
  * Multi-Light Illumination Volume with directional lights sweeps bands of rows, each process
  * its band's classification (ExchangeExtents from the blocks), neighbouring bands
  * exchanging lattice rows after every slice, the units moved to the pieces' processes

@@ -137,8 +137,8 @@ private:
   vtkFilteredVolumetricShadows(const vtkFilteredVolumetricShadows&) = delete;
   // Tables for the frames and the point and spot lights, reusing those of the last update
   // whose frame or light position, resolution and classification hold; built counts the new
-  // ones. With `piece` (a parallel run), the Cartesian tables' windows over the piece, and no
-  // abort.
+  // ones. With `piece` (a parallel run: the grown block), the Cartesian tables' windows over it,
+  // and no abort.
   bool UpdateTables(const volillum::ClassifiedVolume& volume,
     const std::vector<volillum::SatFrame>& frames,
     const std::vector<volillum::SphericalLookup>& sphericalLookups, double cellSize, int channels,

@@ -8,7 +8,10 @@ comparison is fair on a 2-core machine. Printed: full update and one-light edit 
 processes over bands of rows, DistributedSweeps, and with the input assembled: a second run,
 so that each peak memory is its own; over bands also the largest band of the classification
 process 0 held and the bytes it sent), the same for a full update of Filtered
-Volumetric Shadows (which lights only each process's piece) and of Ray-Marched
+Volumetric Shadows (with distributed tables: each process lights its own piece from its
+block grown by a shadow's reach; and with the input assembled), its peak memory per process
+on 1, 2 and 4 processes (separate runs; the grown block of process 0 and the bytes of
+classification it sent), and of Ray-Marched
 Illumination (scale 1/4, one light; each process classifies and marches through its block
 of the input only: the points process 0 classified and the bytes of the products each
 process sends are printed), the bytes each process
@@ -48,7 +51,8 @@ def worker(plugin, volume, mode):
     """Times a full update and a one-light edit of the propagation and (mode "all") a full
     update of filtered shadows and of the ray marcher; prints one JSON line. Mode "bands":
     the propagation only; "assembled": the propagation only, with DistributedSweeps off
-    (each process assembles the input)."""
+    (each process assembles the input); "filtered" and "filtered_assembled": filtered
+    shadows only, with DistributedTables on and off."""
     assembled = mode == "assembled"
     from paraview.simple import (LoadPlugin, XMLImageDataReader, GetColorTransferFunction,
                                  GetOpacityTransferFunction)
@@ -75,6 +79,20 @@ def worker(plugin, volume, mode):
 
     import resource
     before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    if mode.startswith("filtered"):
+        # Filtered shadows alone, for their peak memory (with distributed tables, and with the
+        # input assembled on every process).
+        f = filter_with_lights("FilteredVolumetricShadows")
+        f.DistributedTables = 0 if mode == "filtered_assembled" else 1
+        filtered = seconds(f)
+        peak = 1024 * (resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before)
+        fields = f.GetClientSideObject().GetOutputDataObject(0).GetFieldData()
+        grown, sent = fields.GetArray("GrownPoints"), fields.GetArray("SentBytes")
+        print("RESULT " + json.dumps({"filtered_s": filtered, "peak_bytes": peak,
+                                      "grown_points": int(grown.GetValue(0)) if grown else 0,
+                                      "sent_bytes": int(sent.GetValue(0)) if sent else 0,
+                                      "points": reader.GetDataInformation().GetNumberOfPoints()}))
+        return
     f = filter_with_lights("MultiLightIlluminationVolume")
     f.DistributedSweeps = 0 if assembled else 1
     full = seconds(f)
@@ -188,7 +206,12 @@ def main():
                         "assembled")
     # Memory on 4 processes (oversubscribed on 2 cores: their times mean nothing).
     four = {mode: run([mpiexec] + flags.split() + ["-np", "4", pvbatch], plugin, volume, mode)
-            for mode in ("bands", "assembled")}
+            for mode in ("bands", "assembled", "filtered", "filtered_assembled")}
+    # Filtered shadows alone, for their peak memory.
+    shadows = {"1": run([pvbatch], plugin, volume, "filtered")}
+    for mode in ("filtered", "filtered_assembled"):
+        shadows["2" + mode[len("filtered"):]] = run(
+            [mpiexec] + flags.split() + ["-np", "2", pvbatch], plugin, volume, mode)
     # Each process receives the other pieces of the lit array: (N - 1) / N of it.
     received = two["bytes"] / 2
     # Assembled: each process sends the fixed-point units (3 x 4 bytes a point) of the other
@@ -208,6 +231,16 @@ def main():
                "speedup_filtered_shadows": one["filtered_s"] / two["filtered_s"],
                "filtered_shadows_assembled_s": {"1": one["filtered_assembled_s"],
                                                 "2": two["filtered_assembled_s"]},
+               "filtered_shadows_peak_bytes_per_point_per_process": {
+                   "1": shadows["1"]["peak_bytes"] / one["points"],
+                   "2": shadows["2"]["peak_bytes"] / two["points"],
+                   "2 assembled": shadows["2_assembled"]["peak_bytes"] / two["points"],
+                   "4": four["filtered"]["peak_bytes"] / two["points"],
+                   "4 assembled": four["filtered_assembled"]["peak_bytes"] / two["points"]},
+               "filtered_shadows_grown_points_of_process_0": {
+                   "2": shadows["2"]["grown_points"], "4": four["filtered"]["grown_points"]},
+               "filtered_shadows_bytes_sent_by_process_0": {
+                   "2": shadows["2"]["sent_bytes"], "4": four["filtered"]["sent_bytes"]},
                "ray_marched_s": {"1": one["marched_s"], "2": two["marched_s"]},
                "speedup_ray_marched": one["marched_s"] / two["marched_s"],
                "ray_marched_points_classified_by_process_0": {
@@ -244,6 +277,14 @@ def main():
                                          two["filtered_assembled_s"],
                                          one["filtered_assembled_s"] /
                                          two["filtered_assembled_s"]))
+    print("filtered shadows' peak memory per process above the input, bytes a point: %.1f on "
+          "1 process, %.1f on 2, %.1f on 2 assembled, %.1f on 4, %.1f on 4 assembled; grown "
+          "block of process 0: %d points on 2 processes, %d on 4, of %d; classification it sent: "
+          "%.1f MB on 2, %.1f MB on 4"
+          % tuple(list(results["filtered_shadows_peak_bytes_per_point_per_process"].values()) +
+                  [shadows["2"]["grown_points"], four["filtered"]["grown_points"],
+                   one["points"], shadows["2"]["sent_bytes"] / 1e6,
+                   four["filtered"]["sent_bytes"] / 1e6]))
     print("%-22s %10.2f %10.2f %8.2f" % ("ray marched (s)", one["marched_s"],
                                          two["marched_s"], results["speedup_ray_marched"]))
     print("ray marched: input points process 0 classified: %d on 1 process, %d on 2; "
