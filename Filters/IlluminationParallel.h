@@ -7,16 +7,16 @@
  * pieces near it (NeighborhoodGrid), and values cross between processes as the solver
  * steps. Images lit where they are (point scalars): Ray-Marched Illumination marches the
  * parts of the rays in each process's block and multiplies them at the process that holds
- * the point; Filtered Volumetric Shadows with directional lights lights each process's
- * points from its block grown by a shadow's reach (ExchangeExtents from the neighbours), the
- * tables' windows over it and, per column, the sums of the cells beyond it from the others (a
- * Reduce to the window's process);
- * Multi-Light Illumination Volume with directional lights sweeps bands of rows, each process
- * its band's classification (ExchangeExtents from the blocks), neighbouring bands
- * exchanging lattice rows after every slice, the units moved to the pieces' processes
- * (ExchangeExtents). The image filters with cell scalars, point or spot lights (or their
- * distributed properties off) assemble the whole input on every process from the pieces of
- * all processes (collective calls of the filter's vtkMultiProcessController) and output the
+ * the point; Filtered Volumetric Shadows lights each process's points from its block grown
+ * by a shadow's reach (ExchangeExtents from the neighbours), the tables' windows over it and,
+ * per column, the sums of the cells between it and the light from the others (a Reduce to
+ * the window's process); Multi-Light Illumination Volume with directional lights sweeps
+ * bands of rows, each process its band's classification (ExchangeExtents from the blocks),
+ * neighbouring bands exchanging lattice rows after every slice, the units moved to the
+ * pieces' processes (ExchangeExtents). The image filters with cell scalars and Multi-Light
+ * Illumination Volume with point or spot lights (or the distributed properties off) assemble
+ * the whole input on every process from the pieces of all processes (collective calls of
+ * the filter's vtkMultiProcessController) and output the
  * part of the illumination that belongs to their own piece; the propagation then shares its
  * sweeps out among the processes (SweepShare): each process propagates its sweeps over the
  * whole illumination grid into fixed-point units of its own, and the sums over the

@@ -136,7 +136,7 @@ volillum::PointShading vtkFilteredVolumetricShadows::Shading(
 //------------------------------------------------------------------------------
 bool vtkFilteredVolumetricShadows::LightsDistributedPieces() const
 {
-  return this->DistributedTables && this->OnlyDirectionalLights();
+  return this->DistributedTables;
 }
 
 //------------------------------------------------------------------------------
@@ -172,16 +172,28 @@ void vtkFilteredVolumetricShadows::ComputeDistributedIllumination(
   // The lights that are on (a process without a piece has none: it only takes part).
   std::vector<volillum::SatFrame> frames;
   std::vector<volillum::ShadowLookup> lookups;
-  std::vector<volillum::SphericalLookup> none;
-  volillum::GroupShadowLights(lights, frames, lookups, none);
-  // The points that the shadows of this process's points read: its block and the data
-  // points around its extent of the illumination grid, grown by the reach of a patch and a
-  // near segment (CartesianSAT::LocalReach) and a spacing.
+  std::vector<volillum::SphericalLookup> sphericalLookups;
+  volillum::GroupShadowLights(lights, frames, lookups, sphericalLookups);
+  // The table cells that the shadows of this process's points end in lie within `reach` of
+  // them (CartesianSAT::LocalReach and SphericalSAT::LocalReach: a patch and a near segment);
+  // a spherical cell's samples lie within half a radial cell (`margin`) of its centre.
   const volillum::PointShading settings = this->Shading(
-    volume, bounds, lookups, none, std::vector<float*>(lights.size(), nullptr), nullptr);
-  const double reach =
-    volillum::CartesianSAT::LocalReach(cell, settings.HalfWidth, settings.NearLength);
-  int wanted[6] = { 0, -1, 0, -1, 0, -1 };
+    volume, bounds, lookups, {}, std::vector<float*>(lights.size(), nullptr), nullptr);
+  double reach = volillum::CartesianSAT::LocalReach(cell, settings.HalfWidth, settings.NearLength);
+  double margin = 0.0;
+  for (const auto& l : sphericalLookups)
+  {
+    volillum::SphericalSAT planned;
+    planned.Plan(bounds, l.Light.Position.data(), cell);
+    reach = std::max(reach,
+      planned.LocalReach(
+        settings.Patch, volillum::NearSegmentLength(planned.GetCellSize(), settings.Patch)));
+    margin = std::max(margin, 0.5 * planned.GetRadialCellLength());
+  }
+  // The cells of the tables' windows: those whose centres lie in this process's block and
+  // the data points around its extent of the illumination grid, grown by the reach and a
+  // spacing (tables); and the points they read, grown by the margin and a spacing (wanted).
+  int tables[6] = { 0, -1, 0, -1, 0, -1 }, wanted[6] = { 0, -1, 0, -1, 0, -1 };
   if (lit)
   {
     for (int a = 0; a < 3; ++a)
@@ -190,32 +202,37 @@ void vtkFilteredVolumetricShadows::ComputeDistributedIllumination(
         (target.Origin[a] + own[2 * a] * target.Spacing[a] - data.Origin[a]) / data.Spacing[a],
         (target.Origin[a] + own[2 * a + 1] * target.Spacing[a] - data.Origin[a]) / data.Spacing[a]
       };
-      const int halo = static_cast<int>(std::ceil(reach / std::abs(data.Spacing[a]))) + 1;
+      const double spacing = std::abs(data.Spacing[a]);
+      const int halo = static_cast<int>(std::ceil(reach / spacing)) + 1;
+      const int more = margin > 0.0 ? static_cast<int>(std::ceil(margin / spacing)) + 1 : 0;
       const int first = std::min(piece.FirstCell[a], static_cast<int>(std::floor(u[0])));
       const int last = std::max(piece.LastCell[a] + 1, static_cast<int>(std::ceil(u[1])));
-      wanted[2 * a] = std::max(0, first - halo);
-      wanted[2 * a + 1] = std::min(data.Dimensions[a] - 1, last + halo);
+      tables[2 * a] = std::max(0, first - halo);
+      tables[2 * a + 1] = std::min(data.Dimensions[a] - 1, last + halo);
+      wanted[2 * a] = std::max(0, tables[2 * a] - more);
+      wanted[2 * a + 1] = std::min(data.Dimensions[a] - 1, tables[2 * a + 1] + more);
     }
   }
   volillum::ClassifiedVolume grownVolume;
   this->SentBytes = GatherClassification(controller, volume, piece, wanted, grownVolume);
   this->GrownPoints = volillum::ExtentPoints(wanted);
-  const std::vector<int> grownExtents = volillum::GatherExtents(controller, lit ? wanted : nullptr);
-  volillum::VolumePiece grown;
+  const std::vector<int> tableExtents = volillum::GatherExtents(controller, lit ? tables : nullptr);
+  volillum::VolumePiece grown; // the tables' cells, in the grown block's volume
   grown.Whole = data;
   for (int a = 0; a < 3; ++a)
   {
-    grown.Offset[a] = grown.FirstCell[a] = wanted[2 * a];
-    grown.LastCell[a] = wanted[2 * a + 1] - 1;
+    grown.Offset[a] = wanted[2 * a];
+    grown.FirstCell[a] = tables[2 * a];
+    grown.LastCell[a] = tables[2 * a + 1] - 1;
   }
   std::unique_ptr<const volillum::EmptyBlocks> empty;
   if (lit)
   {
     empty = std::make_unique<const volillum::EmptyBlocks>(grownVolume);
-    this->UpdateTables(
-      grownVolume, frames, none, cell, channels, inputModified, report.Passes, empty.get(), &grown);
+    this->UpdateTables(grownVolume, frames, sphericalLookups, cell, channels, inputModified,
+      report.Passes, empty.get(), &grown);
   }
-  this->ShareCellsBeyond(controller, piece, lookups, cell, channels, grownExtents);
+  this->ShareCellsBeyond(controller, piece, lookups, sphericalLookups, channels, tableExtents);
   if (!lit)
   {
     return;
@@ -227,8 +244,8 @@ void vtkFilteredVolumetricShadows::ComputeDistributedIllumination(
     mine.Dimensions[a] = own[2 * a + 1] - own[2 * a] + 1;
     mine.Origin[a] = target.Origin[a] + own[2 * a] * target.Spacing[a];
   }
-  const volillum::PointShading shading = this->Shading(grownVolume, bounds, lookups, none,
-    this->AllocateTransmittances(lights, channels, points), empty.get());
+  const volillum::PointShading shading = this->Shading(grownVolume, bounds, lookups,
+    sphericalLookups, this->AllocateTransmittances(lights, channels, points), empty.get());
   volillum::ShadePoints(shading, mine, rgb,
     [this](double fraction)
     {
@@ -240,79 +257,96 @@ void vtkFilteredVolumetricShadows::ComputeDistributedIllumination(
 //------------------------------------------------------------------------------
 void vtkFilteredVolumetricShadows::ShareCellsBeyond(vtkMultiProcessController* controller,
   const volillum::VolumePiece& piece, const std::vector<volillum::ShadowLookup>& lookups,
-  double cellSize, int channels, const std::vector<int>& grownExtents)
+  const std::vector<volillum::SphericalLookup>& sphericalLookups, int channels,
+  const std::vector<int>& tableExtents)
 {
-  // The boxes read: a table's axis and the end toward the light, the same on every process
-  // (those of the first process with a piece: the others have no lights).
+  // The columns read: a Cartesian table's axis and the end toward the light, a spherical
+  // table's (u, v) columns toward the light; the same on every process (those of the first
+  // process with a piece: the others have no lights).
   const int processes = controller->GetNumberOfProcesses();
   const int local = controller->GetLocalProcessId();
   int root = 0;
-  while (root < processes - 1 && volillum::ExtentPoints(&grownExtents[6 * root]) <= 0)
+  while (root < processes - 1 && volillum::ExtentPoints(&tableExtents[6 * root]) <= 0)
   {
     ++root;
   }
-  std::vector<double> keys; // per box: the table, its frame's axes, the axis and the sign
+  std::vector<int> keys; // per key: spherical (1) or not, the table, the axis and the sign
   for (const auto& l : lookups)
   {
     bool known = false;
-    for (size_t k = 0; k < keys.size(); k += 12)
+    for (size_t k = 0; k < keys.size(); k += 4)
     {
-      known = known || (keys[k] == l.Table && keys[k + 10] == l.Axis && keys[k + 11] == l.Sign);
+      known = known ||
+        (keys[k + 1] == static_cast<int>(l.Table) && keys[k + 2] == l.Axis &&
+          keys[k + 3] == l.Sign);
     }
     if (!known)
     {
-      keys.push_back(static_cast<double>(l.Table));
-      for (const auto& axis : this->Tables[l.Table].GetFrame().Axes)
-      {
-        keys.insert(keys.end(), axis.begin(), axis.end());
-      }
-      keys.push_back(l.Axis);
-      keys.push_back(l.Sign);
+      keys.insert(keys.end(), { 0, static_cast<int>(l.Table), l.Axis, l.Sign });
     }
   }
-  vtkIdType count = static_cast<vtkIdType>(keys.size());
+  for (const auto& l : sphericalLookups)
+  {
+    keys.insert(keys.end(), { 1, static_cast<int>(l.Table), 2, -1 });
+  }
+  int count = static_cast<int>(keys.size());
   controller->Broadcast(&count, 1, root);
   keys.resize(count);
   if (count > 0)
   {
     controller->Broadcast(keys.data(), count, root);
   }
-  const bool lit = volillum::ExtentPoints(&grownExtents[6 * local]) > 0;
-  for (vtkIdType k = 0; k < count; k += 12)
+  const bool lit = volillum::ExtentPoints(&tableExtents[6 * local]) > 0;
+  for (int k = 0; k < count; k += 4)
   {
-    const size_t table = static_cast<size_t>(keys[k]);
-    volillum::SatFrame frame;
-    for (int a = 0; a < 3; ++a)
+    const bool spherical = keys[k] == 1;
+    const size_t table = static_cast<size_t>(keys[k + 1]);
+    const int axis = keys[k + 2], sign = keys[k + 3];
+    // Every process's window of the table.
+    int window[6] = { 0, 0, 0, 0, 0, 0 };
+    if (lit)
     {
-      std::copy_n(&keys[k + 1 + 3 * a], 3, frame.Axes[a].begin());
+      const volillum::TableWindow& w =
+        spherical ? this->SphericalTables[table].GetWindow() : this->Tables[table].GetWindow();
+      std::copy(w.First.begin(), w.First.end(), window);
+      std::copy(w.N.begin(), w.N.end(), window + 3);
     }
-    const int axis = static_cast<int>(keys[k + 10]), sign = static_cast<int>(keys[k + 11]);
+    std::vector<int> windows(6 * static_cast<size_t>(processes));
+    controller->AllGather(window, windows.data(), 6);
     for (int p = 0; p < processes; ++p)
     {
-      const int* e = &grownExtents[6 * p];
+      const int* e = &tableExtents[6 * p];
       if (volillum::ExtentPoints(e) <= 0)
       {
         continue;
       }
-      volillum::VolumePiece grown;
-      grown.Whole = piece.Whole;
+      volillum::VolumePiece other;
+      other.Whole = piece.Whole;
+      volillum::TableWindow w;
       for (int a = 0; a < 3; ++a)
       {
-        grown.Offset[a] = grown.FirstCell[a] = e[2 * a];
-        grown.LastCell[a] = e[2 * a + 1] - 1;
+        other.Offset[a] = other.FirstCell[a] = e[2 * a];
+        other.LastCell[a] = e[2 * a + 1] - 1;
+        w.First[a] = windows[6 * p + a];
+        w.N[a] = windows[6 * p + 3 + a];
       }
-      std::array<double, 3> unused;
-      const auto window =
-        volillum::CartesianSAT::Layout(piece.Whole, frame, cellSize, &grown, unused);
       const vtkIdType size =
-        static_cast<vtkIdType>(channels) * window.N[(axis + 1) % 3] * window.N[(axis + 2) % 3];
+        static_cast<vtkIdType>(channels) * w.N[(axis + 1) % 3] * w.N[(axis + 2) % 3];
       std::vector<double> sums(size, 0.0), total(size, 0.0);
-      if (lit && p != local)
+      if (lit && p != local && spherical)
       {
-        this->Tables[table].AddCellsBeyond(piece, grown, window, axis, sign, sums.data());
+        this->SphericalTables[table].AddCellsBeyond(piece, other, w, sums.data());
+      }
+      else if (lit && p != local)
+      {
+        this->Tables[table].AddCellsBeyond(piece, other, w, axis, sign, sums.data());
       }
       controller->Reduce(sums.data(), total.data(), size, vtkCommunicator::SUM_OP, p);
-      if (p == local)
+      if (p == local && spherical)
+      {
+        this->SphericalTables[table].SetBeyond(total.data());
+      }
+      else if (p == local)
       {
         this->Tables[table].SetBeyond(axis, sign, total.data());
       }
@@ -376,7 +410,8 @@ bool vtkFilteredVolumetricShadows::UpdateTables(const volillum::ClassifiedVolume
     {
       continue;
     }
-    spherical[i].Build(volume, sphericalLookups[i].Light.Position.data(), cellSize, channels);
+    spherical[i].Build(
+      volume, sphericalLookups[i].Light.Position.data(), cellSize, channels, 1LL << 25, piece);
     ++built;
     if (!this->ReportProgress(0.5))
     {

@@ -86,11 +86,12 @@ public:
 
   ///@{
   /**
-   * In a parallel run with directional lights only (and point scalars), on (the default):
-   * each process lights the points of its own piece from its block of the input grown by
-   * the reach of a shadow's patch and near segment (a few data spacings, taken from its
-   * neighbours) and the part of each table over that grown block, and receives, per column
-   * of that part, the sum of the table's cells beyond it toward each light from the others.
+   * In a parallel run (with point scalars), on (the default): each process lights the
+   * points of its own piece from its block of the input grown by the reach of a shadow's
+   * patch and near segment (a few data spacings, taken from its neighbours) and the part of
+   * each table over that grown block (Cartesian for directional lights, spherical for point
+   * and spot lights), and receives, per column of that part, the sum of the table's cells
+   * between it and each light from the others.
    * No process holds the whole input or whole tables, and each reads only its own points'
    * shadows. Off: every process assembles the whole input and builds whole tables, then
    * lights only the points of its piece (whole-volume memory on each). The result is the same
@@ -113,8 +114,7 @@ protected:
   ~vtkFilteredVolumetricShadows() override = default;
 
   bool LightsPointsIndependently() const override { return true; }
-  // Directional lights only: point and spot lights' spherical tables are built from the
-  // assembled input.
+  // With DistributedTables (point scalars; cell scalars are assembled).
   bool LightsDistributedPieces() const override;
   void ComputeDistributedIllumination(vtkMultiProcessController* controller,
     const volillum::ClassifiedVolume& volume, const volillum::VolumePiece& piece,
@@ -150,12 +150,14 @@ private:
     const std::vector<volillum::ShadowLookup>& lookups,
     const std::vector<volillum::SphericalLookup>& sphericalLookups,
     std::vector<float*> transmittances, const volillum::EmptyBlocks* empty);
-  // Distributed tables: what each window lacks of the whole table beyond its grown block
-  // (CartesianSAT::AddCellsBeyond on every process, summed at the window's process).
-  // Collective; `grownExtents`: every process's grown block (GatherExtents).
+  // Distributed tables: what each window lacks of the whole table beyond its cells
+  // (CartesianSAT and SphericalSAT::AddCellsBeyond on every process, summed at the window's
+  // process). Collective; `tableExtents`: the cells of every process's windows, as the
+  // data points that hold their centres (GatherExtents).
   void ShareCellsBeyond(vtkMultiProcessController* controller, const volillum::VolumePiece& piece,
-    const std::vector<volillum::ShadowLookup>& lookups, double cellSize, int channels,
-    const std::vector<int>& grownExtents);
+    const std::vector<volillum::ShadowLookup>& lookups,
+    const std::vector<volillum::SphericalLookup>& sphericalLookups, int channels,
+    const std::vector<int>& tableExtents);
   // The per-light transmittance arrays (PerLightTransmittance), null for the others.
   std::vector<float*> AllocateTransmittances(
     const std::vector<volillum::LightState>& lights, int channels, long long points);

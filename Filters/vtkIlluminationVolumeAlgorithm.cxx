@@ -650,15 +650,6 @@ long long vtkIlluminationVolumeAlgorithm::GatherClassification(
 }
 
 //------------------------------------------------------------------------------
-bool vtkIlluminationVolumeAlgorithm::OnlyDirectionalLights() const
-{
-  const auto states = this->GetLightStates();
-  return std::none_of(states.begin(), states.end(),
-    [](const volillum::LightState& l)
-    { return l.On && l.Kind != volillum::LightKind::Directional; });
-}
-
-//------------------------------------------------------------------------------
 void vtkIlluminationVolumeAlgorithm::ComputeDistributedIllumination(vtkMultiProcessController*,
   const volillum::ClassifiedVolume&, const volillum::VolumePiece&,
   const std::vector<volillum::LightState>&, const volillum::GridGeometry&, const std::vector<int>&,

@@ -213,9 +213,6 @@ protected:
    * assembled.
    */
   virtual bool LightsDistributedPieces() const { return false; }
-  /// Whether every light that is on is directional (the filters that light distributed
-  /// pieces of directional lights only).
-  bool OnlyDirectionalLights() const;
 
   /**
    * The illumination of a parallel run of a filter that LightsDistributedPieces. `volume`:

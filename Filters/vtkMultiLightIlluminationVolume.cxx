@@ -259,7 +259,13 @@ bool vtkMultiLightIlluminationVolume::ComputeIllumination(const volillum::Classi
 //------------------------------------------------------------------------------
 bool vtkMultiLightIlluminationVolume::LightsDistributedPieces() const
 {
-  return this->DistributedSweeps && this->OnlyDirectionalLights();
+  // Directional lights only: a point or spot light's rays are integrated from an anchor slice
+  // or a side face, any number of slices and rows back.
+  const auto states = this->GetLightStates();
+  return this->DistributedSweeps &&
+    std::none_of(states.begin(), states.end(),
+      [](const volillum::LightState& l)
+      { return l.On && l.Kind != volillum::LightKind::Directional; });
 }
 
 //------------------------------------------------------------------------------

@@ -113,8 +113,8 @@ void CartesianSAT::ToFrame(const double p[3], double q[3]) const
   }
 }
 
-CartesianSAT::Window CartesianSAT::Layout(const GridGeometry& g, const SatFrame& frame,
-  double cellSize, const VolumePiece* piece, std::array<double, 3>& wholeOrigin)
+TableWindow CartesianSAT::Layout(const GridGeometry& g, const SatFrame& frame, double cellSize,
+  const VolumePiece* piece, std::array<double, 3>& wholeOrigin)
 {
   double bounds[6];
   g.GetBounds(bounds);
@@ -131,7 +131,7 @@ CartesianSAT::Window CartesianSAT::Layout(const GridGeometry& g, const SatFrame&
       hi[a] = std::max(hi[a], c);
     }
   }
-  Window w;
+  TableWindow w;
   for (int a = 0; a < 3; ++a)
   {
     // One cell more than the box holds, centred on it: in a frame of the data's axes the
@@ -199,12 +199,32 @@ struct CellCentres
   // Frame coordinate of the centres of the whole table's cells of index i along frame axis b.
   double Coordinate(int b, long long i) const { return this->Origin[b] + (i + 0.5) * this->H; }
 
-  // Along data axis a, the centre whose frame coordinates' terms are tx, ty[a] and tz[a]
-  // (Coordinate times the frame's axes): its cell along a, and whether it lies inside the
-  // bounds (within Eps).
-  bool Locate(int a, double tx, const double* ty, const double* tz, TrilinearCell& cell) const
+  // Data coordinate a of the centre whose frame coordinates' terms are tx, ty[a] and tz[a]
+  // (Coordinate times the frame's axes).
+  double Position(int a, double tx, const double* ty, const double* tz) const
   {
-    const double p = tx * this->Frame.Axes[0][a] + ty[a] + tz[a];
+    return tx * this->Frame.Axes[0][a] + ty[a] + tz[a];
+  }
+
+  // The world position of the centre of the whole table's cell c.
+  void Centre(const long long c[3], double p[3]) const
+  {
+    const double qy = this->Coordinate(1, c[1]), qz = this->Coordinate(2, c[2]);
+    const double ty[3] = { qy * this->Frame.Axes[1][0], qy * this->Frame.Axes[1][1],
+      qy * this->Frame.Axes[1][2] };
+    const double tz[3] = { qz * this->Frame.Axes[2][0], qz * this->Frame.Axes[2][1],
+      qz * this->Frame.Axes[2][2] };
+    const double tx = this->Coordinate(0, c[0]);
+    for (int a = 0; a < 3; ++a)
+    {
+      p[a] = this->Position(a, tx, ty, tz);
+    }
+  }
+
+  // Along data axis a, the centre at data coordinate p: its cell along a, and whether it lies
+  // inside the bounds (within Eps).
+  bool Locate(int a, double p, TrilinearCell& cell) const
+  {
     AxisCell(this->Grid.Dimensions[a], (p - this->Grid.Origin[a]) / this->Grid.Spacing[a],
       cell.Index[a], cell.Fraction[a]);
     return p >= this->Bounds[2 * a] - this->Eps && p <= this->Bounds[2 * a + 1] + this->Eps;
@@ -217,41 +237,57 @@ struct CellCentres
   double Bounds[6];
   double Eps;
 };
-}
 
-namespace
+// Whether a piece takes a point at data coordinate p along axis a of its whole grid: its
+// cell along a (AxisCell, as the tables' cells find theirs) is one of the piece's and,
+// strict, it lies inside the grid's bounds (within CellCentres' tolerance).
+struct PieceTest
 {
-// The run [first, last] of the whole table's cells along frame axis `axis` of a column (the
-// whole table's cell indices on the other axes; column[axis] is overwritten) of n cells
-// whose centres lie in the piece's cells: as Build takes them (strict: inside the grid's
-// bounds too) or by their cell alone (a centre beyond a face of the grid then lies in the
-// cell it clamps to, so the piece's cells at a face reach beyond it). Each test is monotone
-// along the column, so those cells form one run; first > last when there is none. The run
-// is estimated from the straight line through the centres and settled with the tests.
-void TakenRun(const CellCentres& centres, const VolumePiece& piece, bool strict, int axis,
-  long long column[3], int n, int& first, int& last)
+  PieceTest(const VolumePiece& piece, bool strict)
+    : Piece(piece)
+    , Strict(strict)
+  {
+    piece.Whole.GetBounds(this->Bounds);
+    this->Eps = GeometricTolerance * std::max(this->Bounds[1] - this->Bounds[0], 1.0);
+  }
+
+  bool Along(int a, double p) const
+  {
+    const GridGeometry& g = this->Piece.Whole;
+    int index;
+    float fraction;
+    AxisCell(g.Dimensions[a], (p - g.Origin[a]) / g.Spacing[a], index, fraction);
+    return index >= this->Piece.FirstCell[a] && index <= this->Piece.LastCell[a] &&
+      (!this->Strict ||
+        (p >= this->Bounds[2 * a] - this->Eps && p <= this->Bounds[2 * a + 1] + this->Eps));
+  }
+
+  const VolumePiece& Piece;
+  bool Strict;
+  double Bounds[6];
+  double Eps;
+};
+
+// The run [first, last] of the n cell centres along a line that a piece takes (first > last:
+// none). centre(k, p) gives the world position of centre k, each coordinate monotone in k, or
+// the same for all (constant). Every test is monotone along the line, so those centres form
+// one run (by their cell alone, a centre beyond a face of the grid lies in the cell it clamps
+// to, so the piece's cells at a face reach beyond it). The run is estimated from the straight
+// line through the first and last centres and settled with the tests.
+template <typename Centre>
+void TakenRun(
+  const PieceTest& test, int n, const bool constant[3], Centre centre, int& first, int& last)
 {
-  const GridGeometry& g = centres.Grid;
-  // Whether the piece takes the centre of cell k along data axis `only` (all three: -1).
+  const VolumePiece& piece = test.Piece;
+  const GridGeometry& g = piece.Whole;
+  // Whether the piece takes centre k along data axis `only` (all three: -1).
   auto takes = [&](long long k, int only)
   {
-    column[axis] = k;
-    const double qy = centres.Coordinate(1, column[1]), qz = centres.Coordinate(2, column[2]);
-    const double ty[3] = { qy * centres.Frame.Axes[1][0], qy * centres.Frame.Axes[1][1],
-      qy * centres.Frame.Axes[1][2] };
-    const double tz[3] = { qz * centres.Frame.Axes[2][0], qz * centres.Frame.Axes[2][1],
-      qz * centres.Frame.Axes[2][2] };
-    const double tx = centres.Coordinate(0, column[0]);
+    double p[3];
+    centre(k, p);
     for (int a = 0; a < 3; ++a)
     {
-      TrilinearCell cell;
-      if (only >= 0 && a != only)
-      {
-        continue;
-      }
-      const bool inside = centres.Locate(a, tx, ty, tz, cell);
-      if ((strict && !inside) || cell.Index[a] < piece.FirstCell[a] ||
-        cell.Index[a] > piece.LastCell[a])
+      if ((only < 0 || a == only) && !test.Along(a, p[a]))
       {
         return false;
       }
@@ -259,28 +295,14 @@ void TakenRun(const CellCentres& centres, const VolumePiece& piece, bool strict,
     return true;
   };
   double t0 = 0.0, t1 = n - 1.0;
-  double start[3], end[3];
-  column[axis] = 0;
-  for (int b = 0; b < 3; ++b)
-  {
-    start[b] = centres.Coordinate(b, column[b]);
-    end[b] = start[b];
-  }
-  end[axis] = centres.Coordinate(axis, n - 1);
+  double ends[2][3];
+  centre(0, ends[0]);
+  centre(n - 1, ends[1]);
   for (int a = 0; a < 3 && t0 <= t1; ++a)
   {
-    // Grid coordinate along data axis a at the column's first and last centres.
-    double u[2] = { 0.0, 0.0 };
-    for (int b = 0; b < 3; ++b)
+    if (constant[a])
     {
-      u[0] += start[b] * centres.Frame.Axes[b][a];
-      u[1] += end[b] * centres.Frame.Axes[b][a];
-    }
-    u[0] = (u[0] - g.Origin[a]) / g.Spacing[a];
-    u[1] = (u[1] - g.Origin[a]) / g.Spacing[a];
-    if (centres.Frame.Axes[axis][a] == 0.0)
-    {
-      // Constant along the column: its test decides for all.
+      // Its test decides for all.
       if (!takes(0, a))
       {
         first = 0;
@@ -289,16 +311,19 @@ void TakenRun(const CellCentres& centres, const VolumePiece& piece, bool strict,
       }
       continue;
     }
-    const bool lowFace = !strict && piece.FirstCell[a] == 0;
-    const bool highFace = !strict && piece.LastCell[a] >= g.Dimensions[a] - 2;
+    // Grid coordinate along data axis a at the first and last centres.
+    const double u0 = (ends[0][a] - g.Origin[a]) / g.Spacing[a];
+    const double u1 = (ends[1][a] - g.Origin[a]) / g.Spacing[a];
+    const bool lowFace = !test.Strict && piece.FirstCell[a] == 0;
+    const bool highFace = !test.Strict && piece.LastCell[a] >= g.Dimensions[a] - 2;
     const double lo = lowFace ? -VTK_DOUBLE_MAX : piece.FirstCell[a];
     const double hi = highFace ? VTK_DOUBLE_MAX : piece.LastCell[a] + 1.0;
-    const double slope = n > 1 ? (u[1] - u[0]) / (n - 1) : 0.0;
+    const double slope = n > 1 ? (u1 - u0) / (n - 1) : 0.0;
     if (slope == 0.0)
     {
-      continue; // too steep to estimate: the tests settle it
+      continue; // too flat to estimate: the tests settle it
     }
-    const double k0 = (lo - u[0]) / slope, k1 = (hi - u[0]) / slope;
+    const double k0 = (lo - u0) / slope, k1 = (hi - u0) / slope;
     t0 = std::max(t0, std::min(k0, k1));
     t1 = std::min(t1, std::max(k0, k1));
   }
@@ -324,6 +349,26 @@ void TakenRun(const CellCentres& centres, const VolumePiece& piece, bool strict,
   {
     ++last;
   }
+}
+
+// TakenRun along frame axis `axis` of a Cartesian table's column (the whole table's cell
+// indices on the other axes; column[axis] is overwritten) of n cells.
+void ColumnRun(const CellCentres& centres, const PieceTest& test, int axis, long long column[3],
+  int n, int& first, int& last)
+{
+  bool constant[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    constant[a] = centres.Frame.Axes[axis][a] == 0.0;
+  }
+  TakenRun(
+    test, n, constant,
+    [&](long long k, double p[3])
+    {
+      column[axis] = k;
+      centres.Centre(column, p);
+    },
+    first, last);
 }
 }
 
@@ -365,6 +410,7 @@ void CartesianSAT::Build(const ClassifiedVolume& data, const SatFrame& frame, do
       taken.LastCell[a] = std::max(0, g.Dimensions[a] - 2);
     }
   }
+  const PieceTest taking(taken, true);
   const double volume = cellSize * cellSize * cellSize;
   const PackedValue* field = data.Properties.data();
   const bool chromatic = channels == 3 && data.IsChromatic();
@@ -389,7 +435,7 @@ void CartesianSAT::Build(const ClassifiedVolume& data, const SatFrame& frame, do
           {
             long long row[3] = { 0, firstCell[1] + j, firstCell[2] + k };
             int first, last;
-            TakenRun(centres, taken, true, 0, row, this->Cells.Whole[0], first, last);
+            ColumnRun(centres, taking, 0, row, this->Cells.Whole[0], first, last);
             begin = std::min<long long>(n[0], std::max(0, first - firstCell[0]));
             end = std::max(begin, std::min<long long>(n[0], last + 1LL - firstCell[0]));
             for (long long i = 0; i < n[0]; ++i)
@@ -406,7 +452,7 @@ void CartesianSAT::Build(const ClassifiedVolume& data, const SatFrame& frame, do
           {
             if (frame.Axes[0][a] == 0.0)
             {
-              rowInside = centres.Locate(a, rowX, ty, tz, cell) && rowInside;
+              rowInside = centres.Locate(a, centres.Position(a, rowX, ty, tz), cell) && rowInside;
             }
           }
           for (long long i = begin; i < end; ++i)
@@ -416,8 +462,8 @@ void CartesianSAT::Build(const ClassifiedVolume& data, const SatFrame& frame, do
             {
               if (frame.Axes[0][a] != 0.0)
               {
-                inside = centres.Locate(a, centres.Coordinate(0, firstCell[0] + i), ty, tz, cell) &&
-                  inside;
+                const double tx = centres.Coordinate(0, firstCell[0] + i);
+                inside = centres.Locate(a, centres.Position(a, tx, ty, tz), cell) && inside;
               }
             }
             TrilinearCell at = cell; // in data's grid
@@ -609,10 +655,11 @@ double CartesianSAT::LocalReach(double cellSize, double halfWidth, double near)
 }
 
 void CartesianSAT::AddCellsBeyond(const VolumePiece& own, const VolumePiece& grown,
-  const Window& window, int axis, int sign, double* sums) const
+  const TableWindow& window, int axis, int sign, double* sums) const
 {
   const int u = (axis + 1) % 3, v = (axis + 2) % 3;
   const CellCentres centres(own.Whole, this->Frame, this->WholeOrigin, this->H);
+  const PieceTest owned(own, true), other(grown, false);
   const int channels = this->Table.GetNumberOfChannels();
   const auto& mine = this->Cells;
   // The columns both windows have.
@@ -631,11 +678,11 @@ void CartesianSAT::AddCellsBeyond(const VolumePiece& own, const VolumePiece& gro
           column[u] = cu;
           column[v] = cv;
           int first, last;
-          TakenRun(centres, own, true, axis, column, mine.Whole[axis], first, last);
+          ColumnRun(centres, owned, axis, column, mine.Whole[axis], first, last);
           first = std::max(first, mine.First[axis]);
           last = std::min(last, mine.First[axis] + mine.N[axis] - 1);
           int grownFirst, grownLast;
-          TakenRun(centres, grown, false, axis, column, mine.Whole[axis], grownFirst, grownLast);
+          ColumnRun(centres, other, axis, column, mine.Whole[axis], grownFirst, grownLast);
           if (grownFirst <= grownLast)
           {
             first = sign > 0 ? std::max(first, grownLast + 1) : first;
@@ -963,12 +1010,10 @@ double SphericalSAT::SolidAngle(double u0, double u1, double v0, double v1) cons
     PlaneRectangleSolidAngle(x1, y0) + PlaneRectangleSolidAngle(x0, y0);
 }
 
-void SphericalSAT::Build(const ClassifiedVolume& data, const double light[3], double cellSize,
-  int channels, long long maxCells)
+void SphericalSAT::Plan(
+  const double bounds[6], const double light[3], double cellSize, long long maxCells)
 {
   std::copy(light, light + 3, this->Light.begin());
-  double bounds[6];
-  data.Geometry.GetBounds(bounds);
   double toCentre[3];
   for (int a = 0; a < 3; ++a)
   {
@@ -1001,8 +1046,168 @@ void SphericalSAT::Build(const ClassifiedVolume& data, const double light[3], do
   this->DU = (this->U1 - this->U0) / n[0];
   this->DV = (this->V1 - this->V0) / n[1];
   this->DR = (rMax - this->RMin) / n[2];
-  this->Table.Allocate(n, channels);
-  this->FillCells(data, n);
+  this->RMax = rMax;
+  this->Cells = TableWindow();
+  this->Cells.N = n;
+  this->Cells.Whole = n;
+}
+
+void SphericalSAT::Build(const ClassifiedVolume& data, const double light[3], double cellSize,
+  int channels, long long maxCells, const VolumePiece* piece)
+{
+  double bounds[6];
+  (piece ? piece->Whole : data.Geometry).GetBounds(bounds);
+  this->Plan(bounds, light, cellSize, maxCells);
+  this->Beyond = RunningIntegralTable();
+  if (piece)
+  {
+    // The window: the columns and radii of the centres the piece takes (one cell at the
+    // table's corner when it takes none).
+    const auto& whole = this->Cells.Whole;
+    int lo[3] = { whole[0], whole[1], whole[2] }, hi[3] = { -1, -1, -1 };
+    for (int j = 0; j < whole[1]; ++j)
+    {
+      for (int i = 0; i < whole[0]; ++i)
+      {
+        int first, last;
+        this->TakenRun(*piece, i, j, first, last);
+        if (first <= last)
+        {
+          const int cell[3] = { i, j, 0 };
+          for (int a = 0; a < 2; ++a)
+          {
+            lo[a] = std::min(lo[a], cell[a]);
+            hi[a] = std::max(hi[a], cell[a]);
+          }
+          lo[2] = std::min(lo[2], first);
+          hi[2] = std::max(hi[2], last);
+        }
+      }
+    }
+    for (int a = 0; a < 3; ++a)
+    {
+      this->Cells.First[a] = hi[a] < 0 ? 0 : lo[a];
+      this->Cells.N[a] = hi[a] < 0 ? 1 : hi[a] - lo[a] + 1;
+    }
+  }
+  this->Table.Allocate(this->Cells.N, channels);
+  this->FillCells(data, piece);
+}
+
+void SphericalSAT::ColumnDirection(int i, int j, double direction[3]) const
+{
+  const double u0 = this->U0 + i * this->DU;
+  const double v0 = this->V0 + j * this->DV;
+  this->Direction(u0 + 0.5 * this->DU, v0 + 0.5 * this->DV, direction);
+}
+
+void SphericalSAT::TakenRun(const VolumePiece& piece, int i, int j, int& first, int& last) const
+{
+  double direction[3];
+  this->ColumnDirection(i, j, direction);
+  const bool constant[3] = { direction[0] == 0.0, direction[1] == 0.0, direction[2] == 0.0 };
+  const PieceTest test(piece, false);
+  volillum::TakenRun(
+    test, this->Cells.Whole[2], constant,
+    [&](long long k, double p[3])
+    {
+      const double r = this->RMin + (k + 0.5) * this->DR;
+      for (int a = 0; a < 3; ++a)
+      {
+        p[a] = this->Light[a] + r * direction[a];
+      }
+    },
+    first, last);
+}
+
+double SphericalSAT::LocalReach(double halfWidth, double near) const
+{
+  // The pyramid of a point at distance r from the light ends in the cells of its patch's
+  // columns there: their centres lie within half a radial cell of r, and along the patch's
+  // angles within its half-angle (halfWidth / r, widened to half a cell; a half-turn at
+  // most) and half a cell more. A cell's world angle is at most its angular size (times the
+  // stretch of a face's corner).
+  double stretch = 1.0;
+  if (!this->Polar)
+  {
+    const double largest = std::max(std::max(std::abs(this->U0), std::abs(this->U1)),
+      std::max(std::abs(this->V0), std::abs(this->V1)));
+    stretch = 1.0 / std::cos(largest);
+  }
+  const double cell = std::max(this->DU, this->DV) * stretch;
+  double reach = 0.0;
+  for (int step = 0; step <= 256; ++step)
+  {
+    const double r =
+      std::max(this->RMin + (this->RMax - this->RMin) * step / 256.0, 1e-9 * this->RMax);
+    const double angle =
+      std::min(vtkMath::Pi(), std::sqrt(2.0) * (std::max(halfWidth / r, 0.5 * cell) + 0.5 * cell));
+    reach = std::max(reach, 0.5 * this->DR + (r + 0.5 * this->DR) * angle);
+  }
+  return near + reach;
+}
+
+void SphericalSAT::AddCellsBeyond(
+  const VolumePiece& own, const VolumePiece& other, const TableWindow& window, double* sums) const
+{
+  const int channels = this->Table.GetNumberOfChannels();
+  const auto& mine = this->Cells;
+  // The columns both windows have.
+  const int i0 = std::max(window.First[0], mine.First[0]);
+  const int i1 = std::min(window.First[0] + window.N[0], mine.First[0] + mine.N[0]);
+  const int j0 = std::max(window.First[1], mine.First[1]);
+  const int j1 = std::min(window.First[1] + window.N[1], mine.First[1] + mine.N[1]);
+  vtkSMPTools::For(j0, std::max(j0, j1),
+    [&](int begin, int end)
+    {
+      for (int j = begin; j < end; ++j)
+      {
+        for (int i = i0; i < i1; ++i)
+        {
+          int first, last, otherFirst, otherLast;
+          this->TakenRun(own, i, j, first, last);
+          first = std::max(first, mine.First[2]);
+          last = std::min(last, mine.First[2] + mine.N[2] - 1);
+          this->TakenRun(other, i, j, otherFirst, otherLast);
+          if (otherFirst <= otherLast)
+          {
+            last = std::min(last, otherFirst - 1);
+          }
+          if (first > last)
+          {
+            continue;
+          }
+          const double lo[3] = { static_cast<double>(i - mine.First[0]),
+            static_cast<double>(j - mine.First[1]), static_cast<double>(first - mine.First[2]) };
+          const double hi[3] = { lo[0] + 1.0, lo[1] + 1.0, last + 1.0 - mine.First[2] };
+          double* out = sums +
+            (static_cast<long long>(j - window.First[1]) * window.N[0] + (i - window.First[0])) *
+              channels;
+          for (int c = 0; c < channels; ++c)
+          {
+            out[c] += this->Table.Box(c, lo, hi);
+          }
+        }
+      }
+    });
+}
+
+void SphericalSAT::SetBeyond(const double* sums)
+{
+  const int channels = this->Table.GetNumberOfChannels();
+  const std::array<int, 3> n{ { this->Cells.N[0], this->Cells.N[1], 1 } };
+  this->Beyond.Allocate(n, channels);
+  for (long long j = 0; j < n[1]; ++j)
+  {
+    for (long long i = 0; i < n[0]; ++i)
+    {
+      for (int c = 0; c < channels; ++c)
+      {
+        this->Beyond.SetCell(c, i, j, 0, sums[(j * n[0] + i) * channels + c]);
+      }
+    }
+  }
+  this->Beyond.Integrate();
 }
 
 void SphericalSAT::ChooseLayout(
@@ -1066,30 +1271,49 @@ void SphericalSAT::ChooseLayout(
   }
 }
 
-void SphericalSAT::FillCells(const ClassifiedVolume& data, const std::array<int, 3>& n)
+void SphericalSAT::FillCells(const ClassifiedVolume& data, const VolumePiece* piece)
 {
   const double* light = this->Light.data();
   const int channels = this->Table.GetNumberOfChannels();
+  const std::array<int, 3>& n = this->Cells.N;
+  const std::array<int, 3>& first = this->Cells.First;
   double bounds[6];
-  data.Geometry.GetBounds(bounds);
+  (piece ? piece->Whole : data.Geometry).GetBounds(bounds);
   // Cell integrals along r with the midpoint rule at most one data spacing apart (cells grow
   // coarser than the data when the table is capped: a thin layer still casts its shadow).
   const int samples = std::max(
     1, static_cast<int>(std::ceil(this->DR / data.Geometry.MinimumSpacing() - GeometricTolerance)));
   const double eps = GeometricTolerance * std::max(bounds[1] - bounds[0], 1.0);
-  // Each ray's direction and solid angle, shared by its cells along r.
+  // Each ray's direction and solid angle, shared by its cells along r, and the cells of a
+  // piece's window whose centres the piece takes.
   const long long rays = static_cast<long long>(n[0]) * n[1];
-  std::vector<std::array<double, 4>> ray(static_cast<size_t>(rays));
+  struct Ray
+  {
+    double Direction[3];
+    double SolidAngle;
+    int First, Last; // cells, in the window
+  };
+  std::vector<Ray> ray(static_cast<size_t>(rays));
   vtkSMPTools::For(0, rays,
     [&](long long begin, long long end)
     {
       for (long long id = begin; id < end; ++id)
       {
-        const double u0 = this->U0 + (id % n[0]) * this->DU;
-        const double v0 = this->V0 + (id / n[0]) * this->DV;
+        const int i = first[0] + static_cast<int>(id % n[0]);
+        const int j = first[1] + static_cast<int>(id / n[0]);
+        const double u0 = this->U0 + i * this->DU;
+        const double v0 = this->V0 + j * this->DV;
         auto& r = ray[static_cast<size_t>(id)];
-        this->Direction(u0 + 0.5 * this->DU, v0 + 0.5 * this->DV, r.data());
-        r[3] = this->SolidAngle(u0, u0 + this->DU, v0, v0 + this->DV);
+        this->ColumnDirection(i, j, r.Direction);
+        r.SolidAngle = this->SolidAngle(u0, u0 + this->DU, v0, v0 + this->DV);
+        r.First = 0;
+        r.Last = n[2] - 1;
+        if (piece)
+        {
+          this->TakenRun(*piece, i, j, r.First, r.Last);
+          r.First -= first[2];
+          r.Last -= first[2];
+        }
       }
     });
   vtkSMPTools::For(0, static_cast<long long>(n[2]),
@@ -1099,14 +1323,13 @@ void SphericalSAT::FillCells(const ClassifiedVolume& data, const std::array<int,
       {
         for (long long id = 0; id < rays; ++id)
         {
-          const double* direction = ray[static_cast<size_t>(id)].data();
-          const double solidAngle = direction[3];
+          const Ray& r = ray[static_cast<size_t>(id)];
           double cell[3] = { 0.0, 0.0, 0.0 };
-          for (int m = 0; m < samples; ++m)
+          for (int m = 0; m < samples && k >= r.First && k <= r.Last; ++m)
           {
-            const double r = this->RMin + (k + (m + 0.5) / samples) * this->DR;
-            const double p[3] = { light[0] + r * direction[0], light[1] + r * direction[1],
-              light[2] + r * direction[2] };
+            const double radius = this->RMin + (first[2] + k + (m + 0.5) / samples) * this->DR;
+            const double p[3] = { light[0] + radius * r.Direction[0],
+              light[1] + radius * r.Direction[1], light[2] + radius * r.Direction[2] };
             float s[4];
             if (!SampleInside(data, bounds, eps, p, s))
             {
@@ -1115,7 +1338,7 @@ void SphericalSAT::FillCells(const ClassifiedVolume& data, const std::array<int,
             for (int c = 0; c < channels; ++c)
             {
               const double absorb = channels == 3 ? s[1 + c] : 1.0;
-              cell[c] += s[0] * absorb * this->DR * solidAngle / samples;
+              cell[c] += s[0] * absorb * this->DR * r.SolidAngle / samples;
             }
           }
           for (int c = 0; c < channels; ++c)
@@ -1139,15 +1362,29 @@ double SphericalSAT::Integral(
     {
       return (v - this->V0) / this->DV;
     }
-    const int n = this->Table.GetDimensions()[1];
+    const int n = this->Cells.Whole[1];
     const int j = std::min(std::max(static_cast<int>(v / this->DV), 0), n - 1);
     const double c0 = std::cos(j * this->DV);
     const double c1 = std::cos((j + 1) * this->DV);
     return j + (c0 - std::cos(v)) / (c0 - c1);
   };
-  const double lo[3] = { (u0 - this->U0) / this->DU, vIndex(v0), 0.0 };
-  const double hi[3] = { (u1 - this->U0) / this->DU, vIndex(v1), (r - this->RMin) / this->DR };
-  return this->Table.Box(channel, lo, hi);
+  // In the whole table's cells, then the window's.
+  double lo[3] = { (u0 - this->U0) / this->DU, vIndex(v0), 0.0 };
+  double hi[3] = { (u1 - this->U0) / this->DU, vIndex(v1), (r - this->RMin) / this->DR };
+  for (int a = 0; a < 3; ++a)
+  {
+    lo[a] -= this->Cells.First[a];
+    hi[a] -= this->Cells.First[a];
+  }
+  double integral = this->Table.Box(channel, lo, hi);
+  if (this->Beyond.GetDimensions()[2] > 0)
+  {
+    // The columns' cells between the light and the window.
+    lo[2] = 0.0;
+    hi[2] = 1.0;
+    integral += this->Beyond.Box(channel, lo, hi);
+  }
+  return integral;
 }
 
 double SphericalSAT::FilteredOpticalDepth(int channel, const double p[3], double halfWidth) const

@@ -174,22 +174,22 @@ private:
   LargeVector<double> Values; // written right after allocation (LargeArrays.h)
 };
 
+/// Where a table's cells lie among the whole grid's table's (a window of a piece's table):
+/// its first cell and number of cells per axis, and the whole table's number of cells.
+struct TableWindow
+{
+  std::array<int, 3> First{ { 0, 0, 0 } };
+  std::array<int, 3> N{ { 0, 0, 0 } };
+  std::array<int, 3> Whole{ { 0, 0, 0 } };
+};
+
 class VOLILLUMKERNELS_EXPORT CartesianSAT
 {
 public:
-  /// Where a table's cells lie among the whole grid's table's: its first cell and number of
-  /// cells per axis, and the whole table's number of cells.
-  struct Window
-  {
-    std::array<int, 3> First{ { 0, 0, 0 } };
-    std::array<int, 3> N{ { 0, 0, 0 } };
-    std::array<int, 3> Whole{ { 0, 0, 0 } };
-  };
-
   /// The cells Build gives a table in the frame: the window of a piece (VolumePiece: Whole
   /// is the grid whose table it is part of), or with none the whole table of `whole`; in
   /// wholeOrigin the whole table's first corner (frame coordinates).
-  static Window Layout(const GridGeometry& whole, const SatFrame& frame, double cellSize,
+  static TableWindow Layout(const GridGeometry& whole, const SatFrame& frame, double cellSize,
     const VolumePiece* piece, std::array<double, 3>& wholeOrigin);
 
   /**
@@ -230,7 +230,7 @@ public:
    * column, columns of the window's axes other than `axis` in their order (the first
    * fastest). Summed over the processes, the other process's SetBeyond takes them.
    */
-  void AddCellsBeyond(const VolumePiece& own, const VolumePiece& grown, const Window& window,
+  void AddCellsBeyond(const VolumePiece& own, const VolumePiece& grown, const TableWindow& window,
     int axis, int sign, double* sums) const;
 
   /// The cells of the whole table beyond this window's grown piece toward `sign` along
@@ -267,6 +267,7 @@ public:
   double CellExtinction(int channel, int i, int j, int k) const;
 
   const SatFrame& GetFrame() const { return this->Frame; }
+  const TableWindow& GetWindow() const { return this->Cells; }
   double GetCellSize() const { return this->H; }
   const std::array<int, 3>& GetDimensions() const { return this->Table.GetDimensions(); }
   int GetNumberOfChannels() const { return this->Table.GetNumberOfChannels(); }
@@ -282,7 +283,7 @@ private:
   SatFrame Frame;
   std::array<double, 3> Origin{ { 0.0, 0.0, 0.0 } };      // of the window
   std::array<double, 3> WholeOrigin{ { 0.0, 0.0, 0.0 } }; // of the whole table
-  Window Cells;
+  TableWindow Cells;
   double H = 1.0;
   RunningIntegralTable Table;
   /// Per axis and sign (2 axis + (sign > 0)): running integrals of the columns' sums beyond
@@ -308,9 +309,42 @@ class VOLILLUMKERNELS_EXPORT SphericalSAT
 public:
   /// Angular cells of about cellSize at the volume's far side (finer in the face layout, which
   /// spends the cells the polar one would need), radial cells twice as long; all coarser when
-  /// that would exceed maxCells cells (GetCellSize is then larger than cellSize).
+  /// that would exceed maxCells cells (GetCellSize is then larger than cellSize). With
+  /// `piece`, data is a piece of a bigger grid (VolumePiece): the table is laid out over the
+  /// whole grid and holds the window of cells whose centres the piece takes (a centre beyond
+  /// a face of the whole grid counts in the cell it clamps to, so every cell has one piece),
+  /// each integrated whole: data must hold all their samples (half a radial cell,
+  /// GetRadialCellLength, around the centres). The other cells are 0.
   void Build(const ClassifiedVolume& data, const double light[3], double cellSize, int channels,
-    long long maxCells = 1LL << 25);
+    long long maxCells = 1LL << 25, const VolumePiece* piece = nullptr);
+
+  /// The layout Build gives the table of a grid with these bounds, without its cells (for
+  /// LocalReach and GetRadialCellLength before the data is at hand).
+  void Plan(
+    const double bounds[6], const double light[3], double cellSize, long long maxCells = 1LL << 25);
+
+  /**
+   * Distance from a point within which lie the centres of the cells where its shadow
+   * pyramid ends (FilteredOpticalDepth with this halfWidth, after a near segment of length
+   * `near`): those of its patch at its distance, widened to a cell. Tables of a distributed
+   * volume work as CartesianSAT::AddCellsBeyond describes, in (u, v) columns along r toward
+   * the light: a piece grown by this distance (and a spacing) holds those centres for every
+   * point of the piece.
+   */
+  double LocalReach(double halfWidth, double near) const;
+
+  /// For each (u, v) column of another process's window (`window`, built over the piece
+  /// `other`), the sum of the cells of this table whose centres `own` takes (this process's
+  /// piece, whose cells the piece this table was built over holds) and that lie between the
+  /// light and every cell `other` takes on the column. Added into sums (Channels values a
+  /// column, u fastest); summed over the processes, the other process's SetBeyond takes them.
+  void AddCellsBeyond(const VolumePiece& own, const VolumePiece& other, const TableWindow& window,
+    double* sums) const;
+
+  /// The cells of the whole table between the light and this window's piece, summed per
+  /// column (AddCellsBeyond summed over the processes): the pyramids read them as well. A new
+  /// Build forgets them.
+  void SetBeyond(const double* sums);
 
   /// Filtered optical depth from the light to p over a square patch of half-width
   /// halfWidth at p's distance, widened to one table cell where it is narrower.
@@ -324,14 +358,21 @@ public:
   const RunningIntegralTable& GetTable() const { return this->Table; }
   const std::array<double, 3>& GetLight() const { return this->Light; }
   double GetCellSize() const { return this->H; }
+  double GetRadialCellLength() const { return this->DR; }
+  const TableWindow& GetWindow() const { return this->Cells; }
 
 private:
   /// The frame, the layout (polar or face) and the range of angles and radii that hold the
   /// box: rMax, and the angular extents at the far side of both layouts (polar: 2 pi sin theta
   /// and theta; face: the rectangle of face angles).
   void ChooseLayout(const double bounds[6], double& rMax, double polar[2], double square[2]);
-  /// Integrate the cells (n per axis) along r with the midpoint rule, then the table.
-  void FillCells(const ClassifiedVolume& data, const std::array<int, 3>& n);
+  /// Integrate the window's cells along r with the midpoint rule (those whose centres the
+  /// piece takes, when there is one), then the table.
+  void FillCells(const ClassifiedVolume& data, const VolumePiece* piece);
+  /// The run [first, last] of cells of whole column (i, j) whose centres the piece takes.
+  void TakenRun(const VolumePiece& piece, int i, int j, int& first, int& last) const;
+  /// World direction of the centres of whole column (i, j).
+  void ColumnDirection(int i, int j, double direction[3]) const;
   /// World direction of the angles (u, v).
   void Direction(double u, double v, double direction[3]) const;
   /// Solid angle of the angle rectangle [u0, u1] x [v0, v1].
@@ -346,7 +387,10 @@ private:
   double U0 = 0.0, U1 = 0.0, V0 = 0.0, V1 = 0.0; // the angles' range
   double RMin = 0.0;                             // cells start where the box begins
   double DU = 1.0, DV = 1.0, DR = 1.0;
+  double RMax = 0.0;
+  TableWindow Cells;
   RunningIntegralTable Table;
+  RunningIntegralTable Beyond; // per column: the cells between the light and the window
 };
 
 }

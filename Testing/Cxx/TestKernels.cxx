@@ -9,6 +9,7 @@
 #include "SummedAreaTableKernel.h"
 #include "TetrahedralLightKernel.h"
 
+#include "vtkMath.h"
 #include "vtkSMPTools.h"
 
 #include <gtest/gtest.h>
@@ -556,6 +557,134 @@ TEST(Kernels, FilteredShadowsOfGrownWindowsEqualTheWholeTable)
   EXPECT_GT(withoutBeyond, 0.1 * largest);
   EXPECT_GT(oneLayer, 1e-3 * largest);
   EXPECT_LT(grownShare, 1.0);
+}
+
+// The same for the spherical tables of point lights (SphericalSAT): a cell integrates
+// several samples along r and belongs to the block that holds its centre (clamped onto the
+// grid), whose grown block holds all its samples; per (u, v) column the cells between the
+// light and a window come from the others. Lights: in front of the volume and close beside
+// it (face layout), and inside it (polar layout, the patch wrapping around at phi = +-pi).
+TEST(Kernels, SphericalShadowsOfGrownWindowsEqualTheWholeTable)
+{
+  const ClassifiedVolume whole = ChromaticVolume({ { 33, 29, 25 } });
+  std::vector<ClassifiedVolume> volumes;
+  std::vector<VolumePiece> pieces;
+  SplitIntoBlocks(whole, volumes, pieces, { { 0, 16, 32 }, { 0, 9, 19, 28 }, { 0, 12, 24 } });
+  const auto& g = whole.Geometry;
+  double bounds[6];
+  g.GetBounds(bounds);
+  const double lights[3][3] = { { -9.0, -6.0, -7.0 }, { 16.0, 21.0, 8.0 }, { 6.1, 11.3, 7.9 } };
+  const double cellSize = 0.7;
+  double largest = 0.0, difference = 0.0, withoutBeyond = 0.0, oneLayer = 0.0, grownShare = 0.0;
+  int layouts[2] = { 0, 0 };
+  for (const auto& light : lights)
+  {
+    SphericalSAT table;
+    table.Build(whole, light, cellSize, 3);
+    ++layouts[table.IsPolar() ? 1 : 0];
+    for (const double halfWidth : { 0.3, 1.4 })
+    {
+      for (const double near : { 0.0, 2.1 })
+      {
+        for (const bool thin : { false, true })
+        {
+          SphericalSAT planned;
+          planned.Plan(bounds, light, cellSize);
+          const double reach = planned.LocalReach(halfWidth, near);
+          const double margin = 0.5 * planned.GetRadialCellLength();
+          std::vector<ClassifiedVolume> grownVolumes(pieces.size());
+          std::vector<VolumePiece> taken(pieces.size());
+          std::vector<SphericalSAT> windows(pieces.size());
+          for (size_t b = 0; b < pieces.size(); ++b)
+          {
+            int first[3], last[3], dataFirst[3], dataLast[3];
+            for (int a = 0; a < 3; ++a)
+            {
+              const int halo = thin ? 1 : static_cast<int>(std::ceil(reach / g.Spacing[a])) + 1;
+              const int more = static_cast<int>(std::ceil(margin / g.Spacing[a])) + 1;
+              first[a] = std::max(0, pieces[b].FirstCell[a] - halo);
+              last[a] = std::min(g.Dimensions[a] - 1, pieces[b].LastCell[a] + 1 + halo);
+              dataFirst[a] = std::max(0, first[a] - more);
+              dataLast[a] = std::min(g.Dimensions[a] - 1, last[a] + more);
+            }
+            VolumePiece data;
+            grownVolumes[b] = Crop(whole, dataFirst, dataLast, data);
+            taken[b] = data;
+            for (int a = 0; a < 3; ++a)
+            {
+              taken[b].FirstCell[a] = first[a];
+              taken[b].LastCell[a] = last[a] - 1;
+            }
+            windows[b].Build(grownVolumes[b], light, cellSize, 3, 1LL << 25, &taken[b]);
+            grownShare = std::max(grownShare,
+              static_cast<double>(grownVolumes[b].Geometry.NumberOfPoints()) /
+                static_cast<double>(g.NumberOfPoints()));
+          }
+          for (size_t b = 0; b < pieces.size(); ++b)
+          {
+            const TableWindow& window = windows[b].GetWindow();
+            std::vector<double> sums(3 * static_cast<size_t>(window.N[0]) * window.N[1]);
+            for (size_t q = 0; q < pieces.size(); ++q)
+            {
+              if (q != b)
+              {
+                windows[q].AddCellsBeyond(pieces[q], taken[b], window, sums.data());
+              }
+            }
+            const SphericalSAT withoutSums = windows[b];
+            windows[b].SetBeyond(sums.data());
+            const auto& piece = pieces[b];
+            for (int n = 0; n < 40; ++n)
+            {
+              double p[3];
+              for (int a = 0; a < 3; ++a)
+              {
+                const double lo = g.Origin[a] + piece.FirstCell[a] * g.Spacing[a];
+                const double hi = g.Origin[a] + (piece.LastCell[a] + 1) * g.Spacing[a];
+                const double f = n < 8 ? ((n >> a) & 1) : std::fmod(0.37 * n * (a + 1.3), 1.0);
+                p[a] = lo + f * (hi - lo);
+              }
+              double toward[3] = { light[0] - p[0], light[1] - p[1], light[2] - p[2] };
+              const double distance = vtkMath::Normalize(toward);
+              const double length =
+                std::min(std::min(near, distance), DistanceToBoxExit(p, toward, bounds));
+              double far[3];
+              for (int a = 0; a < 3; ++a)
+              {
+                far[a] = p[a] + std::max(length, 0.0) * toward[a];
+              }
+              for (int c = 0; c < 3; ++c)
+              {
+                const double reference = table.FilteredOpticalDepth(c, far, halfWidth);
+                const double got = windows[b].FilteredOpticalDepth(c, far, halfWidth);
+                largest = std::max(largest, reference);
+                if (thin)
+                {
+                  oneLayer = std::max(oneLayer, std::abs(got - reference));
+                  continue;
+                }
+                difference = std::max(difference, std::abs(got - reference));
+                withoutBeyond = std::max(withoutBeyond,
+                  std::abs(withoutSums.FilteredOpticalDepth(c, far, halfWidth) - reference));
+              }
+            }
+          }
+        }
+      }
+    }
+  }
+  std::cout << "spherical shadow depths of grown windows against the whole table: largest "
+            << "difference " << difference << " of depths up to " << largest
+            << "; largest grown block " << grownShare << " of the volume; layouts: " << layouts[0]
+            << " face, " << layouts[1] << " polar; controls: without the cells "
+            << "beyond " << withoutBeyond << ", blocks grown by one point " << oneLayer
+            << std::endl;
+  EXPECT_LT(difference, 1e-9 * largest);
+  EXPECT_GT(largest, 0.5);
+  EXPECT_GT(withoutBeyond, 0.1 * largest);
+  EXPECT_GT(oneLayer, 1e-3 * largest);
+  EXPECT_EQ(layouts[0], 2);
+  EXPECT_EQ(layouts[1], 1);
 }
 
 TEST(Kernels, PropagationThroughASlabAndSelectiveRemovalIsExact)

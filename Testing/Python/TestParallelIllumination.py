@@ -46,7 +46,8 @@ FILES = ["multilight.pvti", "selective.pvti", "fresh.pvti", "swept.pvti", "swept
          "swept_selective.pvti", "swept_again.pvti", "swept_fresh.pvti", "swept_assembled.pvti",
          "tiny_swept.pvti", "switched.pvti", "tiny_switched.pvti", "swept_reclassified.pvti",
          "filtered.pvti", "filtered_hard.pvti",
-         "filtered_soft.pvti", "filtered_axis.pvti", "filtered_assembled.pvti",
+         "filtered_soft.pvti", "filtered_axis.pvti", "filtered_point.pvti",
+         "filtered_inside.pvti", "filtered_assembled.pvti",
          "raymarched.pvti",
          "tiny.pvti", "tiny_raymarched.pvti", "cells_raymarched.pvti",
          "unstructured.pvtu", "unstructured_pieces.pvtu", "wavelet.pvtu", "mixed.pvtu"]
@@ -125,11 +126,18 @@ def worker(plugin, out, grid_file, tiny_file, parallel):
     # segments through the data; soft: the Gaussian kernel).
     # A light along the z axis: table cells centred on the data's planes, some of them the
     # planes between blocks. DistributedTables off: the input assembled on every process.
+    # Point and spot lights: spherical tables' windows over the grown blocks (hard shadows
+    # with near segments, a point light beside the volume; soft, a point light inside the
+    # first block and a spot light below it, whose shadows cross every block).
     downward = [0, 100, 100, 400, 100, 100, 70, 1.0, 0.9, 0.8, 1.0, 90, 1, 1]
+    inside = [1, 100, 95, 12, 100, 100, 70, 1.0, 0.8, 0.6, 1.0, 90, 1, 1,
+              1, 100, 100, -150, 100, 100, 70, 0.5, 0.7, 1.0, 1.0, 25, 1, 1]
     for name, width, kernel, distributed, light in (
             ("filtered_hard.pvti", 0, "Box", 1, LIGHTS[:14]),
             ("filtered_soft.pvti", 3, "Gaussian", 1, LIGHTS[:14]),
             ("filtered_axis.pvti", 0, "Box", 1, downward),
+            ("filtered_point.pvti", 0, "Box", 1, LIGHTS),
+            ("filtered_inside.pvti", 3, "Box", 1, inside),
             ("filtered_assembled.pvti", 0, "Box", 0, LIGHTS[:14])):
         f = image_filter("FilteredVolumetricShadows", ResolutionScale=0.5, FilterWidth=width,
                          FilterKernel=kernel, PerLightTransmittance=1,
@@ -412,7 +420,8 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
                 if len(bands) != int(run[2:]) or max(bands) >= whole[0]:
                     failures.append("%s/%s: a process held the whole classification" % (run, f))
             if f in ("raymarched.pvti", "filtered_hard.pvti", "filtered_soft.pvti",
-                     "filtered_axis.pvti", "swept.pvti", "swept_chromatic.pvti"):
+                     "filtered_axis.pvti", "filtered_point.pvti", "filtered_inside.pvti",
+                     "swept.pvti", "swept_chromatic.pvti"):
                 # Each process classified its block of the input, not the whole input.
                 whole = piece_counts(os.path.join(out, "serial", f[:-len(".pvti")]),
                                      "ClassifiedPoints")
@@ -422,7 +431,8 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
                       % (run, f, held, whole))
                 if len(held) != int(run[2:]) or max(held) >= whole[0]:
                     failures.append("%s/%s: a process held the whole input" % (run, f))
-            if f in ("filtered_hard.pvti", "filtered_soft.pvti", "filtered_axis.pvti"):
+            if f in ("filtered_hard.pvti", "filtered_soft.pvti", "filtered_axis.pvti",
+                     "filtered_point.pvti", "filtered_inside.pvti"):
                 # Each process classified its block grown by a shadow's reach, not the whole.
                 whole = piece_counts(os.path.join(out, "serial", f[:-len(".pvti")]),
                                      "ClassifiedPoints")
