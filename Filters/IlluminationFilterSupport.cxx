@@ -13,6 +13,7 @@
 #include "vtkDataSetAttributes.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
+#include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkIntArray.h"
 #include "vtkMatrix3x3.h"
@@ -368,6 +369,15 @@ void AddUpdateFieldData(vtkFieldData* fieldData, const UpdateReport& report, dou
   time->SetName("UpdateSeconds");
   time->InsertNextValue(seconds);
   fieldData->AddArray(time);
+}
+
+//------------------------------------------------------------------------------
+void AddCountFieldData(vtkFieldData* fieldData, const char* name, long long value)
+{
+  vtkNew<vtkIdTypeArray> array;
+  array->SetName(name);
+  array->InsertNextValue(static_cast<vtkIdType>(value));
+  fieldData->AddArray(array);
 }
 
 //------------------------------------------------------------------------------

@@ -127,6 +127,10 @@ struct UpdateReport
 VOLILLUMFILTERS_EXPORT void AddUpdateFieldData(
   vtkFieldData* fieldData, const UpdateReport& report, double seconds);
 
+/// Add a field array `name` holding one count (vtkIdTypeArray).
+VOLILLUMFILTERS_EXPORT void AddCountFieldData(
+  vtkFieldData* fieldData, const char* name, long long value);
+
 /// Read what AddUpdateFieldData wrote (zero for an array that is missing).
 VOLILLUMFILTERS_EXPORT void ReadUpdateFieldData(
   vtkFieldData* fieldData, UpdateReport& report, double& seconds);

@@ -4,8 +4,6 @@
 #include "IlluminationFilterSupport.h"
 #include "IlluminationParallel.h"
 #include "vtkCommunicator.h"
-#include "vtkFieldData.h"
-#include "vtkIdTypeArray.h"
 #include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
@@ -465,14 +463,8 @@ void vtkFilteredVolumetricShadows::AddOutputFieldData(vtkFieldData* fieldData)
 {
   if (this->DistributedUpdate)
   {
-    vtkNew<vtkIdTypeArray> grown;
-    grown->SetName("GrownPoints");
-    grown->InsertNextValue(this->GrownPoints);
-    fieldData->AddArray(grown);
-    vtkNew<vtkIdTypeArray> sent;
-    sent->SetName("SentBytes");
-    sent->InsertNextValue(this->SentBytes);
-    fieldData->AddArray(sent);
+    volillum::AddCountFieldData(fieldData, "GrownPoints", this->GrownPoints);
+    volillum::AddCountFieldData(fieldData, "SentBytes", this->SentBytes);
   }
 }
 

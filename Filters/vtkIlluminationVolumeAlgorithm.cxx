@@ -12,7 +12,6 @@
 #include "vtkExtentTranslator.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
-#include "vtkIdTypeArray.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
@@ -482,10 +481,8 @@ void vtkIlluminationVolumeAlgorithm::FinishOutput(vtkImageData* output, const in
   this->AddOutputArrays(output->GetPointData());
   this->AddOutputFieldData(output->GetFieldData());
   volillum::AddUpdateFieldData(output->GetFieldData(), report, seconds);
-  vtkNew<vtkIdTypeArray> classified;
-  classified->SetName("ClassifiedPoints");
-  classified->InsertNextValue(this->Classified.Geometry.NumberOfPoints());
-  output->GetFieldData()->AddArray(classified);
+  volillum::AddCountFieldData(
+    output->GetFieldData(), "ClassifiedPoints", this->Classified.Geometry.NumberOfPoints());
   this->LastOutput = vtkSmartPointer<vtkImageData>::New();
   this->LastOutput->ShallowCopy(output);
 }

@@ -3,8 +3,6 @@
 #include "IlluminationParallel.h"
 #include "RayMarchKernel.h"
 #include "vtkCommunicator.h"
-#include "vtkFieldData.h"
-#include "vtkIdTypeArray.h"
 #include "vtkMultiProcessController.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
@@ -273,14 +271,8 @@ void vtkMultiLightIlluminationVolume::AddOutputFieldData(vtkFieldData* fieldData
 {
   if (this->DistributedLayout)
   {
-    vtkNew<vtkIdTypeArray> slab;
-    slab->SetName("BandPoints");
-    slab->InsertNextValue(this->BandPoints);
-    fieldData->AddArray(slab);
-    vtkNew<vtkIdTypeArray> sent;
-    sent->SetName("SentBytes");
-    sent->InsertNextValue(this->SentBytes);
-    fieldData->AddArray(sent);
+    volillum::AddCountFieldData(fieldData, "BandPoints", this->BandPoints);
+    volillum::AddCountFieldData(fieldData, "SentBytes", this->SentBytes);
   }
 }
 

@@ -14,7 +14,6 @@
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
 #include "vtkIdList.h"
-#include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkLight.h"
@@ -769,10 +768,7 @@ void vtkUnstructuredGridIllumination::FillOutput(vtkUnstructuredGrid* input,
   AddSeconds(output->GetFieldData(), "Level0Seconds", seconds.Level0);
   AddSeconds(output->GetFieldData(), "Level1Seconds", seconds.Level1);
   AddSeconds(output->GetFieldData(), "ScatteringSeconds", seconds.Scattering);
-  vtkNew<vtkIdTypeArray> litPoints;
-  litPoints->SetName("LitPoints");
-  litPoints->InsertNextValue(this->Mesh.NumberOfPoints());
-  output->GetFieldData()->AddArray(litPoints);
+  volillum::AddCountFieldData(output->GetFieldData(), "LitPoints", this->Mesh.NumberOfPoints());
   this->LastOutput = vtkSmartPointer<vtkUnstructuredGrid>::New();
   this->LastOutput->ShallowCopy(output);
 }

@@ -364,6 +364,8 @@ TEST(Kernels, RayMarchedPiecesMultiplyToTheWholeRay)
   EXPECT_GT(lit, 300);
 }
 
+namespace
+{
 // The points [first, last] (whole-grid indices per axis) of a volume as a volume of their
 // own, and as a piece of it that takes all its cells.
 ClassifiedVolume Crop(
@@ -400,6 +402,31 @@ ClassifiedVolume Crop(
   return v;
 }
 
+// A chromatic volume of 33 x 29 x 25 points and its 2 x 3 x 2 blocks (their pieces: the
+// tests crop each block's grown volume themselves).
+ClassifiedVolume BlockedVolume(std::vector<VolumePiece>& pieces)
+{
+  ClassifiedVolume whole = ChromaticVolume({ { 33, 29, 25 } });
+  std::vector<ClassifiedVolume> volumes;
+  SplitIntoBlocks(whole, volumes, pieces, { { 0, 16, 32 }, { 0, 9, 19, 28 }, { 0, 12, 24 } });
+  return whole;
+}
+
+// Point n of a block of grid g (the piece's cells): its eight corners first (n < 8), then
+// points spread inside it.
+void PointOfBlock(const GridGeometry& g, const VolumePiece& piece, int n, double p[3])
+{
+  for (int a = 0; a < 3; ++a)
+  {
+    const double lo = g.Origin[a] + piece.FirstCell[a] * g.Spacing[a];
+    const double hi = g.Origin[a] + (piece.LastCell[a] + 1) * g.Spacing[a];
+    const double f = n < 8 ? ((n >> a) & 1) : std::fmod(0.37 * n * (a + 1.3), 1.0);
+    p[a] = lo + f * (hi - lo);
+  }
+}
+
+}
+
 // Filtered shadows of a distributed volume (vtkFilteredVolumetricShadows with distributed
 // tables): each block's table window is built over the block grown by LocalReach, the cells
 // beyond it on each column come from the other blocks' windows (AddCellsBeyond, SetBeyond),
@@ -412,10 +439,8 @@ ClassifiedVolume Crop(
 // beyond, and with blocks grown by one point only, the depths differ.
 TEST(Kernels, FilteredShadowsOfGrownWindowsEqualTheWholeTable)
 {
-  const ClassifiedVolume whole = ChromaticVolume({ { 33, 29, 25 } });
-  std::vector<ClassifiedVolume> volumes;
   std::vector<VolumePiece> pieces;
-  SplitIntoBlocks(whole, volumes, pieces, { { 0, 16, 32 }, { 0, 9, 19, 28 }, { 0, 12, 24 } });
+  const ClassifiedVolume whole = BlockedVolume(pieces);
   const auto& g = whole.Geometry;
   double bounds[6];
   g.GetBounds(bounds);
@@ -478,13 +503,7 @@ TEST(Kernels, FilteredShadowsOfGrownWindowsEqualTheWholeTable)
               for (int n = 0; n < 40; ++n)
               {
                 double p[3];
-                for (int a = 0; a < 3; ++a)
-                {
-                  const double lo = g.Origin[a] + piece.FirstCell[a] * g.Spacing[a];
-                  const double hi = g.Origin[a] + (piece.LastCell[a] + 1) * g.Spacing[a];
-                  const double f = n < 8 ? ((n >> a) & 1) : std::fmod(0.37 * n * (a + 1.3), 1.0);
-                  p[a] = lo + f * (hi - lo);
-                }
+                PointOfBlock(g, piece, n, p);
                 double dir[3] = { d[0], d[1], d[2] };
                 const double length = std::min(near, DistanceToBoxExit(p, dir, bounds));
                 double far[3];
@@ -566,10 +585,8 @@ TEST(Kernels, FilteredShadowsOfGrownWindowsEqualTheWholeTable)
 // it (face layout), and inside it (polar layout, the patch wrapping around at phi = +-pi).
 TEST(Kernels, SphericalShadowsOfGrownWindowsEqualTheWholeTable)
 {
-  const ClassifiedVolume whole = ChromaticVolume({ { 33, 29, 25 } });
-  std::vector<ClassifiedVolume> volumes;
   std::vector<VolumePiece> pieces;
-  SplitIntoBlocks(whole, volumes, pieces, { { 0, 16, 32 }, { 0, 9, 19, 28 }, { 0, 12, 24 } });
+  const ClassifiedVolume whole = BlockedVolume(pieces);
   const auto& g = whole.Geometry;
   double bounds[6];
   g.GetBounds(bounds);
@@ -637,13 +654,7 @@ TEST(Kernels, SphericalShadowsOfGrownWindowsEqualTheWholeTable)
             for (int n = 0; n < 40; ++n)
             {
               double p[3];
-              for (int a = 0; a < 3; ++a)
-              {
-                const double lo = g.Origin[a] + piece.FirstCell[a] * g.Spacing[a];
-                const double hi = g.Origin[a] + (piece.LastCell[a] + 1) * g.Spacing[a];
-                const double f = n < 8 ? ((n >> a) & 1) : std::fmod(0.37 * n * (a + 1.3), 1.0);
-                p[a] = lo + f * (hi - lo);
-              }
+              PointOfBlock(g, piece, n, p);
               double toward[3] = { light[0] - p[0], light[1] - p[1], light[2] - p[2] };
               const double distance = vtkMath::Normalize(toward);
               const double length =
