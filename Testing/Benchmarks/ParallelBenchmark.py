@@ -11,7 +11,8 @@ process 0 held and the bytes it sent), the same for a full update of Filtered
 Volumetric Shadows (with distributed tables: each process lights its own piece from its
 block grown by a shadow's reach; and with the input assembled), its peak memory per process
 on 1, 2 and 4 processes (separate runs; the grown block of process 0 and the bytes of
-classification it sent), and of Ray-Marched
+classification it sent), the same with the lights made point lights (spherical tables),
+and of Ray-Marched
 Illumination (scale 1/4, one light; each process classifies and marches through its block
 of the input only: the points process 0 classified and the bytes of the products each
 process sends are printed), the bytes each process
@@ -81,9 +82,15 @@ def worker(plugin, volume, mode):
     before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     if mode.startswith("filtered"):
         # Filtered shadows alone, for their peak memory (with distributed tables, and with the
-        # input assembled on every process).
+        # input assembled on every process); "filtered_point": the lights made point lights
+        # (spherical tables).
         f = filter_with_lights("FilteredVolumetricShadows")
-        f.DistributedTables = 0 if mode == "filtered_assembled" else 1
+        f.DistributedTables = 0 if mode.endswith("_assembled") else 1
+        if mode.startswith("filtered_point"):
+            rows = lights(bounds, LIGHTS)
+            for i in range(LIGHTS):
+                rows[14 * i] = 1
+            f.Lights = rows
         filtered = seconds(f)
         peak = 1024 * (resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before)
         fields = f.GetClientSideObject().GetOutputDataObject(0).GetFieldData()
@@ -206,10 +213,12 @@ def main():
                         "assembled")
     # Memory on 4 processes (oversubscribed on 2 cores: their times mean nothing).
     four = {mode: run([mpiexec] + flags.split() + ["-np", "4", pvbatch], plugin, volume, mode)
-            for mode in ("bands", "assembled", "filtered", "filtered_assembled")}
-    # Filtered shadows alone, for their peak memory.
-    shadows = {"1": run([pvbatch], plugin, volume, "filtered")}
-    for mode in ("filtered", "filtered_assembled"):
+            for mode in ("bands", "assembled", "filtered", "filtered_assembled", "filtered_point",
+                         "filtered_point_assembled")}
+    # Filtered shadows alone, for their peak memory (directional and point lights).
+    shadows = {"1": run([pvbatch], plugin, volume, "filtered"),
+               "1_point": run([pvbatch], plugin, volume, "filtered_point")}
+    for mode in ("filtered", "filtered_assembled", "filtered_point", "filtered_point_assembled"):
         shadows["2" + mode[len("filtered"):]] = run(
             [mpiexec] + flags.split() + ["-np", "2", pvbatch], plugin, volume, mode)
     # Each process receives the other pieces of the lit array: (N - 1) / N of it.
@@ -237,6 +246,17 @@ def main():
                    "2 assembled": shadows["2_assembled"]["peak_bytes"] / two["points"],
                    "4": four["filtered"]["peak_bytes"] / two["points"],
                    "4 assembled": four["filtered_assembled"]["peak_bytes"] / two["points"]},
+               "filtered_shadows_point_lights_s": {
+                   "1": shadows["1_point"]["filtered_s"], "2": shadows["2_point"]["filtered_s"],
+                   "2 assembled": shadows["2_point_assembled"]["filtered_s"]},
+               "filtered_shadows_point_lights_peak_bytes_per_point_per_process": {
+                   "1": shadows["1_point"]["peak_bytes"] / one["points"],
+                   "2": shadows["2_point"]["peak_bytes"] / two["points"],
+                   "2 assembled": shadows["2_point_assembled"]["peak_bytes"] / two["points"],
+                   "4": four["filtered_point"]["peak_bytes"] / two["points"],
+                   "4 assembled": four["filtered_point_assembled"]["peak_bytes"] / two["points"]},
+               "filtered_shadows_point_lights_grown_points_of_process_0": {
+                   "2": shadows["2_point"]["grown_points"]},
                "filtered_shadows_grown_points_of_process_0": {
                    "2": shadows["2"]["grown_points"], "4": four["filtered"]["grown_points"]},
                "filtered_shadows_bytes_sent_by_process_0": {
@@ -285,6 +305,15 @@ def main():
                   [shadows["2"]["grown_points"], four["filtered"]["grown_points"],
                    one["points"], shadows["2"]["sent_bytes"] / 1e6,
                    four["filtered"]["sent_bytes"] / 1e6]))
+    point = results["filtered_shadows_point_lights_s"]
+    point_peak = results["filtered_shadows_point_lights_peak_bytes_per_point_per_process"]
+    print("filtered shadows, the lights made point lights: %.2f s on 1 process, %.2f s on 2 "
+          "(%.2fx), %.2f s on 2 assembled; peak memory per process above the input, bytes a "
+          "point: %.1f on 1, %.1f on 2, %.1f on 2 assembled, %.1f on 4, %.1f on 4 assembled; "
+          "grown block of process 0: %d points on 2 processes"
+          % (point["1"], point["2"], point["1"] / point["2"], point["2 assembled"],
+             point_peak["1"], point_peak["2"], point_peak["2 assembled"], point_peak["4"],
+             point_peak["4 assembled"], shadows["2_point"]["grown_points"]))
     print("%-22s %10.2f %10.2f %8.2f" % ("ray marched (s)", one["marched_s"],
                                          two["marched_s"], results["speedup_ray_marched"]))
     print("ray marched: input points process 0 classified: %d on 1 process, %d on 2; "
