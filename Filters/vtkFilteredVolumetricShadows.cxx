@@ -228,7 +228,7 @@ void vtkFilteredVolumetricShadows::ComputeDistributedIllumination(
   {
     empty = std::make_unique<const volillum::EmptyBlocks>(grownVolume);
     this->UpdateTables(grownVolume, frames, sphericalLookups, cell, channels, inputModified,
-      report.Passes, empty.get(), &grown);
+      report.Passes, empty.get(), &grown, reach);
   }
   this->ShareCellsBeyond(controller, piece, lookups, sphericalLookups, channels, tableExtents);
   if (!lit)
@@ -357,7 +357,7 @@ bool vtkFilteredVolumetricShadows::UpdateTables(const volillum::ClassifiedVolume
   const std::vector<volillum::SatFrame>& frames,
   const std::vector<volillum::SphericalLookup>& sphericalLookups, double cellSize, int channels,
   bool inputModified, int& built, const volillum::EmptyBlocks* empty,
-  const volillum::VolumePiece* piece)
+  const volillum::VolumePiece* piece, double margin)
 {
   const double scale = this->SATResolutionScale;
   // Where the tables lie: the whole grid and the piece's cells for windows, nothing for whole
@@ -372,6 +372,7 @@ bool vtkFilteredVolumetricShadows::UpdateTables(const volillum::ClassifiedVolume
     window.insert(window.end(), piece->Offset.begin(), piece->Offset.end());
     window.insert(window.end(), piece->FirstCell.begin(), piece->FirstCell.end());
     window.insert(window.end(), piece->LastCell.begin(), piece->LastCell.end());
+    window.push_back(margin);
   }
   // Build only the tables whose frame (light position), resolution or classification changed.
   const bool settingsKept =
@@ -387,7 +388,7 @@ bool vtkFilteredVolumetricShadows::UpdateTables(const volillum::ClassifiedVolume
     {
       continue;
     }
-    tables[f].Build(volume, frames[f], cellSize, channels, empty, piece);
+    tables[f].Build(volume, frames[f], cellSize, channels, empty, piece, margin);
     ++built;
     if (!this->ReportProgress(0.5 * (f + 1) / frames.size()) && !piece)
     {
@@ -411,7 +412,7 @@ bool vtkFilteredVolumetricShadows::UpdateTables(const volillum::ClassifiedVolume
     spherical[i].Build(
       volume, sphericalLookups[i].Light.Position.data(), cellSize, channels, 1LL << 25, piece);
     ++built;
-    if (!this->ReportProgress(0.5))
+    if (!this->ReportProgress(0.5) && !piece)
     {
       this->SphericalTables.clear();
       this->TablesScale = 0.0; // the tables left may predate the classification

@@ -143,7 +143,7 @@ private:
     const std::vector<volillum::SatFrame>& frames,
     const std::vector<volillum::SphericalLookup>& sphericalLookups, double cellSize, int channels,
     bool inputModified, int& built, const volillum::EmptyBlocks* empty,
-    const volillum::VolumePiece* piece = nullptr);
+    const volillum::VolumePiece* piece = nullptr, double margin = 0.0);
   // The shading (PointShading) of the lookups with the current tables, for the classification
   // `volume` (its empty blocks `empty`) in a grid with these bounds.
   volillum::PointShading Shading(const volillum::ClassifiedVolume& volume, const double bounds[6],

@@ -114,7 +114,7 @@ void CartesianSAT::ToFrame(const double p[3], double q[3]) const
 }
 
 TableWindow CartesianSAT::Layout(const GridGeometry& g, const SatFrame& frame, double cellSize,
-  const VolumePiece* piece, std::array<double, 3>& wholeOrigin)
+  const VolumePiece* piece, std::array<double, 3>& wholeOrigin, double margin)
 {
   double bounds[6];
   g.GetBounds(bounds);
@@ -147,7 +147,7 @@ TableWindow CartesianSAT::Layout(const GridGeometry& g, const SatFrame& frame, d
     return w;
   }
   // The window: the cells whose centres may lie in the piece's cells (a cell's margin on
-  // each side).
+  // each side), and beyond the grid's faces that the piece reaches, those within `margin`.
   double wlo[3] = { VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
   double whi[3] = { -VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX };
   for (int corner = 0; corner < 8; ++corner)
@@ -155,8 +155,11 @@ TableWindow CartesianSAT::Layout(const GridGeometry& g, const SatFrame& frame, d
     double p[3];
     for (int a = 0; a < 3; ++a)
     {
-      const int index = (corner >> a) & 1 ? piece->LastCell[a] + 1 : piece->FirstCell[a];
-      p[a] = g.Origin[a] + index * g.Spacing[a];
+      const bool high = (corner >> a) & 1;
+      const int index = high ? piece->LastCell[a] + 1 : piece->FirstCell[a];
+      const bool face = high ? index >= g.Dimensions[a] - 1 : index <= 0;
+      const double outward = (high ? margin : -margin) * (g.Spacing[a] < 0.0 ? -1.0 : 1.0);
+      p[a] = g.Origin[a] + index * g.Spacing[a] + (face ? outward : 0.0);
     }
     for (int a = 0; a < 3; ++a)
     {
@@ -273,7 +276,8 @@ struct PieceTest
 // the same for all (constant). Every test is monotone along the line, so those centres form
 // one run (by their cell alone, a centre beyond a face of the grid lies in the cell it clamps
 // to, so the piece's cells at a face reach beyond it). The run is estimated from the straight
-// line through the first and last centres and settled with the tests.
+// line through the first and last centres (along an axis they span less than a cell of, by
+// bisection) and settled with the tests.
 template <typename Centre>
 void TakenRun(
   const PieceTest& test, int n, const bool constant[3], Centre centre, int& first, int& last)
@@ -300,33 +304,44 @@ void TakenRun(
   centre(n - 1, ends[1]);
   for (int a = 0; a < 3 && t0 <= t1; ++a)
   {
-    if (constant[a])
+    // Grid coordinate along data axis a at the first and last centres.
+    const double u0 = (ends[0][a] - g.Origin[a]) / g.Spacing[a];
+    const double u1 = (ends[1][a] - g.Origin[a]) / g.Spacing[a];
+    if (constant[a] || std::abs(u1 - u0) < 1.0)
     {
-      // Its test decides for all.
-      if (!takes(0, a))
+      // The centres span less than a cell along a, the piece at least one: it takes all of
+      // them, none, or those on one side of a single change, found by bisection.
+      const bool atFirst = takes(0, a), atLast = takes(n - 1, a);
+      if (!atFirst && !atLast)
       {
         first = 0;
         last = -1;
         return;
       }
+      if (atFirst != atLast)
+      {
+        long long in = atFirst ? 0 : n - 1, out = atFirst ? n - 1 : 0;
+        while (std::abs(in - out) > 1)
+        {
+          const long long middle = (in + out) / 2;
+          (takes(middle, a) ? in : out) = middle;
+        }
+        t0 = atFirst ? t0 : std::max(t0, static_cast<double>(in));
+        t1 = atFirst ? std::min(t1, static_cast<double>(in)) : t1;
+      }
       continue;
     }
-    // Grid coordinate along data axis a at the first and last centres.
-    const double u0 = (ends[0][a] - g.Origin[a]) / g.Spacing[a];
-    const double u1 = (ends[1][a] - g.Origin[a]) / g.Spacing[a];
     const bool lowFace = !test.Strict && piece.FirstCell[a] == 0;
     const bool highFace = !test.Strict && piece.LastCell[a] >= g.Dimensions[a] - 2;
     const double lo = lowFace ? -VTK_DOUBLE_MAX : piece.FirstCell[a];
     const double hi = highFace ? VTK_DOUBLE_MAX : piece.LastCell[a] + 1.0;
-    const double slope = n > 1 ? (u1 - u0) / (n - 1) : 0.0;
-    if (slope == 0.0)
-    {
-      continue; // too flat to estimate: the tests settle it
-    }
+    const double slope = (u1 - u0) / (n - 1); // at least 1 / (n - 1)
     const double k0 = (lo - u0) / slope, k1 = (hi - u0) / slope;
     t0 = std::max(t0, std::min(k0, k1));
     t1 = std::min(t1, std::max(k0, k1));
   }
+  t0 = std::min(t0, n + 1.0); // an estimate beside the line stays castable
+  t1 = std::max(t1, -2.0);
   first = static_cast<int>(std::max(0.0, std::floor(std::max(t0, -1.0)) - 1.0));
   last = static_cast<int>(std::min(n - 1.0, std::ceil(std::min(t1, double(n))) + 1.0));
   while (first <= last && !takes(first, -1))
@@ -373,13 +388,13 @@ void ColumnRun(const CellCentres& centres, const PieceTest& test, int axis, long
 }
 
 void CartesianSAT::Build(const ClassifiedVolume& data, const SatFrame& frame, double cellSize,
-  int channels, const EmptyBlocks* empty, const VolumePiece* piece)
+  int channels, const EmptyBlocks* empty, const VolumePiece* piece, double margin)
 {
   this->Frame = frame;
   this->H = cellSize;
   // The grid whose bounds the table covers and in which samples find their cells.
   const GridGeometry& g = piece ? piece->Whole : data.Geometry;
-  this->Cells = Layout(g, frame, cellSize, piece, this->WholeOrigin);
+  this->Cells = Layout(g, frame, cellSize, piece, this->WholeOrigin, margin);
   const std::array<int, 3>& n = this->Cells.N;
   const std::array<int, 3>& firstCell = this->Cells.First;
   for (int a = 0; a < 3; ++a)
@@ -1140,8 +1155,10 @@ double SphericalSAT::LocalReach(double halfWidth, double near) const
   {
     const double r =
       std::max(this->RMin + (this->RMax - this->RMin) * step / 256.0, 1e-9 * this->RMax);
+    // Twice the half-angle per axis bounds the patch's corners (its two angles need not be
+    // orthogonal: a polar patch's far ring is wider than its middle near the pole).
     const double angle =
-      std::min(vtkMath::Pi(), std::sqrt(2.0) * (std::max(halfWidth / r, 0.5 * cell) + 0.5 * cell));
+      std::min(vtkMath::Pi(), 2.0 * (std::max(halfWidth / r, 0.5 * cell) + 0.5 * cell));
     reach = std::max(reach, 0.5 * this->DR + (r + 0.5 * this->DR) * angle);
   }
   return near + reach;

@@ -187,10 +187,10 @@ class VOLILLUMKERNELS_EXPORT CartesianSAT
 {
 public:
   /// The cells Build gives a table in the frame: the window of a piece (VolumePiece: Whole
-  /// is the grid whose table it is part of), or with none the whole table of `whole`; in
-  /// wholeOrigin the whole table's first corner (frame coordinates).
+  /// is the grid whose table it is part of; `margin`: see Build), or with none the whole
+  /// table of `whole`; in wholeOrigin the whole table's first corner (frame coordinates).
   static TableWindow Layout(const GridGeometry& whole, const SatFrame& frame, double cellSize,
-    const VolumePiece* piece, std::array<double, 3>& wholeOrigin);
+    const VolumePiece* piece, std::array<double, 3>& wholeOrigin, double margin = 0.0);
 
   /**
    * Resample the extinction (times the channel's absorption k_c when channels is 3) onto
@@ -198,11 +198,13 @@ public:
    * whose centre lies in one of the data's empty blocks (when given) are 0 without a sample.
    * With `piece`, data is a piece of a bigger grid (VolumePiece): the table is the window of
    * the whole grid's table (the same frame, origin and cells) that covers the piece's
-   * cells, and only the centres in those cells are sampled (the others are 0). Box integrals
-   * of the pieces' windows then add up to the whole table's.
+   * cells, and only the centres in those cells are sampled (the others are 0). Where the
+   * piece reaches a face of the grid, the window also covers the columns within `margin`
+   * beyond it: a box of a point near the face may read columns that start outside the grid
+   * and enter other pieces further on (AddCellsBeyond; LocalReach is enough).
    */
   void Build(const ClassifiedVolume& data, const SatFrame& frame, double cellSize, int channels,
-    const EmptyBlocks* empty = nullptr, const VolumePiece* piece = nullptr);
+    const EmptyBlocks* empty = nullptr, const VolumePiece* piece = nullptr, double margin = 0.0);
 
   /// Coordinates of a world point in the table's frame, measured from its first corner.
   void ToFrame(const double p[3], double q[3]) const;

@@ -458,7 +458,7 @@ TEST(Kernels, FilteredShadowsOfGrownWindowsEqualTheWholeTable)
       ASSERT_GE(axis, 0);
       CartesianSAT table;
       table.Build(whole, frame, cellSize, 3);
-      for (const double halfWidth : { 0.3, 1.4 })
+      for (const double halfWidth : { 0.3, 1.4, 4.0 })
       {
         for (const double near : { 0.0, 2.1 })
         {
@@ -576,6 +576,84 @@ TEST(Kernels, FilteredShadowsOfGrownWindowsEqualTheWholeTable)
   EXPECT_GT(withoutBeyond, 0.1 * largest);
   EXPECT_GT(oneLayer, 1e-3 * largest);
   EXPECT_LT(grownShare, 1.0);
+}
+
+// Grown windows at the grid's faces: a long volume in four blocks along x, lights grazing its
+// y faces. A wide box of a point near a face reads columns that start outside the grid and
+// enter it further on, in a block beyond the grown one: the window must hold those columns
+// (Build's margin) for the cells beyond it to reach them. Control: without the margin.
+TEST(Kernels, FilteredShadowsOfGrownWindowsAtTheGridFaces)
+{
+  const ClassifiedVolume whole = ChromaticVolume({ { 97, 13, 13 } });
+  std::vector<ClassifiedVolume> volumes;
+  std::vector<VolumePiece> pieces;
+  SplitIntoBlocks(whole, volumes, pieces, { { 0, 24, 48, 72, 96 }, { 0, 12 }, { 0, 12 } });
+  const auto& g = whole.Geometry;
+  const double cellSize = 0.7, halfWidth = 5.0;
+  const double toward[2][3] = { { 0.9, -0.436, 0.0 }, { -0.9, 0.436, 0.05 } };
+  double largest = 0.0, difference[2] = { 0.0, 0.0 };
+  for (const auto& d : toward)
+  {
+    double unit[3] = { d[0], d[1], d[2] };
+    vtkMath::Normalize(unit);
+    const SatFrame frame = FrameForDirection(unit);
+    int sign = 0;
+    const int axis = AxisOfDirection(frame, unit, sign);
+    ASSERT_GE(axis, 0);
+    CartesianSAT table;
+    table.Build(whole, frame, cellSize, 3);
+    const double reach = CartesianSAT::LocalReach(cellSize, halfWidth, 0.0);
+    for (const bool margin : { true, false })
+    {
+      std::vector<ClassifiedVolume> grownVolumes(pieces.size());
+      std::vector<VolumePiece> grown(pieces.size());
+      std::vector<CartesianSAT> windows(pieces.size());
+      for (size_t b = 0; b < pieces.size(); ++b)
+      {
+        int first[3], last[3];
+        for (int a = 0; a < 3; ++a)
+        {
+          const int halo = static_cast<int>(std::ceil(reach / g.Spacing[a])) + 1;
+          first[a] = std::max(0, pieces[b].FirstCell[a] - halo);
+          last[a] = std::min(g.Dimensions[a] - 1, pieces[b].LastCell[a] + 1 + halo);
+        }
+        grownVolumes[b] = Crop(whole, first, last, grown[b]);
+        windows[b].Build(
+          grownVolumes[b], frame, cellSize, 3, nullptr, &grown[b], margin ? reach : 0.0);
+      }
+      for (size_t b = 0; b < pieces.size(); ++b)
+      {
+        const TableWindow& window = windows[b].GetWindow();
+        std::vector<double> sums(
+          3 * static_cast<size_t>(window.N[(axis + 1) % 3]) * window.N[(axis + 2) % 3]);
+        for (size_t q = 0; q < pieces.size(); ++q)
+        {
+          if (q != b)
+          {
+            windows[q].AddCellsBeyond(pieces[q], grown[b], window, axis, sign, sums.data());
+          }
+        }
+        windows[b].SetBeyond(axis, sign, sums.data());
+        for (int n = 0; n < 200; ++n)
+        {
+          double p[3];
+          PointOfBlock(g, pieces[b], n, p);
+          for (int c = 0; c < 3; ++c)
+          {
+            const double reference = table.FilteredOpticalDepth(c, p, axis, sign, halfWidth);
+            largest = std::max(largest, reference);
+            difference[margin ? 0 : 1] = std::max(difference[margin ? 0 : 1],
+              std::abs(windows[b].FilteredOpticalDepth(c, p, axis, sign, halfWidth) - reference));
+          }
+        }
+      }
+    }
+  }
+  std::cout << "filtered-shadow depths of grown windows at the grid's faces: largest difference "
+            << difference[0] << " of depths up to " << largest << "; without the margin "
+            << difference[1] << std::endl;
+  EXPECT_LT(difference[0], 1e-9 * largest);
+  EXPECT_GT(difference[1], 1e-3 * largest);
 }
 
 // The same for the spherical tables of point lights (SphericalSAT): a cell integrates
