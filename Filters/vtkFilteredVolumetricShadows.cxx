@@ -227,8 +227,11 @@ void vtkFilteredVolumetricShadows::ComputeDistributedIllumination(
   if (lit)
   {
     empty = std::make_unique<const volillum::EmptyBlocks>(grownVolume);
+    // A box starts inside the grid (its near segment stays in it), so the columns it reads
+    // beyond a face lie within its patch's reach across the light.
     this->UpdateTables(grownVolume, frames, sphericalLookups, cell, channels, inputModified,
-      report.Passes, empty.get(), &grown, reach);
+      report.Passes, empty.get(), &grown,
+      volillum::CartesianSAT::LocalReach(cell, settings.HalfWidth, 0.0));
   }
   this->ShareCellsBeyond(controller, piece, lookups, sphericalLookups, channels, tableExtents);
   if (!lit)

@@ -201,7 +201,8 @@ public:
    * cells, and only the centres in those cells are sampled (the others are 0). Where the
    * piece reaches a face of the grid, the window also covers the columns within `margin`
    * beyond it: a box of a point near the face may read columns that start outside the grid
-   * and enter other pieces further on (AddCellsBeyond; LocalReach is enough).
+   * and enter other pieces further on (AddCellsBeyond; LocalReach without the near segment
+   * is enough, since a box starts inside the grid).
    */
   void Build(const ClassifiedVolume& data, const SatFrame& frame, double cellSize, int channels,
     const EmptyBlocks* empty = nullptr, const VolumePiece* piece = nullptr, double margin = 0.0);
