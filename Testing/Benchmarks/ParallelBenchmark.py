@@ -226,6 +226,17 @@ def main():
     # Assembled: each process sends the fixed-point units (3 x 4 bytes a point) of the other
     # pieces, (N - 1) / N of the grid (scale 1: one point per data point).
     summed = 12 * one["points"] / 2
+
+    def shadow_peaks(lights_kind):
+        """Filtered shadows' peak bytes a point per process (lights_kind "" or "_point")."""
+        return {"1": shadows["1" + lights_kind]["peak_bytes"] / one["points"],
+                "2": shadows["2" + lights_kind]["peak_bytes"] / two["points"],
+                "2 assembled": shadows["2" + lights_kind + "_assembled"]["peak_bytes"] /
+                two["points"],
+                "4": four["filtered" + lights_kind]["peak_bytes"] / two["points"],
+                "4 assembled": four["filtered" + lights_kind + "_assembled"]["peak_bytes"] /
+                two["points"]}
+
     # Directional lights travel in two groups each: light sweeps of one full update.
     per_voxel_light = one["full_s"] / (one["points"] * 2 * LIGHTS)
     results = {"volume": name, "lights": LIGHTS,
@@ -240,21 +251,12 @@ def main():
                "speedup_filtered_shadows": one["filtered_s"] / two["filtered_s"],
                "filtered_shadows_assembled_s": {"1": one["filtered_assembled_s"],
                                                 "2": two["filtered_assembled_s"]},
-               "filtered_shadows_peak_bytes_per_point_per_process": {
-                   "1": shadows["1"]["peak_bytes"] / one["points"],
-                   "2": shadows["2"]["peak_bytes"] / two["points"],
-                   "2 assembled": shadows["2_assembled"]["peak_bytes"] / two["points"],
-                   "4": four["filtered"]["peak_bytes"] / two["points"],
-                   "4 assembled": four["filtered_assembled"]["peak_bytes"] / two["points"]},
+               "filtered_shadows_peak_bytes_per_point_per_process": shadow_peaks(""),
                "filtered_shadows_point_lights_s": {
                    "1": shadows["1_point"]["filtered_s"], "2": shadows["2_point"]["filtered_s"],
                    "2 assembled": shadows["2_point_assembled"]["filtered_s"]},
-               "filtered_shadows_point_lights_peak_bytes_per_point_per_process": {
-                   "1": shadows["1_point"]["peak_bytes"] / one["points"],
-                   "2": shadows["2_point"]["peak_bytes"] / two["points"],
-                   "2 assembled": shadows["2_point_assembled"]["peak_bytes"] / two["points"],
-                   "4": four["filtered_point"]["peak_bytes"] / two["points"],
-                   "4 assembled": four["filtered_point_assembled"]["peak_bytes"] / two["points"]},
+               "filtered_shadows_point_lights_peak_bytes_per_point_per_process":
+                   shadow_peaks("_point"),
                "filtered_shadows_point_lights_grown_points_of_process_0": {
                    "2": shadows["2_point"]["grown_points"]},
                "filtered_shadows_grown_points_of_process_0": {

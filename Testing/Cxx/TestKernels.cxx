@@ -256,13 +256,48 @@ ClassifiedVolume ChromaticVolume(const std::array<int, 3>& dimensions = { { 13, 
   return whole;
 }
 
+// The points [first, last] (whole-grid indices per axis) of a volume as a volume of their
+// own, and as a piece of it that takes all its cells.
+ClassifiedVolume Crop(
+  const ClassifiedVolume& whole, const int first[3], const int last[3], VolumePiece& piece)
+{
+  ClassifiedVolume v;
+  v.Channels = whole.Channels;
+  v.Scale = whole.Scale;
+  v.Geometry = whole.Geometry;
+  piece = VolumePiece();
+  piece.Whole = whole.Geometry;
+  const auto& d = whole.Geometry.Dimensions;
+  for (int a = 0; a < 3; ++a)
+  {
+    v.Geometry.Dimensions[a] = last[a] - first[a] + 1;
+    v.Geometry.Origin[a] = whole.Geometry.Origin[a] + first[a] * whole.Geometry.Spacing[a];
+    piece.Offset[a] = piece.FirstCell[a] = first[a];
+    piece.LastCell[a] = last[a] - 1;
+  }
+  for (int k = first[2]; k <= last[2]; ++k)
+  {
+    for (int j = first[1]; j <= last[1]; ++j)
+    {
+      for (int i = first[0]; i <= last[0]; ++i)
+      {
+        const size_t from = i + d[0] * (j + static_cast<size_t>(d[1]) * k);
+        for (int c = 0; c < whole.Channels; ++c)
+        {
+          v.Properties.push_back(whole.Properties[whole.Channels * from + c]);
+        }
+      }
+    }
+  }
+  return v;
+}
+
 // The volume split into 2 x 3 x 2 blocks that share their boundary planes (as
 // vtkExtentTranslator's pieces do), each block a volume of its own holding its points.
 void SplitIntoBlocks(const ClassifiedVolume& whole, std::vector<ClassifiedVolume>& volumes,
   std::vector<VolumePiece>& pieces,
   const std::vector<std::vector<int>>& planes = { { 0, 6, 12 }, { 0, 3, 7, 10 }, { 0, 5, 8 } })
 {
-  const auto& d = whole.Geometry.Dimensions;
   for (size_t bz = 0; bz + 1 < planes[2].size(); ++bz)
   {
     for (size_t by = 0; by + 1 < planes[1].size(); ++by)
@@ -270,36 +305,14 @@ void SplitIntoBlocks(const ClassifiedVolume& whole, std::vector<ClassifiedVolume
       for (size_t bx = 0; bx + 1 < planes[0].size(); ++bx)
       {
         const size_t b[3] = { bx, by, bz };
-        ClassifiedVolume v;
-        v.Channels = whole.Channels;
-        v.Scale = whole.Scale;
-        v.Geometry = whole.Geometry;
-        VolumePiece piece;
-        piece.Whole = whole.Geometry;
+        int first[3], last[3];
         for (int a = 0; a < 3; ++a)
         {
-          const int first = planes[a][b[a]], last = planes[a][b[a] + 1];
-          v.Geometry.Dimensions[a] = last - first + 1;
-          v.Geometry.Origin[a] = whole.Geometry.Origin[a] + first * whole.Geometry.Spacing[a];
-          piece.Offset[a] = piece.FirstCell[a] = first;
-          piece.LastCell[a] = last - 1;
+          first[a] = planes[a][b[a]];
+          last[a] = planes[a][b[a] + 1];
         }
-        for (int k = 0; k < v.Geometry.Dimensions[2]; ++k)
-        {
-          for (int j = 0; j < v.Geometry.Dimensions[1]; ++j)
-          {
-            for (int i = 0; i < v.Geometry.Dimensions[0]; ++i)
-            {
-              const size_t from = i + piece.Offset[0] +
-                d[0] * (j + piece.Offset[1] + static_cast<size_t>(d[1]) * (k + piece.Offset[2]));
-              for (int c = 0; c < whole.Channels; ++c)
-              {
-                v.Properties.push_back(whole.Properties[whole.Channels * from + c]);
-              }
-            }
-          }
-        }
-        volumes.push_back(v);
+        VolumePiece piece;
+        volumes.push_back(Crop(whole, first, last, piece));
         pieces.push_back(piece);
       }
     }
@@ -366,41 +379,6 @@ TEST(Kernels, RayMarchedPiecesMultiplyToTheWholeRay)
 
 namespace
 {
-// The points [first, last] (whole-grid indices per axis) of a volume as a volume of their
-// own, and as a piece of it that takes all its cells.
-ClassifiedVolume Crop(
-  const ClassifiedVolume& whole, const int first[3], const int last[3], VolumePiece& piece)
-{
-  ClassifiedVolume v;
-  v.Channels = whole.Channels;
-  v.Scale = whole.Scale;
-  v.Geometry = whole.Geometry;
-  piece = VolumePiece();
-  piece.Whole = whole.Geometry;
-  const auto& d = whole.Geometry.Dimensions;
-  for (int a = 0; a < 3; ++a)
-  {
-    v.Geometry.Dimensions[a] = last[a] - first[a] + 1;
-    v.Geometry.Origin[a] = whole.Geometry.Origin[a] + first[a] * whole.Geometry.Spacing[a];
-    piece.Offset[a] = piece.FirstCell[a] = first[a];
-    piece.LastCell[a] = last[a] - 1;
-  }
-  for (int k = first[2]; k <= last[2]; ++k)
-  {
-    for (int j = first[1]; j <= last[1]; ++j)
-    {
-      for (int i = first[0]; i <= last[0]; ++i)
-      {
-        const size_t from = i + d[0] * (j + static_cast<size_t>(d[1]) * k);
-        for (int c = 0; c < whole.Channels; ++c)
-        {
-          v.Properties.push_back(whole.Properties[whole.Channels * from + c]);
-        }
-      }
-    }
-  }
-  return v;
-}
 
 // A chromatic volume of 33 x 29 x 25 points and its 2 x 3 x 2 blocks (their pieces: the
 // tests crop each block's grown volume themselves).
@@ -423,6 +401,77 @@ void PointOfBlock(const GridGeometry& g, const VolumePiece& piece, int n, double
     const double f = n < 8 ? ((n >> a) & 1) : std::fmod(0.37 * n * (a + 1.3), 1.0);
     p[a] = lo + f * (hi - lo);
   }
+}
+
+// The points [first, last] (whole-grid indices) grown by `distance` and a spacing per axis
+// (ceil(distance / spacing) + 1 points; one point for distance 0), clipped to grid g.
+void Grow(const GridGeometry& g, const int first[3], const int last[3], double distance,
+  int grownFirst[3], int grownLast[3])
+{
+  for (int a = 0; a < 3; ++a)
+  {
+    const int halo = static_cast<int>(std::ceil(distance / g.Spacing[a])) + 1;
+    grownFirst[a] = std::max(0, first[a] - halo);
+    grownLast[a] = std::min(g.Dimensions[a] - 1, last[a] + halo);
+  }
+}
+
+// The points of a block (its cells and their last plane).
+void BlockPoints(const VolumePiece& block, int first[3], int last[3])
+{
+  for (int a = 0; a < 3; ++a)
+  {
+    first[a] = block.FirstCell[a];
+    last[a] = block.LastCell[a] + 1;
+  }
+}
+
+// Each block grown by `distance` (Grow) as a volume of its own (grownVolumes) and a piece
+// (grown), and the window of the frame's table over it (Build with `margin`).
+std::vector<CartesianSAT> GrownWindows(const ClassifiedVolume& whole,
+  const std::vector<VolumePiece>& pieces, const SatFrame& frame, double cellSize, double distance,
+  double margin, std::vector<ClassifiedVolume>& grownVolumes, std::vector<VolumePiece>& grown)
+{
+  grownVolumes.assign(pieces.size(), ClassifiedVolume());
+  grown.assign(pieces.size(), VolumePiece());
+  std::vector<CartesianSAT> windows(pieces.size());
+  for (size_t b = 0; b < pieces.size(); ++b)
+  {
+    int block[2][3], first[3], last[3];
+    BlockPoints(pieces[b], block[0], block[1]);
+    Grow(whole.Geometry, block[0], block[1], distance, first, last);
+    grownVolumes[b] = Crop(whole, first, last, grown[b]);
+    windows[b].Build(grownVolumes[b], frame, cellSize, 3, nullptr, &grown[b], margin);
+  }
+  return windows;
+}
+
+// What window b lacks of the whole table beyond it (3 channels a column of `columns`): the
+// other blocks' AddCellsBeyond, add(q, sums) for each block q but b.
+template <typename Add>
+std::vector<double> SumsBeyond(size_t blocks, size_t b, size_t columns, Add add)
+{
+  std::vector<double> sums(3 * columns);
+  for (size_t q = 0; q < blocks; ++q)
+  {
+    if (q != b)
+    {
+      add(q, sums.data());
+    }
+  }
+  return sums;
+}
+
+// SumsBeyond of a Cartesian window read along `axis`, set on it (SetBeyond).
+void SetCartesianSums(std::vector<CartesianSAT>& windows, const std::vector<VolumePiece>& pieces,
+  const std::vector<VolumePiece>& grown, size_t b, int axis, int sign)
+{
+  const TableWindow& window = windows[b].GetWindow();
+  const auto sums = SumsBeyond(pieces.size(), b,
+    static_cast<size_t>(window.N[(axis + 1) % 3]) * window.N[(axis + 2) % 3],
+    [&](size_t q, double* into)
+    { windows[q].AddCellsBeyond(pieces[q], grown[b], window, axis, sign, into); });
+  windows[b].SetBeyond(axis, sign, sums.data());
 }
 
 }
@@ -464,40 +513,27 @@ TEST(Kernels, FilteredShadowsOfGrownWindowsEqualTheWholeTable)
         {
           for (const bool thin : { false, true })
           {
-            const double reach = CartesianSAT::LocalReach(cellSize, halfWidth, near);
-            std::vector<ClassifiedVolume> grownVolumes(pieces.size());
-            std::vector<VolumePiece> grown(pieces.size());
-            std::vector<CartesianSAT> windows(pieces.size());
-            for (size_t b = 0; b < pieces.size(); ++b)
+            // Thin: the blocks grown by one point (a reach of 0).
+            const double reach = thin ? 0.0 : CartesianSAT::LocalReach(cellSize, halfWidth, near);
+            std::vector<ClassifiedVolume> grownVolumes;
+            std::vector<VolumePiece> grown;
+            auto windows =
+              GrownWindows(whole, pieces, frame, cellSize, reach, 0.0, grownVolumes, grown);
+            for (const auto& v : grownVolumes)
             {
-              int first[3], last[3];
-              for (int a = 0; a < 3; ++a)
-              {
-                const int halo = thin ? 1 : static_cast<int>(std::ceil(reach / g.Spacing[a])) + 1;
-                first[a] = std::max(0, pieces[b].FirstCell[a] - halo);
-                last[a] = std::min(g.Dimensions[a] - 1, pieces[b].LastCell[a] + 1 + halo);
-              }
-              grownVolumes[b] = Crop(whole, first, last, grown[b]);
-              windows[b].Build(grownVolumes[b], frame, cellSize, 3, nullptr, &grown[b]);
               grownShare = std::max(grownShare,
-                static_cast<double>(grownVolumes[b].Geometry.NumberOfPoints()) /
+                static_cast<double>(v.Geometry.NumberOfPoints()) /
                   static_cast<double>(g.NumberOfPoints()));
             }
             for (size_t b = 0; b < pieces.size(); ++b)
             {
+              // The window Build gave the grown block is the one Layout gives it.
               std::array<double, 3> unused;
               const auto window = CartesianSAT::Layout(g, frame, cellSize, &grown[b], unused);
-              std::vector<double> sums(
-                3 * static_cast<size_t>(window.N[(axis + 1) % 3]) * window.N[(axis + 2) % 3]);
-              for (size_t q = 0; q < pieces.size(); ++q)
-              {
-                if (q != b)
-                {
-                  windows[q].AddCellsBeyond(pieces[q], grown[b], window, axis, sign, sums.data());
-                }
-              }
+              ASSERT_EQ(window.First, windows[b].GetWindow().First);
+              ASSERT_EQ(window.N, windows[b].GetWindow().N);
               const CartesianSAT withoutSums = windows[b];
-              windows[b].SetBeyond(axis, sign, sums.data());
+              SetCartesianSums(windows, pieces, grown, b, axis, sign);
               // Points of the block, its boundary planes included, and rows along x.
               const auto& piece = pieces[b];
               for (int n = 0; n < 40; ++n)
@@ -605,35 +641,13 @@ TEST(Kernels, FilteredShadowsOfGrownWindowsAtTheGridFaces)
     const double reach = CartesianSAT::LocalReach(cellSize, halfWidth, 0.0);
     for (const bool margin : { true, false })
     {
-      std::vector<ClassifiedVolume> grownVolumes(pieces.size());
-      std::vector<VolumePiece> grown(pieces.size());
-      std::vector<CartesianSAT> windows(pieces.size());
+      std::vector<ClassifiedVolume> grownVolumes;
+      std::vector<VolumePiece> grown;
+      auto windows = GrownWindows(
+        whole, pieces, frame, cellSize, reach, margin ? reach : 0.0, grownVolumes, grown);
       for (size_t b = 0; b < pieces.size(); ++b)
       {
-        int first[3], last[3];
-        for (int a = 0; a < 3; ++a)
-        {
-          const int halo = static_cast<int>(std::ceil(reach / g.Spacing[a])) + 1;
-          first[a] = std::max(0, pieces[b].FirstCell[a] - halo);
-          last[a] = std::min(g.Dimensions[a] - 1, pieces[b].LastCell[a] + 1 + halo);
-        }
-        grownVolumes[b] = Crop(whole, first, last, grown[b]);
-        windows[b].Build(
-          grownVolumes[b], frame, cellSize, 3, nullptr, &grown[b], margin ? reach : 0.0);
-      }
-      for (size_t b = 0; b < pieces.size(); ++b)
-      {
-        const TableWindow& window = windows[b].GetWindow();
-        std::vector<double> sums(
-          3 * static_cast<size_t>(window.N[(axis + 1) % 3]) * window.N[(axis + 2) % 3]);
-        for (size_t q = 0; q < pieces.size(); ++q)
-        {
-          if (q != b)
-          {
-            windows[q].AddCellsBeyond(pieces[q], grown[b], window, axis, sign, sums.data());
-          }
-        }
-        windows[b].SetBeyond(axis, sign, sums.data());
+        SetCartesianSums(windows, pieces, grown, b, axis, sign);
         for (int n = 0; n < 200; ++n)
         {
           double p[3];
@@ -685,23 +699,18 @@ TEST(Kernels, SphericalShadowsOfGrownWindowsEqualTheWholeTable)
         {
           SphericalSAT planned;
           planned.Plan(bounds, light, cellSize);
-          const double reach = planned.LocalReach(halfWidth, near);
+          const double reach = thin ? 0.0 : planned.LocalReach(halfWidth, near);
           const double margin = 0.5 * planned.GetRadialCellLength();
           std::vector<ClassifiedVolume> grownVolumes(pieces.size());
           std::vector<VolumePiece> taken(pieces.size());
           std::vector<SphericalSAT> windows(pieces.size());
           for (size_t b = 0; b < pieces.size(); ++b)
           {
-            int first[3], last[3], dataFirst[3], dataLast[3];
-            for (int a = 0; a < 3; ++a)
-            {
-              const int halo = thin ? 1 : static_cast<int>(std::ceil(reach / g.Spacing[a])) + 1;
-              const int more = static_cast<int>(std::ceil(margin / g.Spacing[a])) + 1;
-              first[a] = std::max(0, pieces[b].FirstCell[a] - halo);
-              last[a] = std::min(g.Dimensions[a] - 1, pieces[b].LastCell[a] + 1 + halo);
-              dataFirst[a] = std::max(0, first[a] - more);
-              dataLast[a] = std::min(g.Dimensions[a] - 1, last[a] + more);
-            }
+            // The cells of the window grown by the reach, their samples by the margin too.
+            int block[2][3], first[3], last[3], dataFirst[3], dataLast[3];
+            BlockPoints(pieces[b], block[0], block[1]);
+            Grow(g, block[0], block[1], reach, first, last);
+            Grow(g, first, last, margin, dataFirst, dataLast);
             VolumePiece data;
             grownVolumes[b] = Crop(whole, dataFirst, dataLast, data);
             taken[b] = data;
@@ -718,14 +727,10 @@ TEST(Kernels, SphericalShadowsOfGrownWindowsEqualTheWholeTable)
           for (size_t b = 0; b < pieces.size(); ++b)
           {
             const TableWindow& window = windows[b].GetWindow();
-            std::vector<double> sums(3 * static_cast<size_t>(window.N[0]) * window.N[1]);
-            for (size_t q = 0; q < pieces.size(); ++q)
-            {
-              if (q != b)
-              {
-                windows[q].AddCellsBeyond(pieces[q], taken[b], window, sums.data());
-              }
-            }
+            const auto sums =
+              SumsBeyond(pieces.size(), b, static_cast<size_t>(window.N[0]) * window.N[1],
+                [&](size_t q, double* into)
+                { windows[q].AddCellsBeyond(pieces[q], taken[b], window, into); });
             const SphericalSAT withoutSums = windows[b];
             windows[b].SetBeyond(sums.data());
             const auto& piece = pieces[b];

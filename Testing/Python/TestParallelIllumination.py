@@ -258,6 +258,17 @@ def compare(serial, parallel, name="Illumination"):
     return difference / largest
 
 
+def held_less(out, run, f, field, what, held, failures):
+    """Check that every process of `run` wrote image f and that the count in its field array
+    `field` (points it held) is below the points the serial run classified; print them as
+    `what`. Failures name what a process held whole."""
+    whole = piece_counts(os.path.join(out, "serial", f[:-len(".pvti")]), "ClassifiedPoints")
+    counts = piece_counts(os.path.join(out, run, f[:-len(".pvti")]), field)
+    print("%-5s %-26s %s %s of %s" % (run, f, what, counts, whole))
+    if len(counts) != int(run[2:]) or max(counts) >= whole[0]:
+        failures.append("%s/%s: a process held the whole %s" % (run, f, held))
+
+
 def piece_counts(directory, field):
     """The value of a field array (LitPoints, ClassifiedPoints) of each piece file written in
     directory."""
@@ -413,33 +424,19 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
                     failures.append("%s/%s: Transmittance0 difference %s" % (run, f, shadow))
             if f in ("swept.pvti", "swept_chromatic.pvti"):
                 # Each process held bands of the classification, not all of it.
-                whole = piece_counts(os.path.join(out, "serial", f[:-len(".pvti")]),
-                                     "ClassifiedPoints")
-                bands = piece_counts(os.path.join(out, run, f[:-len(".pvti")]), "BandPoints")
-                print("%-5s %-26s largest band of each process %s of %s" % (run, f, bands, whole))
-                if len(bands) != int(run[2:]) or max(bands) >= whole[0]:
-                    failures.append("%s/%s: a process held the whole classification" % (run, f))
+                held_less(out, run, f, "BandPoints", "largest band of each process",
+                          "classification", failures)
             if f in ("raymarched.pvti", "filtered_hard.pvti", "filtered_soft.pvti",
                      "filtered_axis.pvti", "filtered_point.pvti", "filtered_inside.pvti",
                      "swept.pvti", "swept_chromatic.pvti"):
                 # Each process classified its block of the input, not the whole input.
-                whole = piece_counts(os.path.join(out, "serial", f[:-len(".pvti")]),
-                                     "ClassifiedPoints")
-                held = piece_counts(os.path.join(out, run, f[:-len(".pvti")]),
-                                    "ClassifiedPoints")
-                print("%-5s %-26s input points classified by each process %s of %s"
-                      % (run, f, held, whole))
-                if len(held) != int(run[2:]) or max(held) >= whole[0]:
-                    failures.append("%s/%s: a process held the whole input" % (run, f))
+                held_less(out, run, f, "ClassifiedPoints",
+                          "input points classified by each process", "input", failures)
             if f in ("filtered_hard.pvti", "filtered_soft.pvti", "filtered_axis.pvti",
                      "filtered_point.pvti", "filtered_inside.pvti"):
                 # Each process classified its block grown by a shadow's reach, not the whole.
-                whole = piece_counts(os.path.join(out, "serial", f[:-len(".pvti")]),
-                                     "ClassifiedPoints")
-                grown = piece_counts(os.path.join(out, run, f[:-len(".pvti")]), "GrownPoints")
-                print("%-5s %-26s grown block of each process %s of %s" % (run, f, grown, whole))
-                if len(grown) != int(run[2:]) or max(grown) >= whole[0]:
-                    failures.append("%s/%s: a process held the whole classification" % (run, f))
+                held_less(out, run, f, "GrownPoints", "grown block of each process",
+                          "classification", failures)
             if f in ("filtered_assembled.pvti", "swept_assembled.pvti"):
                 held = piece_counts(os.path.join(out, run, f[:-len(".pvti")]),
                                     "ClassifiedPoints")
