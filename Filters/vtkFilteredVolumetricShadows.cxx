@@ -102,24 +102,17 @@ volillum::PointShading vtkFilteredVolumetricShadows::Shading(
   const std::vector<volillum::SphericalLookup>& sphericalLookups,
   std::vector<float*> transmittances, const volillum::EmptyBlocks* empty)
 {
-  const double minSpacing = volume.Geometry.MinimumSpacing();
-  const double cell = minSpacing / this->SATResolutionScale;
-  // Half the patch side. A hard shadow (FilterWidth 0) reads a patch one data spacing wide
-  // (a table cell's piecewise-constant content blurs it by at most a cell more); a
-  // spherical table widens it to its own cell.
-  const double patch = 0.5 * this->FilterWidth * minSpacing;
-  // The near segment stands in for the table where the table's own cell is the filter (hard
-  // shadows); soft shadows are read from the table along the whole ray. It is measured in the
-  // table's own cells (a capped spherical table's are coarser).
+  const Patch patch = this->PatchFor(volume.Geometry.MinimumSpacing());
   volillum::PointShading shading{ volume, nullptr, {}, this->ChromaticAttenuation ? 3 : 1, lookups,
-    this->Tables, sphericalLookups, this->SphericalTables, patch, std::max(patch, 0.5 * minSpacing),
-    volillum::NearSegmentLength(cell, patch), {},
-    this->FilterKernel == Gaussian ? volillum::GaussianWeights(5) : std::vector<double>(),
+    this->Tables, sphericalLookups, this->SphericalTables, patch.Half, patch.HalfWidth, patch.Near,
+    {}, this->FilterKernel == Gaussian ? volillum::GaussianWeights(5) : std::vector<double>(),
     std::move(transmittances) };
   std::copy_n(bounds, 6, shading.Bounds);
+  // The near segment is measured in the table's own cells (a capped spherical table's are
+  // coarser).
   for (const auto& table : this->SphericalTables)
   {
-    shading.SphericalNear.push_back(volillum::NearSegmentLength(table.GetCellSize(), patch));
+    shading.SphericalNear.push_back(volillum::NearSegmentLength(table.GetCellSize(), patch.Half));
   }
   // Empty blocks speed up the near segments; soft shadows have none.
   if (shading.NearLength > 0.0 ||
@@ -129,6 +122,19 @@ volillum::PointShading vtkFilteredVolumetricShadows::Shading(
     shading.Empty = empty;
   }
   return shading;
+}
+
+//------------------------------------------------------------------------------
+vtkFilteredVolumetricShadows::Patch vtkFilteredVolumetricShadows::PatchFor(double minSpacing) const
+{
+  // Half the patch side. A hard shadow (FilterWidth 0) reads a patch one data spacing wide
+  // (a table cell's piecewise-constant content blurs it by at most a cell more); a
+  // spherical table widens it to its own cell.
+  const double half = 0.5 * this->FilterWidth * minSpacing;
+  // The near segment stands in for the table where the table's own cell is the filter (hard
+  // shadows); soft shadows are read from the table along the whole ray.
+  return { half, std::max(half, 0.5 * minSpacing),
+    volillum::NearSegmentLength(minSpacing / this->SATResolutionScale, half) };
 }
 
 //------------------------------------------------------------------------------
@@ -175,9 +181,8 @@ void vtkFilteredVolumetricShadows::ComputeDistributedIllumination(
   // The table cells that the shadows of this process's points end in lie within `reach` of
   // them (CartesianSAT::LocalReach and SphericalSAT::LocalReach: a patch and a near segment);
   // a spherical cell's samples lie within half a radial cell (`margin`) of its centre.
-  const volillum::PointShading settings = this->Shading(
-    volume, bounds, lookups, {}, std::vector<float*>(lights.size(), nullptr), nullptr);
-  double reach = volillum::CartesianSAT::LocalReach(cell, settings.HalfWidth, settings.NearLength);
+  const Patch patch = this->PatchFor(data.MinimumSpacing());
+  double reach = volillum::CartesianSAT::LocalReach(cell, patch.HalfWidth, patch.Near);
   double margin = 0.0;
   for (const auto& l : sphericalLookups)
   {
@@ -185,7 +190,7 @@ void vtkFilteredVolumetricShadows::ComputeDistributedIllumination(
     planned.Plan(bounds, l.Light.Position.data(), cell);
     reach = std::max(reach,
       planned.LocalReach(
-        settings.Patch, volillum::NearSegmentLength(planned.GetCellSize(), settings.Patch)));
+        patch.Half, volillum::NearSegmentLength(planned.GetCellSize(), patch.Half)));
     margin = std::max(margin, 0.5 * planned.GetRadialCellLength());
   }
   // The cells of the tables' windows: those whose centres lie in this process's block and
@@ -231,7 +236,7 @@ void vtkFilteredVolumetricShadows::ComputeDistributedIllumination(
     // beyond a face lie within its patch's reach across the light.
     this->UpdateTables(grownVolume, frames, sphericalLookups, cell, channels, inputModified,
       report.Passes, empty.get(), &grown,
-      volillum::CartesianSAT::LocalReach(cell, settings.HalfWidth, 0.0));
+      volillum::CartesianSAT::LocalReach(cell, patch.HalfWidth, 0.0));
   }
   this->ShareCellsBeyond(controller, piece, lookups, sphericalLookups, channels, tableExtents);
   if (!lit)

@@ -144,6 +144,16 @@ private:
     const std::vector<volillum::SphericalLookup>& sphericalLookups, double cellSize, int channels,
     bool inputModified, int& built, const volillum::EmptyBlocks* empty,
     const volillum::VolumePiece* piece = nullptr, double margin = 0.0);
+  // The patch a shadow reads for data of this minimum spacing: half its side (PointShading's
+  // Patch), half the side a Cartesian table reads (HalfWidth) and the near segment toward a
+  // directional light (NearLength).
+  struct Patch
+  {
+    double Half;
+    double HalfWidth;
+    double Near;
+  };
+  Patch PatchFor(double minSpacing) const;
   // The shading (PointShading) of the lookups with the current tables, for the classification
   // `volume` (its empty blocks `empty`) in a grid with these bounds.
   volillum::PointShading Shading(const volillum::ClassifiedVolume& volume, const double bounds[6],
