@@ -9,22 +9,22 @@
  * parts of the rays in each process's block and multiplies them at the process that holds
  * the point; Filtered Volumetric Shadows lights each process's points from its block grown
  * by a shadow's reach (ExchangeExtents from the neighbours), the tables' windows over it and,
- * per column, the sums of the cells between it and the light from the others (a Reduce to
- * the window's process); Multi-Light Illumination Volume with directional lights sweeps
- * bands of rows, each process its band's classification (ExchangeExtents from the blocks),
- * neighbouring bands exchanging lattice rows after every slice, the units moved to the
- * pieces' processes (ExchangeExtents). The image filters with cell scalars and Multi-Light
- * Illumination Volume with point or spot lights (or the distributed properties off) assemble
- * the whole input on every process from the pieces of all processes (collective calls of
- * the filter's vtkMultiProcessController) and output the
- * part of the illumination that belongs to their own piece; the propagation then shares its
- * sweeps out among the processes (SweepShare): each process propagates its sweeps over the
- * whole illumination grid into fixed-point units of its own, and the sums over the
- * processes (SumOverPieces, exact in any order) give each process its piece. Every process
- * keeps the same bookkeeping of lights, so selective updates work as in a serial run. Filters
- * that light points independently compute only the points of the piece. The result equals
- * the serial run's: bit for bit in the tests for the propagation and the ray marcher, up to
- * rounding (1e-8 of the largest value) for distributed tables.
+ * per column, the sums of the cells between it and the light from the others (sent
+ * pairwise, between processes whose windows share columns); Multi-Light Illumination
+ * Volume with directional lights sweeps bands of rows, each process its band's
+ * classification (ExchangeExtents from the blocks), neighbouring bands exchanging lattice
+ * rows after every slice, the units moved to the pieces' processes (ExchangeExtents). The image
+ * filters with cell scalars and Multi-Light Illumination Volume with point or spot lights (or the
+ * distributed properties off) assemble the whole input on every process from the pieces of all
+ * processes (collective calls of the filter's vtkMultiProcessController) and output the part of the
+ * illumination that belongs to their own piece; the propagation then shares its sweeps out among
+ * the processes (SweepShare): each process propagates its sweeps over the whole illumination grid
+ * into fixed-point units of its own, and the sums over the processes (SumOverPieces, exact in any
+ * order) give each process its piece. Every process keeps the same bookkeeping of lights, so
+ * selective updates work as in a serial run. Filters that light points independently compute only
+ * the points of the piece. The result equals the serial run's: bit for bit in the tests for the
+ * propagation and the ray marcher, up to rounding (1e-8 of the largest value) for distributed
+ * tables.
  *
  * Every process must update the filter together (ParaView does: pipelines update on all
  * processes at once). A process with an empty piece takes part and outputs an empty piece.

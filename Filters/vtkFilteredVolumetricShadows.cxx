@@ -3,7 +3,6 @@
 #include "FilteredShadowsKernel.h"
 #include "IlluminationFilterSupport.h"
 #include "IlluminationParallel.h"
-#include "vtkCommunicator.h"
 #include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
@@ -17,6 +16,9 @@ vtkStandardNewMacro(vtkFilteredVolumetricShadows);
 
 namespace
 {
+// Messages of the cells beyond a window (ShareCellsBeyond).
+constexpr int CellsBeyondTag = 8280;
+
 bool SameFrame(const volillum::SatFrame& a, const volillum::SatFrame& b)
 {
   return a.Axes == b.Axes;
@@ -319,43 +321,105 @@ void vtkFilteredVolumetricShadows::ShareCellsBeyond(vtkMultiProcessController* c
     }
     std::vector<int> windows(6 * static_cast<size_t>(processes));
     controller->AllGather(window, windows.data(), 6);
-    for (int p = 0; p < processes; ++p)
+    // The other processes whose windows share columns with this one's: the cells of one
+    // that lie beyond the other's grown block go to the other, which adds them up in the
+    // order of the processes.
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+    auto shared = [&](int p, int q, volillum::TableWindow& w)
     {
-      const int* e = &tableExtents[6 * p];
-      if (volillum::ExtentPoints(e) <= 0)
+      for (int a : { u, v })
       {
-        continue;
+        const int first = std::max(windows[6 * p + a], windows[6 * q + a]);
+        const int end = std::min(
+          windows[6 * p + a] + windows[6 * p + 3 + a], windows[6 * q + a] + windows[6 * q + 3 + a]);
+        w.First[a] = first;
+        w.N[a] = std::max(0, end - first);
       }
-      volillum::VolumePiece other;
-      other.Whole = piece.Whole;
-      volillum::TableWindow w;
-      for (int a = 0; a < 3; ++a)
+      return w.N[u] > 0 && w.N[v] > 0;
+    };
+    // Whether the window of q has cells beyond the window of p's first cell toward the
+    // light along the axis (sign > 0: a higher index), where p's grown block ends on a
+    // column: only then can it send p cells beyond that.
+    auto upwind = [&](int q, int p)
+    {
+      const int* wq = &windows[6 * q];
+      const int* wp = &windows[6 * p];
+      return sign > 0 ? wq[axis] + wq[3 + axis] - 1 > wp[axis]
+                      : wq[axis] < wp[axis] + wp[3 + axis] - 1;
+    };
+    std::vector<int> peers;
+    volillum::TableWindow common;
+    for (int q = 0; lit && q < processes; ++q)
+    {
+      if (q != local && volillum::ExtentPoints(&tableExtents[6 * q]) > 0 &&
+        shared(local, q, common) && (upwind(q, local) || upwind(local, q)))
       {
-        other.Offset[a] = other.FirstCell[a] = e[2 * a];
-        other.LastCell[a] = e[2 * a + 1] - 1;
-        w.First[a] = windows[6 * p + a];
-        w.N[a] = windows[6 * p + 3 + a];
+        peers.push_back(q);
       }
-      const vtkIdType size =
-        static_cast<vtkIdType>(channels) * w.N[(axis + 1) % 3] * w.N[(axis + 2) % 3];
-      std::vector<double> sums(size, 0.0), total(size, 0.0);
-      if (lit && p != local && spherical)
+    }
+    const volillum::TableWindow* own = nullptr;
+    if (lit)
+    {
+      own =
+        spherical ? &this->SphericalTables[table].GetWindow() : &this->Tables[table].GetWindow();
+    }
+    std::vector<double> total(lit ? static_cast<size_t>(channels) * own->N[u] * own->N[v] : 0, 0.0);
+    std::vector<double> sums;
+    volillum::WithEachPeer(local, peers,
+      [&](size_t k, bool send)
       {
-        this->SphericalTables[table].AddCellsBeyond(piece, other, w, sums.data());
-      }
-      else if (lit && p != local)
-      {
-        this->Tables[table].AddCellsBeyond(piece, other, w, axis, sign, sums.data());
-      }
-      controller->Reduce(sums.data(), total.data(), size, vtkCommunicator::SUM_OP, p);
-      if (p == local && spherical)
-      {
-        this->SphericalTables[table].SetBeyond(total.data());
-      }
-      else if (p == local)
-      {
-        this->Tables[table].SetBeyond(axis, sign, total.data());
-      }
+        const int q = peers[k];
+        const int from = send ? local : q, to = send ? q : local;
+        volillum::TableWindow w;
+        if (!upwind(from, to) || !shared(local, q, w))
+        {
+          return;
+        }
+        sums.assign(static_cast<size_t>(channels) * w.N[u] * w.N[v], 0.0);
+        const vtkIdType size = static_cast<vtkIdType>(sums.size());
+        if (!send)
+        {
+          controller->Receive(sums.data(), size, q, CellsBeyondTag);
+          for (int j = 0; j < w.N[v]; ++j)
+          {
+            const double* in = sums.data() + static_cast<size_t>(channels) * j * w.N[u];
+            double* out = total.data() +
+              static_cast<size_t>(channels) *
+                ((w.First[v] - own->First[v] + j) * own->N[u] + w.First[u] - own->First[u]);
+            for (int i = 0; i < channels * w.N[u]; ++i)
+            {
+              out[i] += in[i];
+            }
+          }
+          return;
+        }
+        // The other's grown block: its cells' points (the window's process's table extent).
+        const int* e = &tableExtents[6 * q];
+        volillum::VolumePiece other;
+        other.Whole = piece.Whole;
+        for (int a = 0; a < 3; ++a)
+        {
+          other.Offset[a] = other.FirstCell[a] = e[2 * a];
+          other.LastCell[a] = e[2 * a + 1] - 1;
+        }
+        if (spherical)
+        {
+          this->SphericalTables[table].AddCellsBeyond(piece, other, w, sums.data());
+        }
+        else
+        {
+          this->Tables[table].AddCellsBeyond(piece, other, w, axis, sign, sums.data());
+        }
+        controller->Send(sums.data(), size, q, CellsBeyondTag);
+        this->SentBytes += size * static_cast<long long>(sizeof(double));
+      });
+    if (lit && spherical)
+    {
+      this->SphericalTables[table].SetBeyond(total.data());
+    }
+    else if (lit)
+    {
+      this->Tables[table].SetBeyond(axis, sign, total.data());
     }
   }
 }

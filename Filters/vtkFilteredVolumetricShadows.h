@@ -161,8 +161,9 @@ private:
     const std::vector<volillum::SphericalLookup>& sphericalLookups,
     std::vector<float*> transmittances, const volillum::EmptyBlocks* empty);
   // Distributed tables: what each window lacks of the whole table beyond its cells
-  // (CartesianSAT and SphericalSAT::AddCellsBeyond on every process, summed at the window's
-  // process). Collective; `tableExtents`: the cells of every process's windows, as the
+  // (CartesianSAT and SphericalSAT::AddCellsBeyond of the other processes whose windows
+  // share its columns and reach past its first cell toward the light, sent to it pairwise
+  // and summed there in process order). Collective; `tableExtents`: the cells of every process's windows, as the
   // data points that hold their centres (GatherExtents).
   void ShareCellsBeyond(vtkMultiProcessController* controller, const volillum::VolumePiece& piece,
     const std::vector<volillum::ShadowLookup>& lookups,
