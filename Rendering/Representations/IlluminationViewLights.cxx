@@ -5,6 +5,7 @@
 #include "vtkCamera.h"
 #include "vtkCellData.h"
 #include "vtkColorTransferFunction.h"
+#include "vtkCommand.h"
 #include "vtkDataArray.h"
 #include "vtkDataObject.h"
 #include "vtkDataSet.h"
@@ -103,6 +104,47 @@ void ViewLights::Update(vtkPVRenderView* view, bool includeLightKit)
     to->SetConeAngle(from->GetConeAngle());
     to->SetExponent(from->GetExponent());
     to->SetSwitch(from->GetSwitch());
+  }
+}
+
+//------------------------------------------------------------------------------
+void RenderStart::Arm(vtkPVRenderView* view, std::function<void(vtkPVRenderView*)> run)
+{
+  vtkRenderer* renderer = view ? view->GetRenderer() : nullptr;
+  if (renderer != this->Renderer)
+  {
+    this->Detach();
+    if (renderer)
+    {
+      // ParaView's synchronisers observe with the default priority, 0.
+      this->Observer =
+        renderer->AddObserver(vtkCommand::StartEvent, this, &RenderStart::Started, -1.0f);
+      this->Renderer = renderer;
+    }
+  }
+  this->View = view;
+  this->Pending = renderer ? std::move(run) : nullptr;
+}
+
+//------------------------------------------------------------------------------
+void RenderStart::Detach()
+{
+  if (this->Renderer)
+  {
+    this->Renderer->RemoveObserver(this->Observer);
+  }
+  this->Renderer = nullptr;
+  this->Pending = nullptr;
+}
+
+//------------------------------------------------------------------------------
+void RenderStart::Started()
+{
+  auto run = std::move(this->Pending);
+  this->Pending = nullptr;
+  if (run && this->View)
+  {
+    run(this->View);
   }
 }
 

@@ -18,6 +18,9 @@
 #include "vtkSmartPointer.h"
 #include "vtkTimeStamp.h"
 #include "vtkVolumeProperty.h"
+#include "vtkWeakPointer.h"
+
+#include <functional>
 
 #include <vector>
 
@@ -26,6 +29,7 @@ class vtkAlgorithmOutput;
 class vtkDataArray;
 class vtkDataSet;
 class vtkPVRenderView;
+class vtkRenderer;
 
 namespace volillum
 {
@@ -67,6 +71,38 @@ public:
 
 private:
   std::vector<vtkSmartPointer<vtkLight>> Lights;
+};
+
+/**
+ * Runs a representation's lighting when the view's renderer starts the render that a
+ * REQUEST_RENDER announced. On a pvserver process, and on every process of pvbatch but the
+ * first, the renderer's camera is synchronised from the client (or the first process) only
+ * as that render starts (vtkSynchronizedRenderers, on the renderer's StartEvent): during
+ * REQUEST_RENDER it is still the previous render's, and camera lights (the light kit, a
+ * headlight) read there would light a new view with the old view's lights. The observer
+ * runs after ParaView's (lower priority), once per Arm.
+ */
+class RenderStart
+{
+public:
+  RenderStart() = default;
+  RenderStart(const RenderStart&) = delete;
+  RenderStart& operator=(const RenderStart&) = delete;
+  ~RenderStart() { this->Detach(); }
+
+  /// The next start of a render of the view's renderer calls run (with the view); a later
+  /// Arm before that start replaces it.
+  void Arm(vtkPVRenderView* view, std::function<void(vtkPVRenderView*)> run);
+  /// Stop observing (the representation leaves the view); nothing armed runs.
+  void Detach();
+
+private:
+  void Started();
+
+  vtkWeakPointer<vtkPVRenderView> View;
+  vtkWeakPointer<vtkRenderer> Renderer;
+  unsigned long Observer = 0;
+  std::function<void(vtkPVRenderView*)> Pending;
 };
 
 /**

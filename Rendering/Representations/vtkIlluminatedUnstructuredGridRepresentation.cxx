@@ -6,6 +6,7 @@
 #include "vtkDataArray.h"
 #include "vtkInformation.h"
 #include "vtkMultiProcessController.h"
+#include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPVLODVolume.h"
 #include "vtkPVRenderView.h"
@@ -22,6 +23,7 @@
 struct vtkIlluminatedUnstructuredGridRepresentation::vtkInternals
 {
   volillum::ViewLights Lights;
+  volillum::RenderStart Start;
   bool Lit = false; // whether the last render drew the lit grid
   // A parallel run (pvserver or pvbatch under MPI): the whole grid assembled from every
   // process's piece when the data updates (all processes update together), lit at render
@@ -89,6 +91,7 @@ void vtkIlluminatedUnstructuredGridRepresentation::SetScatteringIterations(int c
 //------------------------------------------------------------------------------
 bool vtkIlluminatedUnstructuredGridRepresentation::RemoveFromView(vtkView* view)
 {
+  this->Internals->Start.Detach();
   if (auto* rview = vtkPVRenderView::SafeDownCast(view))
   {
     this->LitMapper->ReleaseGraphicsResources(rview->GetRenderWindow());
@@ -134,25 +137,31 @@ int vtkIlluminatedUnstructuredGridRepresentation::ProcessViewRequest(
   }
   if (request == vtkPVView::REQUEST_RENDER() && !inInfo->Has(vtkPVRenderView::USE_LOD()))
   {
-    this->Internals->Lit = this->UpdateIllumination(inInfo);
-    if (this->Internals->Lit)
-    {
-      this->Actor->SetMapper(this->LitMapper);
-      this->Actor->SetProperty(this->LitProperty);
-    }
-    else
-    {
-      this->Actor->SetProperty(this->Property);
-    }
+    // Lit as the render starts, with the camera it renders (see volillum::RenderStart).
+    this->Internals->Start.Arm(vtkPVRenderView::SafeDownCast(inInfo->Get(vtkPVView::VIEW())),
+      [this](vtkPVRenderView* view)
+      {
+        this->Internals->Lit = this->UpdateIllumination(view);
+        if (this->Internals->Lit)
+        {
+          this->Actor->SetMapper(this->LitMapper);
+          this->Actor->SetProperty(this->LitProperty);
+        }
+        else
+        {
+          this->Actor->SetProperty(this->Property);
+        }
+      });
   }
   return 1;
 }
 
 //------------------------------------------------------------------------------
-bool vtkIlluminatedUnstructuredGridRepresentation::UpdateIllumination(vtkInformation* inInfo)
+bool vtkIlluminatedUnstructuredGridRepresentation::UpdateIllumination(vtkPVRenderView* view)
 {
-  auto* view = vtkPVRenderView::SafeDownCast(inInfo->Get(vtkPVView::VIEW()));
-  vtkAlgorithmOutput* port = vtkPVRenderView::GetPieceProducer(inInfo, this);
+  vtkNew<vtkInformation> info;
+  info->Set(vtkPVView::VIEW(), view);
+  vtkAlgorithmOutput* port = vtkPVRenderView::GetPieceProducer(info, this);
   auto* grid =
     port ? vtkUnstructuredGrid::SafeDownCast(port->GetProducer()->GetOutputDataObject(0)) : nullptr;
   volillum::ColouredArray coloured;

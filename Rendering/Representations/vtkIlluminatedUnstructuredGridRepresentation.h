@@ -5,8 +5,9 @@
  * Shares the Volume representation's colour map, scalar opacity, unit distance and
  * coloured array, and lights the grid with the render view's lights (the Light
  * Inspector's and, with UseLightKit, the light kit's) through
- * vtkUnstructuredGridIllumination, the two-level solver: at each still render the piece
- * this process renders is lit per vertex (LitColors = transfer-function colour x
+ * vtkUnstructuredGridIllumination, the two-level solver: as each still render starts (with
+ * the camera it renders, volillum::RenderStart) the piece this process renders is lit per
+ * vertex (LitColors = transfer-function colour x
  * illumination) and drawn with projected tetrahedra on those colours. The solver keeps
  * each light's solution, so a light edit recomputes that light only. Interactive renders
  * keep the current lighting (or draw the level-of-detail outline when ParaView asks for
@@ -30,6 +31,7 @@
 
 #include <memory>
 
+class vtkPVRenderView;
 class vtkProjectedTetrahedraMapper;
 class vtkUnstructuredGridIllumination;
 class vtkVolumeProperty;
@@ -91,7 +93,7 @@ protected:
 
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   /// Light the delivered piece and draw it; false when it cannot be lit.
-  bool UpdateIllumination(vtkInformation* inInfo);
+  bool UpdateIllumination(vtkPVRenderView* view);
 
   int IlluminationMethod = 0;
   bool UseLightKit = true;

@@ -13,6 +13,7 @@
 #include "vtkInformation.h"
 #include "vtkMultiLightIlluminationVolume.h"
 #include "vtkMultiProcessController.h"
+#include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPVLODVolume.h"
 #include "vtkPVRenderView.h"
@@ -26,6 +27,7 @@
 struct vtkIlluminatedVolumeRepresentation::vtkInternals
 {
   volillum::ViewLights Lights;
+  volillum::RenderStart Start;
   // One filter per method, created when first used; only the active one is kept.
   std::array<vtkSmartPointer<vtkIlluminationVolumeAlgorithm>, 3> Filters;
   // A multi-component coloured array, the one-component array that stands for it in the
@@ -133,6 +135,7 @@ vtkIlluminationVolumeAlgorithm* vtkIlluminatedVolumeRepresentation::GetIlluminat
 //------------------------------------------------------------------------------
 bool vtkIlluminatedVolumeRepresentation::RemoveFromView(vtkView* view)
 {
+  this->Internals->Start.Detach();
   if (auto* rview = vtkPVRenderView::SafeDownCast(view))
   {
     this->GetIlluminatedMapper()->ReleaseGraphicsResources(rview->GetRenderWindow());
@@ -240,8 +243,13 @@ int vtkIlluminatedVolumeRepresentation::ProcessViewRequest(
   }
   if (request == vtkPVView::REQUEST_RENDER())
   {
-    this->UpdateVectorMode();
-    this->UpdateIllumination(inInfo);
+    // Lit as the render starts, with the camera it renders (see volillum::RenderStart).
+    this->Internals->Start.Arm(vtkPVRenderView::SafeDownCast(inInfo->Get(vtkPVView::VIEW())),
+      [this](vtkPVRenderView* view)
+      {
+        this->UpdateVectorMode();
+        this->UpdateIllumination(view);
+      });
   }
   return 1;
 }
@@ -260,11 +268,12 @@ bool vtkIlluminatedVolumeRepresentation::UpdateFilter(vtkIlluminationVolumeAlgor
 }
 
 //------------------------------------------------------------------------------
-void vtkIlluminatedVolumeRepresentation::UpdateIllumination(vtkInformation* inInfo)
+void vtkIlluminatedVolumeRepresentation::UpdateIllumination(vtkPVRenderView* view)
 {
   vtkIlluminatedVolumeMapper* mapper = this->GetIlluminatedMapper();
-  auto* view = vtkPVRenderView::SafeDownCast(inInfo->Get(vtkPVView::VIEW()));
-  vtkAlgorithmOutput* port = vtkPVRenderView::GetPieceProducer(inInfo, this, 0);
+  vtkNew<vtkInformation> info;
+  info->Set(vtkPVView::VIEW(), view);
+  vtkAlgorithmOutput* port = vtkPVRenderView::GetPieceProducer(info, this, 0);
   auto* image =
     port ? vtkImageData::SafeDownCast(port->GetProducer()->GetOutputDataObject(0)) : nullptr;
   volillum::ColouredArray coloured;

@@ -4,7 +4,9 @@
  *
  * A volume representation (it shares the Volume representation's colour map, scalar
  * opacity, unit distance and coloured array) that lights the volume with the render
- * view's own lights. At each still render it reads the view's lights (the Light
+ * view's own lights. As each still render starts (with the camera it renders, after
+ * ParaView has synchronised it from the client: volillum::RenderStart) it reads the view's
+ * lights (the Light
  * Inspector's lights and, with UseLightKit, the light kit's), converts camera lights to
  * world coordinates, hands them with the colour map editor's transfer functions to an
  * illumination filter (IlluminationMethod: multi-light propagation, filtered shadows or
@@ -38,6 +40,7 @@
 
 class vtkIlluminatedVolumeMapper;
 class vtkIlluminationVolumeAlgorithm;
+class vtkPVRenderView;
 
 class VOLILLUMREPRESENTATIONS_EXPORT vtkIlluminatedVolumeRepresentation
   : public vtkImageVolumeRepresentation
@@ -142,7 +145,8 @@ protected:
 
   vtkIlluminatedVolumeMapper* GetIlluminatedMapper();
   vtkIlluminationVolumeAlgorithm* GetIlluminationFilter();
-  void UpdateIllumination(vtkInformation* inInfo);
+  /// Lights the piece this process renders in the view (as its renderer starts a render).
+  void UpdateIllumination(vtkPVRenderView* view);
   bool UpdateFilter(vtkIlluminationVolumeAlgorithm* filter);
 
   int IlluminationMethod = MultiLightPropagation;

@@ -1,36 +1,42 @@
-"""pvpython: the Illuminated Volume representations on `mpiexec -np 2 pvserver` give the
-builtin images.
+"""pvpython: the Illuminated Volume representations on `mpiexec -np 2 pvserver` and
+`mpiexec -np 2 pvbatch` give the builtin images.
 
 The shipped CT head, read by ParaView's image reader (on the server each process reads and
 renders its own piece), and a tetrahedral grid (redistributed by the view for ordered
 compositing) are drawn as "Illuminated Volume" with two Light Inspector lights (light kit
 off): first in a builtin session, then on a pvserver of two MPI processes on 127.0.0.1 with
-remote rendering (ordered compositing of the pieces). The images must match (mean absolute
-difference below 0.5 of 255). The server's output must hold no error but those of the port
-probe.
+remote rendering (ordered compositing of the pieces). A third scene lights the CT head with
+the light kit alone (camera lights) and moves the camera just before the screenshot, so
+that the screenshot's render is the first with that camera: the servers (and, in pvbatch,
+every process but the first) get the camera only as that render starts, and must light with
+it. That scene is also rendered by `mpiexec -np 2 pvbatch` running this script. The images
+must match (mean absolute difference below 0.5 of 255). The server's output must hold no
+error but those of the port probe.
 Usage: pvpython TestIlluminatedVolumeParallelServer.py PLUGIN OUTPUT_DIR PVSERVER MPIEXEC
-       "MPI_FLAGS" GRID
+       "MPI_FLAGS" GRID PVBATCH
+       pvbatch TestIlluminatedVolumeParallelServer.py --batch PLUGIN IMAGE (the third scene)
 """
 import os
+import subprocess
 import sys
 
 from paraview.simple import *
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from IlluminatedVolumeTestUtilities import finish, image_difference, pvserver_session, scene_light
+from IlluminatedVolumeTestUtilities import (environment_for_mpiexec, finish, image_difference,
+                                             pvserver_session, scene_light)
 
-plugin, out, pvserver, mpiexec, flags, GRID = sys.argv[1:7]
 HEAD = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Data", "headsq.vti")
 
 
-def render_scene(path, source, array, setup):
+def render_scene(path, source, array, setup, light_kit=False, moved=None):
     """Show source as "Illuminated Volume" coloured by array in a 240 x 240 view rendered on
-    the server (light kit off), let setup(view, rep) set the colour map, camera and lights,
-    and save the image."""
+    the server (the light kit on or off), let setup(view, rep) set the colour map, camera and
+    lights, render, let moved() move the camera, and save the image."""
     view = CreateView("RenderView")
     view.ViewSize = [240, 240]
     view.OrientationAxesVisibility = 0
-    view.UseLight = 0
+    view.UseLight = 1 if light_kit else 0
     view.RemoteRenderThreshold = 0
     rep = Show(source, view)
     rep.SetRepresentationType("Illuminated Volume")
@@ -38,24 +44,41 @@ def render_scene(path, source, array, setup):
     view.ResetCamera()
     setup(view, rep)
     Render(view)
+    if moved:
+        moved()
     SaveScreenshot(path, view)
     Delete(view)
     Delete(source)
 
 
+def head_colours(rep):
+    """The CT head's colour map and opacity, lit at resolution scale 0.5."""
+    GetColorTransferFunction("scalars").RGBPoints = [0, 0.9, 0.8, 0.7, 1200, 1.0, 0.9, 0.8,
+                                                     3000, 1.0, 1.0, 1.0]
+    GetOpacityTransferFunction("scalars").Points = [0, 0, 0.5, 0, 500, 0, 0.5, 0,
+                                                    1200, 0.3, 0.5, 0, 3000, 0.8, 0.5, 0]
+    rep.IlluminationResolutionScale = 0.5
+
+
 def image_scene(path):
     """The CT head at resolution scale 0.5, lit by two lights."""
     def setup(view, rep):
-        GetColorTransferFunction("scalars").RGBPoints = [0, 0.9, 0.8, 0.7, 1200, 1.0, 0.9, 0.8,
-                                                         3000, 1.0, 1.0, 1.0]
-        GetOpacityTransferFunction("scalars").Points = [0, 0, 0.5, 0, 500, 0, 0.5, 0,
-                                                        1200, 0.3, 0.5, 0, 3000, 0.8, 0.5, 0]
-        rep.IlluminationResolutionScale = 0.5
+        head_colours(rep)
         GetActiveCamera().Elevation(70)
         GetActiveCamera().Azimuth(30)
         scene_light(view, [-200, -150, 400], [100, 100, 70], [1.0, 0.7, 0.4])
         scene_light(view, [350, 120, 60], [100, 100, 70], [0.4, 0.6, 1.0], point=True)
     render_scene(path, XMLImageDataReader(FileName=[HEAD]), ("POINTS", "scalars"), setup)
+
+
+def light_kit_scene(path):
+    """The CT head lit by the light kit (lights that follow the camera), the camera turned
+    just before the screenshot."""
+    def moved():
+        GetActiveCamera().Azimuth(150)
+        GetActiveCamera().Elevation(40)
+    render_scene(path, XMLImageDataReader(FileName=[HEAD]), ("POINTS", "scalars"),
+                 lambda view, rep: head_colours(rep), light_kit=True, moved=moved)
 
 
 def grid_scene(path):
@@ -77,10 +100,14 @@ def grid_scene(path):
     render_scene(path, grid, (association, name), setup)
 
 
-SCENES = {"Image": image_scene, "Grid": grid_scene}
+SCENES = {"Image": image_scene, "Grid": grid_scene, "LightKit": light_kit_scene}
 
 
-if __name__ == "__main__":
+if __name__ == "__main__" and sys.argv[1] == "--batch":
+    LoadPlugin(sys.argv[2], remote=False, ns=globals())
+    light_kit_scene(sys.argv[3])
+elif __name__ == "__main__":
+    plugin, out, pvserver, mpiexec, flags, GRID, pvbatch = sys.argv[1:8]
     LoadPlugin(plugin, remote=False, ns=globals())
     for name, scene in SCENES.items():
         scene(os.path.join(out, "ParallelServer%sBuiltin.png" % name))
@@ -103,6 +130,19 @@ if __name__ == "__main__":
                 if difference > 0.5:
                     failures.append("%s: pvserver -np 2 differs from the builtin image by %.3f"
                                     % (name, difference))
+    batch = os.path.join(out, "ParallelServerLightKitPvbatch.png")
+    subprocess.run([mpiexec] + flags.split() + ["-np", "2", pvbatch, os.path.abspath(__file__),
+                    "--batch", plugin, batch], env=environment_for_mpiexec(), timeout=600)
+    if not os.path.exists(batch):
+        failures.append("mpiexec -np 2 pvbatch saved no image")
+    else:
+        difference = image_difference(os.path.join(out, "ParallelServerLightKitBuiltin.png"),
+                                      batch)
+        print("LightKit, pvbatch -np 2: mean absolute difference to the builtin image %.3f"
+              % difference)
+        if difference > 0.5:
+            failures.append("LightKit: pvbatch -np 2 differs from the builtin image by %.3f"
+                            % difference)
     with open(log_path) as log:
         # The port probe (wait_for) connects without a handshake: the socket errors it causes
         # are expected.
