@@ -5,11 +5,13 @@
 #include "vtkCellData.h"
 #include "vtkCommunicator.h"
 #include "vtkDataSetAttributes.h"
+#include "vtkExtentTranslator.h"
 #include "vtkIdList.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkMatrix3x3.h"
 #include "vtkMultiProcessController.h"
+#include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkUnsignedCharArray.h"
@@ -1076,6 +1078,16 @@ void ReduceOverPieces(vtkMultiProcessController* controller, const std::vector<i
 {
   ReduceBlocks<double>(
     controller, extents, components, operation, size_t(1) << 20, fill, receive, progress);
+}
+
+bool ProcessBlock(vtkMultiProcessController* controller, const int whole[6], int block[6])
+{
+  vtkNew<vtkExtentTranslator> translator;
+  int extent[6];
+  std::copy(whole, whole + 6, extent);
+  return translator->PieceToExtentThreadSafe(controller->GetLocalProcessId(),
+           controller->GetNumberOfProcesses(), 0, extent, block, vtkExtentTranslator::BLOCK_MODE,
+           0) != 0;
 }
 
 long long ExtentPoints(const int extent[6])

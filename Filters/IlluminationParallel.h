@@ -64,6 +64,12 @@ VOLILLUMFILTERS_EXPORT vtkMultiProcessController* ParallelRun(
 VOLILLUMFILTERS_EXPORT void TargetPieceExtent(
   const int whole[6], const int target[3], const int piece[6], int out[6]);
 
+/// The block of the data's extent `whole` that this process of `controller` reads in a
+/// parallel run (block p of N, vtkExtentTranslator in block mode); false when there are more
+/// processes than blocks.
+VOLILLUMFILTERS_EXPORT bool ProcessBlock(
+  vtkMultiProcessController* controller, const int whole[6], int block[6]);
+
 /// Collective: the bounds of the points of all processes' pieces (piece may be nullptr).
 VOLILLUMFILTERS_EXPORT void UnionOfBounds(
   vtkMultiProcessController* controller, vtkDataSet* piece, double bounds[6]);

@@ -163,8 +163,8 @@ private:
   // Distributed tables: what each window lacks of the whole table beyond its cells
   // (CartesianSAT and SphericalSAT::AddCellsBeyond of the other processes whose windows
   // share its columns and reach past its first cell toward the light, sent to it pairwise
-  // and summed there in process order). Collective; `tableExtents`: the cells of every process's windows, as the
-  // data points that hold their centres (GatherExtents).
+  // and summed there in process order). Collective; `tableExtents`: the cells of every process's
+  // windows, as the data points that hold their centres (GatherExtents).
   void ShareCellsBeyond(vtkMultiProcessController* controller, const volillum::VolumePiece& piece,
     const std::vector<volillum::ShadowLookup>& lookups,
     const std::vector<volillum::SphericalLookup>& sphericalLookups, int channels,

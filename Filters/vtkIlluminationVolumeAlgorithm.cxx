@@ -9,7 +9,6 @@
 #include "vtkColorTransferFunction.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
-#include "vtkExtentTranslator.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
@@ -190,21 +189,6 @@ int vtkIlluminationVolumeAlgorithm::RequestInformation(
   return 1;
 }
 
-namespace
-{
-// The block of the data's extent `whole` that process p of N reads in a parallel run (block
-// p of N, vtkExtentTranslator); false when there are more processes than blocks.
-bool ProcessBlock(vtkMultiProcessController* controller, const int whole[6], int block[6])
-{
-  vtkNew<vtkExtentTranslator> translator;
-  int extent[6];
-  std::copy(whole, whole + 6, extent);
-  return translator->PieceToExtentThreadSafe(controller->GetLocalProcessId(),
-           controller->GetNumberOfProcesses(), 0, extent, block, vtkExtentTranslator::BLOCK_MODE,
-           0) != 0;
-}
-}
-
 //------------------------------------------------------------------------------
 int vtkIlluminationVolumeAlgorithm::RequestUpdateExtent(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
@@ -221,7 +205,7 @@ int vtkIlluminationVolumeAlgorithm::RequestUpdateExtent(
   {
     int whole[6];
     std::copy(extent, extent + 6, whole);
-    if (!ProcessBlock(controller, whole, extent))
+    if (!volillum::ProcessBlock(controller, whole, extent))
     {
       std::fill(extent, extent + 6, 0); // more processes than blocks: nothing to read
       extent[1] = extent[3] = extent[5] = -1;
@@ -510,7 +494,7 @@ bool vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessContro
   // This process takes the samples in the cells of its block of the data (the blocks share
   // their boundary planes, so each cell is taken once); its input must hold the block.
   int block[6];
-  const bool piece = ProcessBlock(controller, whole, block);
+  const bool piece = volillum::ProcessBlock(controller, whole, block);
   // Cell scalars become point values by averaging the cells around a point, which differs
   // at a block's boundary: they are lit from the assembled input (decided before any
   // conversion).

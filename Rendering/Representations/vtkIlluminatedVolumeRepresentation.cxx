@@ -11,6 +11,7 @@
 #include "vtkIlluminatedVolumeMapper.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
+#include "vtkInformationVector.h"
 #include "vtkMultiLightIlluminationVolume.h"
 #include "vtkMultiProcessController.h"
 #include "vtkNew.h"
@@ -19,9 +20,11 @@
 #include "vtkPVRenderView.h"
 #include "vtkRayMarchedIllumination.h"
 #include "vtkRenderWindow.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkTrivialProducer.h"
 #include "vtkVolumeProperty.h"
 
+#include <algorithm>
 #include <array>
 
 struct vtkIlluminatedVolumeRepresentation::vtkInternals
@@ -35,11 +38,16 @@ struct vtkIlluminatedVolumeRepresentation::vtkInternals
   vtkSmartPointer<vtkDataArray> Vectors;
   vtkSmartPointer<vtkDataArray> Reduced;
   int Component = -1;
-  // A parallel run (pvserver or pvbatch under MPI): the whole image assembled from every
-  // process's piece when the data updates (all processes update together), lit on each
-  // process without further communication when it renders its own piece.
+  // A parallel run (pvserver or pvbatch under MPI). Where every process's piece holds its
+  // block of the image (the parallel readers' pieces), the filter lights the pieces where
+  // they are as each render starts, every process together (Pieces: this process's piece
+  // within the whole extent). Otherwise the whole image is assembled from every process's
+  // piece when the data updates (all processes update together) and lit on each process
+  // without further communication when it renders its own piece (Whole).
   volillum::DistributedInput Distributed;
   vtkNew<vtkTrivialProducer> Whole;
+  vtkNew<vtkTrivialProducer> Piece;
+  vtkMultiProcessController* Controller = nullptr; // lighting the pieces where they are
   bool Parallel = false;
 };
 
@@ -127,8 +135,9 @@ vtkIlluminationVolumeAlgorithm* vtkIlluminatedVolumeRepresentation::GetIlluminat
         break;
     }
     volillum::ForwardProgress(filter, this);
-    filter->SetController(nullptr); // it lights what it is given (see Internals::Whole)
   }
+  // Pieces lit where they are, or what it is given (see vtkInternals).
+  filter->SetController(this->Internals->Controller);
   return filter;
 }
 
@@ -152,6 +161,12 @@ double* vtkIlluminatedVolumeRepresentation::GetMeanIllumination()
 }
 
 //------------------------------------------------------------------------------
+bool vtkIlluminatedVolumeRepresentation::GetDistributedIllumination() const
+{
+  return this->Internals->Controller != nullptr;
+}
+
+//------------------------------------------------------------------------------
 int vtkIlluminatedVolumeRepresentation::RequestData(
   vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -166,10 +181,40 @@ int vtkIlluminatedVolumeRepresentation::RequestData(
   vtkMultiProcessController* controller =
     volillum::ParallelRun(vtkMultiProcessController::GetGlobalController());
   internals.Parallel = controller != nullptr;
-  if (controller)
+  internals.Controller = nullptr;
+  if (!controller)
   {
-    internals.Whole->SetOutput(
-      internals.Distributed.Image(controller, this, vtkImageData::SafeDownCast(this->Cache)));
+    return 1;
+  }
+  auto* piece = vtkImageData::SafeDownCast(this->Cache);
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  int whole[6] = { 0, -1, 0, -1, 0, -1 }, block[6];
+  if (inInfo && inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+  {
+    inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
+  }
+  // Lit where they are when every process's piece holds its block (the filter reads it).
+  bool holds = piece != nullptr;
+  if (holds && volillum::ProcessBlock(controller, whole, block))
+  {
+    const int* e = piece->GetExtent();
+    for (int a = 0; a < 3 && holds; ++a)
+    {
+      holds = piece->GetNumberOfPoints() > 0 && e[2 * a] <= block[2 * a] &&
+        block[2 * a + 1] <= e[2 * a + 1];
+    }
+  }
+  if (volillum::AllOk(controller, holds))
+  {
+    internals.Controller = controller;
+    internals.Piece->SetOutput(piece);
+    internals.Piece->SetWholeExtent(whole);
+    internals.Whole->SetOutput(nullptr);
+    internals.Distributed = volillum::DistributedInput();
+  }
+  else
+  {
+    internals.Whole->SetOutput(internals.Distributed.Image(controller, this, piece));
   }
   return 1;
 }
@@ -276,8 +321,16 @@ void vtkIlluminatedVolumeRepresentation::UpdateIllumination(vtkPVRenderView* vie
   vtkAlgorithmOutput* port = vtkPVRenderView::GetPieceProducer(info, this, 0);
   auto* image =
     port ? vtkImageData::SafeDownCast(port->GetProducer()->GetOutputDataObject(0)) : nullptr;
+  // Pieces lit where they are: every process decides as the others do (the filter's update
+  // is collective), a process without a piece takes part.
+  auto& internals = *this->Internals;
+  vtkMultiProcessController* together = internals.Controller;
+  auto agreed = [together](bool local)
+  { return together ? volillum::AllOk(together, local) : local; };
+  const bool empty = !image || image->GetNumberOfPoints() == 0;
   volillum::ColouredArray coloured;
-  if (!volillum::ColouredScalars(this, image, coloured))
+  const bool lightable = volillum::ColouredScalars(this, image, coloured) != nullptr;
+  if (!agreed(lightable || (together && empty)))
   {
     // Nothing this representation can light: draw as the Volume representation does.
     mapper->SetIlluminationData(nullptr);
@@ -288,16 +341,20 @@ void vtkIlluminatedVolumeRepresentation::UpdateIllumination(vtkPVRenderView* vie
   auto* propagation = vtkMultiLightIlluminationVolume::SafeDownCast(filter);
   const bool progressive = propagation && this->MaximumPassesPerUpdate > 0;
   const bool interactive = volillum::IsInteractiveRender(view);
-  if (interactive && !progressive && mapper->GetIlluminationData() == filter->GetOutput())
+  if (agreed(interactive && !progressive &&
+        (empty || mapper->GetIlluminationData() == filter->GetOutput())))
   {
     return; // keep the current illumination while the camera moves
   }
 
-  this->Internals->Lights.Update(view, this->UseLightKit);
-  this->Internals->Lights.ApplyTo(filter);
-  volillum::SetVolumeInput(filter,
-    this->Internals->Parallel ? this->Internals->Whole->GetOutputPort() : port, coloured,
-    this->Property);
+  internals.Lights.Update(view, this->UseLightKit);
+  internals.Lights.ApplyTo(filter);
+  vtkAlgorithmOutput* input = port;
+  if (internals.Parallel)
+  {
+    input = together ? internals.Piece->GetOutputPort() : internals.Whole->GetOutputPort();
+  }
+  volillum::SetVolumeInput(filter, input, coloured, this->Property);
   filter->SetResolutionScale(this->ResolutionScale);
   filter->SetChromaticAttenuation(this->ChromaticAttenuation);
   if (propagation)
@@ -309,6 +366,21 @@ void vtkIlluminatedVolumeRepresentation::UpdateIllumination(vtkPVRenderView* vie
   {
     shadows->SetFilterWidth(this->ShadowFilterWidth);
     shadows->SetFilterKernel(this->ShadowFilterKernel);
+  }
+  if (together)
+  {
+    // Every process updates the filter, or none (one whose output is older than what it
+    // reads makes them all update).
+    vtkDataObject* output = filter->GetOutputDataObject(0);
+    vtkMTimeType read = std::max(filter->GetMTime(), internals.Piece->GetMTime());
+    if (image)
+    {
+      read = std::max(read, image->GetMTime());
+    }
+    if (!volillum::AllOk(together, output && output->GetUpdateTime() > read))
+    {
+      filter->Modified();
+    }
   }
   if (!this->UpdateFilter(filter))
   {
@@ -335,4 +407,5 @@ void vtkIlluminatedVolumeRepresentation::PrintSelf(ostream& os, vtkIndent indent
   os << indent << "MeanIllumination: " << this->MeanIllumination[0] << " "
      << this->MeanIllumination[1] << " " << this->MeanIllumination[2] << "\n";
   os << indent << "PendingPasses: " << this->Report.PendingPasses << "\n";
+  os << indent << "DistributedIllumination: " << this->GetDistributedIllumination() << "\n";
 }

@@ -6,16 +6,20 @@
  * opacity, unit distance and coloured array) that lights the volume with the render
  * view's own lights. As each still render starts (with the camera it renders, after
  * ParaView has synchronised it from the client: volillum::RenderStart) it reads the view's
- * lights (the Light
- * Inspector's lights and, with UseLightKit, the light kit's), converts camera lights to
- * world coordinates, hands them with the colour map editor's transfer functions to an
+ * lights (the Light Inspector's lights and, with UseLightKit, the light kit's), converts camera
+ * lights to world coordinates, hands them with the colour map editor's transfer functions to an
  * illumination filter (IlluminationMethod: multi-light propagation, filtered shadows or
  * the ray-marched reference) on the piece this process renders, and draws the volume
- * with vtkIlluminatedVolumeMapper. In parallel (pvserver or pvbatch under MPI) every
- * process assembles the whole image from the pieces when the data updates (all processes
- * update together; see IlluminationParallel.h), lights it at render time without further
- * communication and draws its own piece with it, so the composited image is lit as a serial
- * one. The filters keep their state between renders, so a
+ * with vtkIlluminatedVolumeMapper. In parallel (pvserver or pvbatch under MPI), where every
+ * process's piece holds its block of the image (vtkExtentTranslator's blocks, as ParaView's
+ * parallel image readers give them; checked when the data updates), the filter lights the
+ * pieces where they are with the global controller (see IlluminationParallel.h), every
+ * process together as each render starts (ParaView renders on every process then; the
+ * decisions to light or keep the illumination are agreed by reductions), and each process
+ * draws its own piece with the illumination over it. Otherwise every process assembles the
+ * whole image from the pieces when the data updates (all processes update together), lights
+ * it at render time without communication and draws its own piece with it. Either way the
+ * composited image is lit as a serial one. The filters keep their state between renders, so a
  * light edit re-propagates that light only; a transfer-function or data change
  * recomputes everything.
  *
@@ -117,6 +121,13 @@ public:
   double* GetMeanIllumination() VTK_SIZEHINT(3);
   int GetPendingPasses() const { return this->Report.PendingPasses; }
   ///@}
+
+  /**
+   * In a parallel run, whether this process lights its own piece where it is, the
+   * processes together as each render starts (every piece holds its block of the image);
+   * false where the whole image is assembled on every process, and in a serial run.
+   */
+  bool GetDistributedIllumination() const;
 
   int ProcessViewRequest(
     vtkInformationRequestKey* request, vtkInformation* inInfo, vtkInformation* outInfo) override;

@@ -24,7 +24,7 @@ from paraview.simple import *
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from IlluminatedVolumeTestUtilities import (environment_for_mpiexec, finish, image_difference,
-                                             pvserver_session, scene_light)
+                                             info, pvserver_session, scene_light)
 
 HEAD = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Data", "headsq.vti")
 
@@ -47,8 +47,14 @@ def render_scene(path, source, array, setup, light_kit=False, moved=None):
     if moved:
         moved()
     SaveScreenshot(path, view)
+    # Whether the image was lit where its pieces are (image data; the value of this process:
+    # the client's in a client-server session, the first process's in pvbatch).
+    distributed = None
+    if rep.SMProxy.GetProperty("IlluminationDistributed") is not None:
+        distributed = info(rep, "IlluminationDistributed")[0]
     Delete(view)
     Delete(source)
+    return distributed
 
 
 def head_colours(rep):
@@ -68,7 +74,7 @@ def image_scene(path):
         GetActiveCamera().Azimuth(30)
         scene_light(view, [-200, -150, 400], [100, 100, 70], [1.0, 0.7, 0.4])
         scene_light(view, [350, 120, 60], [100, 100, 70], [0.4, 0.6, 1.0], point=True)
-    render_scene(path, XMLImageDataReader(FileName=[HEAD]), ("POINTS", "scalars"), setup)
+    return render_scene(path, XMLImageDataReader(FileName=[HEAD]), ("POINTS", "scalars"), setup)
 
 
 def light_kit_scene(path):
@@ -77,8 +83,8 @@ def light_kit_scene(path):
     def moved():
         GetActiveCamera().Azimuth(150)
         GetActiveCamera().Elevation(40)
-    render_scene(path, XMLImageDataReader(FileName=[HEAD]), ("POINTS", "scalars"),
-                 lambda view, rep: head_colours(rep), light_kit=True, moved=moved)
+    return render_scene(path, XMLImageDataReader(FileName=[HEAD]), ("POINTS", "scalars"),
+                        lambda view, rep: head_colours(rep), light_kit=True, moved=moved)
 
 
 def grid_scene(path):
@@ -97,7 +103,7 @@ def grid_scene(path):
                     [1.0, 0.7, 0.4])
         scene_light(view, [centre[0] + size, centre[1], centre[2]], centre, [0.4, 0.6, 1.0],
                     point=True)
-    render_scene(path, grid, (association, name), setup)
+    return render_scene(path, grid, (association, name), setup)
 
 
 SCENES = {"Image": image_scene, "Grid": grid_scene, "LightKit": light_kit_scene}
@@ -105,7 +111,7 @@ SCENES = {"Image": image_scene, "Grid": grid_scene, "LightKit": light_kit_scene}
 
 if __name__ == "__main__" and sys.argv[1] == "--batch":
     LoadPlugin(sys.argv[2], remote=False, ns=globals())
-    light_kit_scene(sys.argv[3])
+    print("IlluminationDistributed %s" % light_kit_scene(sys.argv[3]))
 elif __name__ == "__main__":
     plugin, out, pvserver, mpiexec, flags, GRID, pvbatch = sys.argv[1:8]
     LoadPlugin(plugin, remote=False, ns=globals())
@@ -131,8 +137,13 @@ elif __name__ == "__main__":
                     failures.append("%s: pvserver -np 2 differs from the builtin image by %.3f"
                                     % (name, difference))
     batch = os.path.join(out, "ParallelServerLightKitPvbatch.png")
-    subprocess.run([mpiexec] + flags.split() + ["-np", "2", pvbatch, os.path.abspath(__file__),
-                    "--batch", plugin, batch], env=environment_for_mpiexec(), timeout=600)
+    run = subprocess.run([mpiexec] + flags.split() + ["-np", "2", pvbatch,
+                          os.path.abspath(__file__), "--batch", plugin, batch],
+                         env=environment_for_mpiexec(), timeout=600, capture_output=True,
+                         text=True)
+    if "IlluminationDistributed 1" not in run.stdout:
+        failures.append("pvbatch -np 2 assembled the whole image:\n" + run.stdout[-2000:] +
+                        run.stderr[-2000:])
     if not os.path.exists(batch):
         failures.append("mpiexec -np 2 pvbatch saved no image")
     else:
