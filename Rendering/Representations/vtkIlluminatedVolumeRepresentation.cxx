@@ -214,6 +214,7 @@ int vtkIlluminatedVolumeRepresentation::RequestData(
   }
   else
   {
+    internals.Piece->SetOutput(nullptr);
     internals.Whole->SetOutput(internals.Distributed.Image(controller, this, piece));
   }
   return 1;
@@ -340,7 +341,7 @@ void vtkIlluminatedVolumeRepresentation::UpdateIllumination(vtkPVRenderView* vie
   vtkIlluminationVolumeAlgorithm* filter = this->GetIlluminationFilter();
   auto* propagation = vtkMultiLightIlluminationVolume::SafeDownCast(filter);
   const bool progressive = propagation && this->MaximumPassesPerUpdate > 0;
-  const bool interactive = volillum::IsInteractiveRender(view);
+  const bool interactive = agreed(volillum::IsInteractiveRender(view));
   if (agreed(interactive && !progressive &&
         (empty || mapper->GetIlluminationData() == filter->GetOutput())))
   {
@@ -369,18 +370,21 @@ void vtkIlluminatedVolumeRepresentation::UpdateIllumination(vtkPVRenderView* vie
   }
   if (together)
   {
-    // Every process updates the filter, or none (one whose output is older than what it
-    // reads makes them all update).
+    // Every process updates the filter, or none. Its output covers this process's piece
+    // only, so its pipeline, asked for the whole grid, would run it at every update on the
+    // processes whose piece is not the whole grid and not on the others: the processes agree
+    // instead whether any output is older than what the filter reads.
     vtkDataObject* output = filter->GetOutputDataObject(0);
     vtkMTimeType read = std::max(filter->GetMTime(), internals.Piece->GetMTime());
     if (image)
     {
       read = std::max(read, image->GetMTime());
     }
-    if (!volillum::AllOk(together, output && output->GetUpdateTime() > read))
+    if (volillum::AllOk(together, output && output->GetUpdateTime() > read))
     {
-      filter->Modified();
+      return; // the mapper has the current illumination (none for an empty piece)
     }
+    filter->Modified();
   }
   if (!this->UpdateFilter(filter))
   {

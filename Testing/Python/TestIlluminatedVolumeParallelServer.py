@@ -9,12 +9,16 @@ remote rendering (ordered compositing of the pieces). A third scene lights the C
 the light kit alone (camera lights) and moves the camera just before the screenshot, so
 that the screenshot's render is the first with that camera: the servers (and, in pvbatch,
 every process but the first) get the camera only as that render starts, and must light with
-it. That scene is also rendered by `mpiexec -np 2 pvbatch` running this script. The images
-must match (mean absolute difference below 0.5 of 255). The server's output must hold no
+it. That scene is also rendered by `mpiexec -np 2 pvbatch` running this script. Then a small
+image (9 x 5 x 5, lit at resolution scale 1/4 by 3 pvbatch processes, one of which holds an
+illumination piece that is the whole grid) is rendered twice in a row, before and after a
+camera move: the processes must agree whether to light, or wait on each other for ever. The
+images must match (mean absolute difference below 0.5 of 255). The server's output must hold no
 error but those of the port probe.
 Usage: pvpython TestIlluminatedVolumeParallelServer.py PLUGIN OUTPUT_DIR PVSERVER MPIEXEC
        "MPI_FLAGS" GRID PVBATCH
        pvbatch TestIlluminatedVolumeParallelServer.py --batch PLUGIN IMAGE (the third scene)
+       pvbatch TestIlluminatedVolumeParallelServer.py --small PLUGIN SMALL_VTI
 """
 import os
 import subprocess
@@ -109,9 +113,49 @@ def grid_scene(path):
 SCENES = {"Image": image_scene, "Grid": grid_scene, "LightKit": light_kit_scene}
 
 
+def write_small_image(path):
+    """A 9 x 5 x 5 image: lit at resolution scale 1/4 by 3 processes, the illumination grid
+    (3 x 2 x 2 points) over the middle block (x 2 to 5) is the whole grid, those over the
+    others are not."""
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+    from vtkmodules.vtkCommonCore import vtkFloatArray
+    from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
+    image = vtkImageData()
+    image.SetDimensions(9, 5, 5)
+    values = vtkFloatArray()
+    values.SetName("scalars")
+    for i in range(9 * 5 * 5):
+        values.InsertNextValue((i * 37) % 101)
+    image.GetPointData().SetScalars(values)
+    writer = vtkXMLImageDataWriter()
+    writer.SetInputData(image)
+    writer.SetFileName(path)
+    writer.Write()
+
+
+def small_renders(path):
+    """Renders of the small image with nothing changed in between and after a camera move:
+    every process must light (or keep its lighting) together."""
+    view = CreateView("RenderView")
+    view.ViewSize = [120, 120]
+    rep = Show(XMLImageDataReader(FileName=[path]), view)
+    rep.SetRepresentationType("Illuminated Volume")
+    ColorBy(rep, ("POINTS", "scalars"))
+    rep.IlluminationResolutionScale = 0.25
+    view.ResetCamera()
+    for _ in range(2):
+        Render(view)
+        Render(view)
+        GetActiveCamera().Azimuth(60)
+    print("small image rendered", flush=True)
+
+
 if __name__ == "__main__" and sys.argv[1] == "--batch":
     LoadPlugin(sys.argv[2], remote=False, ns=globals())
     print("IlluminationDistributed %s" % light_kit_scene(sys.argv[3]))
+elif __name__ == "__main__" and sys.argv[1] == "--small":
+    LoadPlugin(sys.argv[2], remote=False, ns=globals())
+    small_renders(sys.argv[3])
 elif __name__ == "__main__":
     plugin, out, pvserver, mpiexec, flags, GRID, pvbatch = sys.argv[1:8]
     LoadPlugin(plugin, remote=False, ns=globals())
@@ -154,6 +198,18 @@ elif __name__ == "__main__":
         if difference > 0.5:
             failures.append("LightKit: pvbatch -np 2 differs from the builtin image by %.3f"
                             % difference)
+    small = os.path.join(out, "ParallelServerSmall.vti")
+    write_small_image(small)
+    try:
+        run = subprocess.run([mpiexec] + flags.split() + ["-np", "3", pvbatch,
+                              os.path.abspath(__file__), "--small", plugin, small],
+                             env=environment_for_mpiexec(), timeout=300, capture_output=True,
+                             text=True)
+        if "small image rendered" not in run.stdout:
+            failures.append("pvbatch -np 3, small image: no renders\n" + run.stderr[-2000:])
+    except subprocess.TimeoutExpired:
+        failures.append("pvbatch -np 3, small image: the renders did not end (the processes "
+                        "wait on each other)")
     with open(log_path) as log:
         # The port probe (wait_for) connects without a handshake: the socket errors it causes
         # are expected.
