@@ -18,9 +18,12 @@ of the input only: the points process 0 classified and the bytes of the products
 process sends are printed), the bytes each process
 receives when the data changes (the gathered pieces; a light edit gathers nothing), the
 bytes of the propagation's sums each process sends per update, the propagation's peak
-memory per process (largest over the processes), and
+memory per process (that of process 0, which runs the script), and
 the propagation's peak memory per process also on 4 processes (oversubscribed: memory only),
-and the efficiency a sweep over bands reaches at 8, 64 and 204 processes for 1024^3 by the
+the Illuminated Volume representation's still render after a camera move (the light kit,
+scale 1/2; propagation and filtered shadows) on 1 and 2 processes with process 0's peak
+memory and whether the pieces were lit where they are, and the efficiency a sweep over bands
+reaches at 8, 64 and 204 processes for 1024^3 by the
 model of Documentation/parallel.md with this run's compute cost per voxel and light.
 Writes the figures as JSON with --json FILE.
 Usage: pvpython ParallelBenchmark.py PLUGIN DATA_DIR OUT_DIR MPIEXEC "MPI_FLAGS"
@@ -80,6 +83,33 @@ def worker(plugin, volume, mode):
 
     import resource
     before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    if mode.startswith("render"):
+        # The Illuminated Volume representation as ParaView renders it (the light kit,
+        # resolution scale 1/2, 400 x 400): a still render after a camera move (the light kit
+        # follows the camera: the illumination is updated), propagation ("render") or
+        # filtered shadows ("render_shadows").
+        from paraview.simple import ColorBy, CreateView, GetActiveCamera, Render, Show
+        view = CreateView("RenderView")
+        view.ViewSize = [400, 400]
+        view.OrientationAxesVisibility = 0
+        rep = Show(reader, view)
+        rep.SetRepresentationType("Illuminated Volume")
+        ColorBy(rep, ("POINTS", array))
+        rep.IlluminationMethod = 1 if mode == "render_shadows" else 0
+        rep.IlluminationResolutionScale = 0.5
+        view.ResetCamera()
+        Render(view)
+        GetActiveCamera().Azimuth(60)
+        start = time.perf_counter()
+        Render(view)
+        rendered = time.perf_counter() - start
+        rep.SMProxy.UpdatePropertyInformation()
+        print("RESULT " + json.dumps({
+            "render_s": rendered,
+            "peak_bytes": 1024 * (resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before),
+            "distributed": rep.SMProxy.GetProperty("IlluminationDistributed").GetElement(0),
+            "points": reader.GetDataInformation().GetNumberOfPoints()}))
+        return
     if mode.startswith("filtered"):
         # Filtered shadows alone, for their peak memory (with distributed tables, and with the
         # input assembled on every process); "filtered_point": the lights made point lights
@@ -160,12 +190,12 @@ def run(command, plugin, volume, mode="all"):
                                        mode],
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                             env=environment, timeout=3000)
-    # Every process prints its result: the first one's times, the largest peak memory.
+    # pvbatch runs the script on the first process (the others serve it): its times and its
+    # peak memory.
     results = [json.loads(line[len("RESULT "):]) for line in result.stdout.splitlines()
                if line.startswith("RESULT ")]
     if not results:
         raise RuntimeError("the run failed:\n" + result.stdout[-3000:])
-    results[0]["peak_bytes"] = max(r["peak_bytes"] for r in results)
     return results[0]
 
 
@@ -221,6 +251,12 @@ def main():
     for mode in ("filtered", "filtered_assembled", "filtered_point", "filtered_point_assembled"):
         shadows["2" + mode[len("filtered"):]] = run(
             [mpiexec] + flags.split() + ["-np", "2", pvbatch], plugin, volume, mode)
+    # The representation, as ParaView renders it.
+    rendering = {}
+    for mode in ("render", "render_shadows"):
+        rendering[mode] = {"1": run([pvbatch], plugin, volume, mode),
+                           "2": run([mpiexec] + flags.split() + ["-np", "2", pvbatch], plugin,
+                                    volume, mode)}
     # Each process receives the other pieces of the lit array: (N - 1) / N of it.
     received = two["bytes"] / 2
     # Assembled: each process sends the fixed-point units (3 x 4 bytes a point) of the other
@@ -280,6 +316,14 @@ def main():
                    "2 assembled": two_assembled["peak_bytes"] / two["points"],
                    "4": four["bands"]["peak_bytes"] / two["points"],
                    "4 assembled": four["assembled"]["peak_bytes"] / two["points"]},
+               "representation_render_after_camera_move_s": {
+                   mode: {n: r["render_s"] for n, r in runs.items()}
+                   for mode, runs in rendering.items()},
+               "representation_peak_bytes_per_point_of_process_0": {
+                   mode: {n: r["peak_bytes"] / r["points"] for n, r in runs.items()}
+                   for mode, runs in rendering.items()},
+               "representation_lit_where_the_pieces_are": {
+                   mode: runs["2"]["distributed"] for mode, runs in rendering.items()},
                "compute_s_per_voxel_light_sweep": per_voxel_light,
                "model_1024_cubed": model(per_voxel_light)}
     print("Multi-Light Illumination Volume (propagation) and Filtered Volumetric Shadows, %s, "
@@ -336,6 +380,16 @@ def main():
              two_assembled["peak_bytes"] / two["points"],
              four["bands"]["peak_bytes"] / two["points"],
              four["assembled"]["peak_bytes"] / two["points"]))
+    for mode, label in (("render", "propagation"), ("render_shadows", "filtered shadows")):
+        runs = rendering[mode]
+        print("Illuminated Volume representation, %s: a still render after a camera move "
+              "%.2f s on 1 process, %.2f s on 2 (%.2fx); peak memory of process 0 above the "
+              "input %.1f and %.1f bytes a point; lit where the pieces are on 2: %s"
+              % (label, runs["1"]["render_s"], runs["2"]["render_s"],
+                 runs["1"]["render_s"] / runs["2"]["render_s"],
+                 runs["1"]["peak_bytes"] / runs["1"]["points"],
+                 runs["2"]["peak_bytes"] / runs["2"]["points"],
+                 "yes" if runs["2"]["distributed"] else "no"))
     print("model of a sweep over bands, 1024^3 (%.0f ns per voxel and light sweep, halo of 5 "
           "rows):" % (per_voxel_light * 1e9))
     for row in results["model_1024_cubed"]:
