@@ -150,6 +150,26 @@ def wait_for(port, process, seconds=60):
     return False
 
 
+def write_image(path, dimensions, values, spacing=(1, 1, 1), array_type="vtkFloatArray"):
+    """Write a .vti of `dimensions` points whose point scalars "scalars" (a VTK array class
+    name) hold values (x fastest)."""
+    from vtkmodules import vtkCommonCore
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+    from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
+    image = vtkImageData()
+    image.SetDimensions(*dimensions)
+    image.SetSpacing(*spacing)
+    array = getattr(vtkCommonCore, array_type)()
+    array.SetName("scalars")
+    for v in values:
+        array.InsertNextValue(v)
+    image.GetPointData().SetScalars(array)
+    writer = vtkXMLImageDataWriter()
+    writer.SetInputData(image)
+    writer.SetFileName(path)
+    writer.Write()
+
+
 def environment_for_mpiexec():
     """This process's environment without the variables of an MPI job: pvpython may have
     started MPI as a singleton, and they would make a child mpiexec think it runs inside a

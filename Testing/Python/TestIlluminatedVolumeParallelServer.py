@@ -28,7 +28,7 @@ from paraview.simple import *
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from IlluminatedVolumeTestUtilities import (environment_for_mpiexec, finish, image_difference,
-                                             info, pvserver_session, scene_light)
+                                             info, pvserver_session, scene_light, write_image)
 
 HEAD = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Data", "headsq.vti")
 
@@ -117,20 +117,7 @@ def write_small_image(path):
     """A 9 x 5 x 5 image: lit at resolution scale 1/4 by 3 processes, the illumination grid
     (3 x 2 x 2 points) over the middle block (x 2 to 5) is the whole grid, those over the
     others are not."""
-    from vtkmodules.vtkCommonDataModel import vtkImageData
-    from vtkmodules.vtkCommonCore import vtkFloatArray
-    from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
-    image = vtkImageData()
-    image.SetDimensions(9, 5, 5)
-    values = vtkFloatArray()
-    values.SetName("scalars")
-    for i in range(9 * 5 * 5):
-        values.InsertNextValue((i * 37) % 101)
-    image.GetPointData().SetScalars(values)
-    writer = vtkXMLImageDataWriter()
-    writer.SetInputData(image)
-    writer.SetFileName(path)
-    writer.Write()
+    write_image(path, (9, 5, 5), [(i * 37) % 101 for i in range(9 * 5 * 5)])
 
 
 def small_renders(path):

@@ -291,21 +291,9 @@ def update_mode(data):
 
 def write_tiny_image(path):
     """An image of 2 x 2 x 2 points with the head's scalar range."""
-    from vtkmodules.vtkCommonDataModel import vtkImageData
-    from vtkmodules.vtkCommonCore import vtkShortArray
-    from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
-    image = vtkImageData()
-    image.SetDimensions(2, 2, 2)
-    image.SetSpacing(30, 30, 30)
-    values = vtkShortArray()
-    values.SetName("scalars")
-    for v in (0, 900, 1500, 3000, 2000, 1200, 2500, 600):
-        values.InsertNextValue(v)
-    image.GetPointData().SetScalars(values)
-    writer = vtkXMLImageDataWriter()
-    writer.SetInputData(image)
-    writer.SetFileName(path)
-    writer.Write()
+    from IlluminatedVolumeTestUtilities import write_image
+    write_image(path, (2, 2, 2), (0, 900, 1500, 3000, 2000, 1200, 2500, 600), (30, 30, 30),
+                "vtkShortArray")
 
 
 def write_wavelet_tetrahedra(path):
