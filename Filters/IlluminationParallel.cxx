@@ -1090,6 +1090,18 @@ bool ProcessBlock(vtkMultiProcessController* controller, const int whole[6], int
            0) != 0;
 }
 
+bool ExtentHolds(const int outer[6], const int inner[6])
+{
+  for (int a = 0; a < 3; ++a)
+  {
+    if (inner[2 * a] < outer[2 * a] || outer[2 * a + 1] < inner[2 * a + 1])
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
 long long ExtentPoints(const int extent[6])
 {
   long long points = 1;

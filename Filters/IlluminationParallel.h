@@ -128,6 +128,9 @@ void WithEachPeer(int local, const std::vector<int>& peers, Exchange&& exchange)
   }
 }
 
+/// Whether extent `outer` holds every point of extent `inner`.
+VOLILLUMFILTERS_EXPORT bool ExtentHolds(const int outer[6], const int inner[6]);
+
 /// Points of an extent (0 for an empty one).
 VOLILLUMFILTERS_EXPORT long long ExtentPoints(const int extent[6]);
 /**

@@ -511,11 +511,7 @@ bool vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessContro
   bool ok = true;
   if (piece)
   {
-    const int* e = input ? input->GetExtent() : nullptr;
-    for (int a = 0; a < 3 && ok; ++a)
-    {
-      ok = e && e[2 * a] <= block[2 * a] && block[2 * a + 1] <= e[2 * a + 1];
-    }
+    ok = input && volillum::ExtentHolds(input->GetExtent(), block);
     if (!ok)
     {
       vtkErrorMacro("The input piece does not hold the block of the data this process lights.");

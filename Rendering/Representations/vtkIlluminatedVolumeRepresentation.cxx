@@ -40,7 +40,7 @@ struct vtkIlluminatedVolumeRepresentation::vtkInternals
   int Component = -1;
   // A parallel run (pvserver or pvbatch under MPI). Where every process's piece holds its
   // block of the image (the parallel readers' pieces), the filter lights the pieces where
-  // they are as each render starts, every process together (Pieces: this process's piece
+  // they are as each render starts, every process together (Piece: this process's piece
   // within the whole extent). Otherwise the whole image is assembled from every process's
   // piece when the data updates (all processes update together) and lit on each process
   // without further communication when it renders its own piece (Whole).
@@ -197,12 +197,7 @@ int vtkIlluminatedVolumeRepresentation::RequestData(
   bool holds = piece != nullptr;
   if (holds && volillum::ProcessBlock(controller, whole, block))
   {
-    const int* e = piece->GetExtent();
-    for (int a = 0; a < 3 && holds; ++a)
-    {
-      holds = piece->GetNumberOfPoints() > 0 && e[2 * a] <= block[2 * a] &&
-        block[2 * a + 1] <= e[2 * a + 1];
-    }
+    holds = piece->GetNumberOfPoints() > 0 && volillum::ExtentHolds(piece->GetExtent(), block);
   }
   if (volillum::AllOk(controller, holds))
   {

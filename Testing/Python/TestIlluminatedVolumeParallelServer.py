@@ -150,6 +150,31 @@ elif __name__ == "__main__":
         scene(os.path.join(out, "ParallelServer%sBuiltin.png" % name))
 
     failures = []
+
+    def compare(name, run, path):
+        """The image of scene `name` saved by `run` at path against the builtin one."""
+        if not os.path.exists(path):
+            failures.append("%s: %s saved no image" % (name, run))
+            return
+        difference = image_difference(os.path.join(out, "ParallelServer%sBuiltin.png" % name),
+                                      path)
+        print("%s, %s: mean absolute difference to the builtin image %.3f"
+              % (name, run, difference))
+        if difference > 0.5:
+            failures.append("%s: %s differs from the builtin image by %.3f"
+                            % (name, run, difference))
+
+    def batch(processes, *arguments):
+        """This script run by `mpiexec -np processes pvbatch` with arguments: its output, or
+        None when it did not end within 5 minutes."""
+        try:
+            return subprocess.run([mpiexec] + flags.split() + ["-np", str(processes), pvbatch,
+                                   os.path.abspath(__file__)] + list(arguments),
+                                  env=environment_for_mpiexec(), timeout=300,
+                                  capture_output=True, text=True)
+        except subprocess.TimeoutExpired:
+            return None
+
     log_path = os.path.join(out, "ParallelServer.log")
     with open(log_path, "w") as log, \
             pvserver_session([mpiexec] + flags.split() + ["-np", "2", pvserver], plugin,
@@ -158,45 +183,23 @@ elif __name__ == "__main__":
             failures.append("pvserver -np 2 did not listen")
         else:
             for name, scene in SCENES.items():
-                builtin = os.path.join(out, "ParallelServer%sBuiltin.png" % name)
                 parallel = os.path.join(out, "ParallelServer%sTwoProcesses.png" % name)
                 scene(parallel)
-                difference = image_difference(builtin, parallel)
-                print("%s, pvserver -np 2, remote rendering: mean absolute difference to the "
-                      "builtin image %.3f" % (name, difference))
-                if difference > 0.5:
-                    failures.append("%s: pvserver -np 2 differs from the builtin image by %.3f"
-                                    % (name, difference))
-    batch = os.path.join(out, "ParallelServerLightKitPvbatch.png")
-    run = subprocess.run([mpiexec] + flags.split() + ["-np", "2", pvbatch,
-                          os.path.abspath(__file__), "--batch", plugin, batch],
-                         env=environment_for_mpiexec(), timeout=600, capture_output=True,
-                         text=True)
-    if "IlluminationDistributed 1" not in run.stdout:
-        failures.append("pvbatch -np 2 assembled the whole image:\n" + run.stdout[-2000:] +
-                        run.stderr[-2000:])
-    if not os.path.exists(batch):
-        failures.append("mpiexec -np 2 pvbatch saved no image")
-    else:
-        difference = image_difference(os.path.join(out, "ParallelServerLightKitBuiltin.png"),
-                                      batch)
-        print("LightKit, pvbatch -np 2: mean absolute difference to the builtin image %.3f"
-              % difference)
-        if difference > 0.5:
-            failures.append("LightKit: pvbatch -np 2 differs from the builtin image by %.3f"
-                            % difference)
+                compare(name, "pvserver -np 2, remote rendering", parallel)
+    lit = os.path.join(out, "ParallelServerLightKitPvbatch.png")
+    run = batch(2, "--batch", plugin, lit)
+    if run is None or "IlluminationDistributed 1" not in run.stdout:
+        failures.append("pvbatch -np 2 assembled the whole image:\n" +
+                        (run.stdout[-2000:] + run.stderr[-2000:] if run else "(no end)"))
+    compare("LightKit", "pvbatch -np 2", lit)
     small = os.path.join(out, "ParallelServerSmall.vti")
     write_small_image(small)
-    try:
-        run = subprocess.run([mpiexec] + flags.split() + ["-np", "3", pvbatch,
-                              os.path.abspath(__file__), "--small", plugin, small],
-                             env=environment_for_mpiexec(), timeout=300, capture_output=True,
-                             text=True)
-        if "small image rendered" not in run.stdout:
-            failures.append("pvbatch -np 3, small image: no renders\n" + run.stderr[-2000:])
-    except subprocess.TimeoutExpired:
+    run = batch(3, "--small", plugin, small)
+    if run is None:
         failures.append("pvbatch -np 3, small image: the renders did not end (the processes "
                         "wait on each other)")
+    elif "small image rendered" not in run.stdout:
+        failures.append("pvbatch -np 3, small image: no renders\n" + run.stderr[-2000:])
     with open(log_path) as log:
         # The port probe (wait_for) connects without a handshake: the socket errors it causes
         # are expected.
