@@ -255,18 +255,6 @@ bool vtkMultiLightIlluminationVolume::ComputeIllumination(const volillum::Classi
 }
 
 //------------------------------------------------------------------------------
-bool vtkMultiLightIlluminationVolume::LightsDistributedPieces() const
-{
-  // Directional lights only: a point or spot light's rays are integrated from an anchor slice
-  // or a side face, any number of slices and rows back.
-  const auto states = this->GetLightStates();
-  return this->DistributedSweeps &&
-    std::none_of(states.begin(), states.end(),
-      [](const volillum::LightState& l)
-      { return l.On && l.Kind != volillum::LightKind::Directional; });
-}
-
-//------------------------------------------------------------------------------
 void vtkMultiLightIlluminationVolume::AddOutputFieldData(vtkFieldData* fieldData)
 {
   if (this->DistributedLayout)
@@ -385,8 +373,15 @@ void vtkMultiLightIlluminationVolume::SweepBands(const Bands& bands, int rowAxis
   {
     band.First = static_cast<int>(static_cast<long long>(n) * b / count);
     band.Last = static_cast<int>(static_cast<long long>(n) * (b + 1) / count) - 1;
-    int low, high;
-    volillum::BandOfData(piece.Whole, target, rowAxis, band, halo, low, high);
+    // The data all of its sweeps read.
+    int low = piece.Whole.Dimensions[rowAxis], high = -1;
+    for (const size_t i : mine)
+    {
+      int first, last;
+      volillum::BandOfData(piece.Whole, target, sweeps[i], band, halo, first, last);
+      low = std::min(low, first);
+      high = std::max(high, last);
+    }
     for (int a = 0; a < 3; ++a)
     {
       rows[2 * a + 1] = target.Dimensions[a] - 1;
@@ -452,11 +447,8 @@ void vtkMultiLightIlluminationVolume::SweepBands(const Bands& bands, int rowAxis
     };
     for (size_t m = 0; m < mine.size(); ++m)
     {
-      if (!volillum::PropagateSweepBand(
-            slab, target, sweeps[mine[m]], band, units, exchange, this->LastStatistics, &empty))
-      {
-        vtkErrorMacro("A sweep of point or spot lights cannot run over bands.");
-      }
+      volillum::PropagateSweepBand(
+        slab, target, sweeps[mine[m]], band, units, exchange, this->LastStatistics, &empty);
       this->ReportProgress(static_cast<double>(m + 1) / mine.size());
     }
   }

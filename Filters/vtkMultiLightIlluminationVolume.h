@@ -149,7 +149,7 @@ protected:
   bool ComputeIllumination(const volillum::ClassifiedVolume& volume,
     const std::vector<volillum::LightState>& lights, const volillum::GridGeometry& target,
     bool inputModified, float* rgb, UpdateReport& report) override;
-  bool LightsDistributedPieces() const override;
+  bool LightsDistributedPieces() const override { return this->DistributedSweeps; }
   /// Field arrays BandPoints and SentBytes after a parallel update over bands.
   void AddOutputFieldData(vtkFieldData* fieldData) override;
   void ComputeDistributedIllumination(vtkMultiProcessController* controller,

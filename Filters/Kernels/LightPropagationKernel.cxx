@@ -346,6 +346,10 @@ struct SweepSource
   /// holds those of anchor RowAnchor[j] (-1: none yet).
   std::vector<double> Norms;
   std::vector<int> RowAnchor;
+  /// Point and spot sources swept over a band of rows (SweepBand): per slice k, the
+  /// interval [ConeLow[k], ConeHigh[k]] along C of the rays the band needs there (ConeOfBand);
+  /// empty: every ray.
+  std::vector<double> ConeLow, ConeHigh;
 };
 
 // Where the ray lattice of a directional source crosses slice t: lattice ray (i, j) lies
@@ -1036,7 +1040,7 @@ struct AnchoredStep
     const int a = s.Axis;
     const double light = sweep.Source.Position[a];
     const double from = s.Sign * (SliceCoordinate(s, k) - light);
-    this->InFront = from > GeometricTolerance * s.Spacing[a];
+    this->InFront = IsInFront(from, s.Spacing[a]);
     if (!this->InFront)
     {
       return;
@@ -1048,7 +1052,27 @@ struct AnchoredStep
       this->Scale = (SliceCoordinate(s, k) - light) / (SliceCoordinate(s, sweep.Anchor) - light);
     }
   }
+
+  // Whether a slice `from` away from the light along the sweep (spacing apart) is in front
+  // of it.
+  static bool IsInFront(double from, double spacing) { return from > GeometricTolerance * spacing; }
 };
+
+// The rows [first, last] of a point or spot source's rays from anchor slice k that a band
+// computes (SweepSource::ConeLow and ConeHigh at k); all when the sweep is not in bands.
+void ConeRows(const SweepContext& s, const SweepSource& sweep, int k, int& first, int& last)
+{
+  first = 0;
+  last = sweep.RaysC - 1;
+  if (!sweep.ConeLow.empty())
+  {
+    const double scale = AnchorSpread / s.Spacing[s.C];
+    first = static_cast<int>(std::max(
+      0.0, std::min<double>(sweep.RaysC, std::ceil((sweep.ConeLow[k] - s.Origin[s.C]) * scale))));
+    last = static_cast<int>(std::min<double>(
+      sweep.RaysC - 1, std::max(-1.0, std::floor((sweep.ConeHigh[k] - s.Origin[s.C]) * scale))));
+  }
+}
 
 // The rays [first, last) of row j of a point or spot source's rays that may cross the box
 // over a step from slice k - Sign to slice k (step.Anchor false): the others lie beyond one
@@ -1112,7 +1136,9 @@ void AdvanceAnchoredRays(const SweepContext& s, SweepSource& sweep, const Anchor
   }
   const double* light = sweep.Source.Position;
   double p[3 * MaximumDivergingRays], d[3 * MaximumDivergingRays], length[MaximumDivergingRays];
-  for (int j = begin; j < end; ++j)
+  int first, last;
+  ConeRows(s, sweep, step.Anchor ? k : sweep.Anchor, first, last);
+  for (int j = std::max(begin, first); j < std::min(end, last + 1); ++j)
   {
     double* norms = sweep.Norms.data() + static_cast<long long>(j) * sweep.RaysB;
     if (!step.Anchor && sweep.RowAnchor[j] != sweep.Anchor)
@@ -1331,6 +1357,48 @@ struct SweepAxes
   {
   }
 };
+
+// Margin of a band's cone of rays (ConeOfBand), in spacings along C. A point reads the rays
+// around where its own ray crosses the previous slice: less than two rays away, and rays
+// are at most a spacing apart. An anchor's rays read those of the previous anchor the same
+// way; followed from that anchor, whose cone held them within the margin, they have spread
+// from the light by a factor e between 1 and AnchorSpread, while the crossings moved toward
+// it by a factor r, and e - r >= 1/3 (the anchor lies at least AnchorSpread times farther
+// from the light than the previous one): so a margin of three times the reads (6) holds them,
+// and one more spacing for rounding.
+constexpr double ConeMargin = 7.0;
+
+// The rays of a point or spot source at `light` that a band of rows of grid g needs in a
+// sweep (axes), as an interval [low[k], high[k]] along C per slice k (low > high where the
+// slice is not in front of the light). The light reaching a point of slice m comes along its
+// ray from the light, which crosses slice k (between the light and m) at the point's
+// position moved toward the light's by the ratio of their distances from the light along
+// the axis; so the band's points of slices m >= k cross slice k within the interval of its
+// rows and of its rows moved toward the light by the ratio for the last slice, widened by
+// the margin. The rays of an anchor are chosen at the anchor (ConeRows) and followed to the
+// next; the interval only narrows between anchors.
+void ConeOfBand(const GridGeometry& g, const SweepAxes& axes, const double light[3],
+  const SweepBand& band, std::vector<double>& low, std::vector<double>& high)
+{
+  const int a = axes.Axis, c = axes.C, n = g.Dimensions[a];
+  low.assign(n, 1.0);
+  high.assign(n, 0.0);
+  auto from = [&](int k) { return axes.Sign * (g.Origin[a] + k * g.Spacing[a] - light[a]); };
+  const double last = from(axes.Sign > 0 ? n - 1 : 0);
+  const double c0 = g.Origin[c] + band.First * g.Spacing[c];
+  const double c1 = g.Origin[c] + band.Last * g.Spacing[c];
+  const double margin = ConeMargin * g.Spacing[c];
+  for (int k = 0; k < n; ++k)
+  {
+    const double f = from(k);
+    if (AnchoredStep::IsInFront(f, g.Spacing[a]))
+    {
+      const double r = f / last;
+      low[k] = std::min(c0, light[c] + r * (c0 - light[c])) - margin;
+      high[k] = std::max(c1, light[c] + r * (c1 - light[c])) + margin;
+    }
+  }
+}
 
 // The geometry of a sweep of the grid g in a group (SweepAxes), and whether row kernels
 // apply.
@@ -1836,6 +1904,15 @@ bool Sweep(const ClassifiedVolume& volume, const EmptyBlocks* empty, bool rowKer
     s.UnitFirst[s.C] = firstRow;
   }
   SweepSlices slices(s, tasks, illumination, statistics, firstRow, lastRow, span.Banded);
+  if (span.Banded)
+  {
+    for (const size_t j : slices.Anchored)
+    {
+      SweepSource& sweep = slices.Prepared[j];
+      ConeOfBand(
+        g, SweepAxes(group), sweep.Source.Position, span.Band, sweep.ConeLow, sweep.ConeHigh);
+    }
+  }
   std::vector<float*> lattices; // a band's, for the exchange
   for (size_t j = 0; j < slices.Prepared.size(); ++j)
   {
@@ -2140,12 +2217,6 @@ bool PropagateTasks(const ClassifiedVolume& volume, const GridGeometry& target,
   return true;
 }
 
-bool SweepsInBands(const std::vector<PropagationTask>& tasks)
-{
-  return std::all_of(tasks.begin(), tasks.end(),
-    [](const PropagationTask& t) { return t.Light.Kind == LightKind::Directional; });
-}
-
 int SweepRowAxis(int group)
 {
   return SweepAxes(group).C;
@@ -2168,36 +2239,72 @@ int LatticeHalo(const GridGeometry& target, const std::vector<PropagationTask>& 
   return static_cast<int>(std::ceil(offset)) + 3;
 }
 
-void BandOfData(const GridGeometry& data, const GridGeometry& target, int rowAxis,
-  const SweepBand& band, int halo, int& first, int& last)
+void BandOfData(const GridGeometry& data, const GridGeometry& target,
+  const std::vector<PropagationTask>& tasks, const SweepBand& band, int halo, int& first, int& last)
 {
-  const int n = data.Dimensions[rowAxis];
-  auto point = [&](int row)
+  if (tasks.empty())
   {
-    const double x = target.Origin[rowAxis] + row * target.Spacing[rowAxis];
-    return (x - data.Origin[rowAxis]) / data.Spacing[rowAxis];
-  };
+    first = 0;
+    last = -1;
+    return;
+  }
+  const SweepAxes axes(tasks[0].Group);
+  const int c = axes.C;
   // The lattice rows a band computes lie up to a row before its first point; their segments
   // and its points' move fewer rows across than the halo less its three rows for the reads.
   const int reach = halo - 1;
-  first = static_cast<int>(std::max(0.0, std::floor(point(band.First - reach)) - 1));
-  last = static_cast<int>(std::min(n - 1.0, std::ceil(point(band.Last + reach)) + 1));
+  double low = target.Origin[c] + (band.First - reach) * target.Spacing[c];
+  double high = target.Origin[c] + (band.Last + reach) * target.Spacing[c];
+  double bounds[6];
+  target.GetBounds(bounds);
+  for (const auto& task : tasks)
+  {
+    const RaySource source = SourceOf(task);
+    if (source.Directional)
+    {
+      continue;
+    }
+    std::vector<double> from, to;
+    ConeOfBand(target, axes, source.Position, band, from, to);
+    for (size_t k = 0; k < from.size(); ++k)
+    {
+      if (from[k] <= to[k])
+      {
+        low = std::min(low, from[k]);
+        high = std::max(high, to[k]);
+      }
+    }
+    // Unless the light lies before the sweep's first slice, the rays from the first slice in
+    // front of it cross the box up to the light (along C, clamped to the box).
+    const int a = axes.Axis;
+    const double start = axes.Sign > 0 ? bounds[2 * a] : bounds[2 * a + 1];
+    if (axes.Sign * (start - source.Position[a]) <= FaceTolerance(bounds, a))
+    {
+      const double l = std::min(std::max(source.Position[c], bounds[2 * c]), bounds[2 * c + 1]);
+      low = std::min(low, l);
+      high = std::max(high, l);
+    }
+  }
+  // One point more either side for rounding.
+  const int n = data.Dimensions[c];
+  first = static_cast<int>(std::max(0.0, std::floor((low - data.Origin[c]) / data.Spacing[c]) - 1));
+  last =
+    static_cast<int>(std::min(n - 1.0, std::ceil((high - data.Origin[c]) / data.Spacing[c]) + 1));
 }
 
-bool PropagateSweepBand(const ClassifiedVolume& volume, const GridGeometry& target,
+void PropagateSweepBand(const ClassifiedVolume& volume, const GridGeometry& target,
   const std::vector<PropagationTask>& tasks, const SweepBand& band, FixedPointIllumination& units,
   const LatticeExchange& exchange, PropagationStatistics& statistics, const EmptyBlocks* empty)
 {
-  if (tasks.empty() || !SweepsInBands(tasks))
+  if (tasks.empty())
   {
-    return tasks.empty();
+    return;
   }
   SweepSpan span;
   span.Banded = true;
   span.Band = band;
   span.Exchange = exchange;
-  return Sweep(
-    volume, empty, true, target, tasks[0].Group, tasks, units, statistics, nullptr, span);
+  Sweep(volume, empty, true, target, tasks[0].Group, tasks, units, statistics, nullptr, span);
 }
 
 std::vector<int> AssignSweeps(

@@ -228,23 +228,23 @@ struct SweepBand
 /// run along the other axis of its slices): z for sweeps along x and y, y for sweeps along z.
 VOLILLUMKERNELS_EXPORT int SweepRowAxis(int group);
 
-/// Whether a sweep of the tasks can run in bands (PropagateSweepBand): directional lights
-/// only. Their light at a slice is that of their ray lattices, which comes from the previous
-/// slice's lattice a few rows away; a point or spot light's rays are integrated from their
-/// anchor slice or from a side face, any number of slices and rows back.
-VOLILLUMKERNELS_EXPORT bool SweepsInBands(const std::vector<PropagationTask>& tasks);
-
 /// The rows of the ray lattices beyond its own that a band reads on either side at every
 /// slice, for a sweep of the tasks (one group) over the illumination grid `target`: the rows
 /// its rays move across between slices and those of a point's bicubic read.
 VOLILLUMKERNELS_EXPORT int LatticeHalo(
   const GridGeometry& target, const std::vector<PropagationTask>& tasks);
 
-/// The points [first, last] along `rowAxis` of the data grid `data` whose material a band of
-/// rows of `target` reads: its rows' and lattice rows' segments back to the previous slice,
-/// which move fewer rows across than the halo (LatticeHalo), and one more point either side.
+/// The points [first, last] along the row axis (SweepRowAxis) of the data grid `data` whose
+/// material a band of rows of `target` reads in a sweep of the tasks (one group): its rows'
+/// and lattice rows' segments back to the previous slice, which move fewer rows across than
+/// the halo (LatticeHalo), the rays of point and spot lights between its rows and the light
+/// (the band's cone: slices nearer the light take rows nearer the light's), and one more
+/// point either side. So a band whose rows lie away from a point light's along the row axis
+/// reads material toward them: up to the light's row (clamped to the grid) when the light
+/// lies between the grid's first and last slices (inside the volume or beside it).
 VOLILLUMKERNELS_EXPORT void BandOfData(const GridGeometry& data, const GridGeometry& target,
-  int rowAxis, const SweepBand& band, int halo, int& first, int& last);
+  const std::vector<PropagationTask>& tasks, const SweepBand& band, int halo, int& first,
+  int& last);
 
 /// Fills, after every slice but the last, the rows of the ray lattices (one pointer per
 /// lattice; rows of rowValues floats, row r at lattice + r rowValues) that a band reads and
@@ -252,16 +252,17 @@ VOLILLUMKERNELS_EXPORT void BandOfData(const GridGeometry& data, const GridGeome
 using LatticeExchange = std::function<void(const std::vector<float*>& lattices, size_t rowValues)>;
 
 /**
- * One sweep of the tasks (one group, SweepsInBands) over the rows `band`: `volume` is a band
- * of the data grid holding, at full extent along the rows and the sweep's axis, the material
- * its rows read (BandOfData); `units` the fixed-point illumination of the band's points only
+ * One sweep of the tasks (one group) over the rows `band`: `volume` is a band of the data
+ * grid holding, at full extent along the rows and the sweep's axis, the material its rows
+ * read (BandOfData); `units` the fixed-point illumination of the band's points only
  * (target's points with the band's rows along the row axis, x fastest; Recorded as in
  * PropagateTasks). A band's own lattice rows are its points' rows (the last band's also the
- * lattice's extra row). Sweeping every band this way, each band's neighbouring lattice rows
- * filled by `exchange` from the bands that compute them, deposits PropagateTasks's units of
- * the sweep. Returns false for tasks that cannot run in bands.
+ * lattice's extra row). A point or spot light's rays are followed only in the band's cone
+ * (the rays its rows read, slice by slice, back to the light), which needs no other band's.
+ * Sweeping every band this way, each band's neighbouring lattice rows filled by `exchange`
+ * from the bands that compute them, deposits PropagateTasks's units of the sweep.
  */
-VOLILLUMKERNELS_EXPORT bool PropagateSweepBand(const ClassifiedVolume& volume,
+VOLILLUMKERNELS_EXPORT void PropagateSweepBand(const ClassifiedVolume& volume,
   const GridGeometry& target, const std::vector<PropagationTask>& tasks, const SweepBand& band,
   FixedPointIllumination& units, const LatticeExchange& exchange, PropagationStatistics& statistics,
   const EmptyBlocks* empty = nullptr);
