@@ -20,6 +20,8 @@ receives when the data changes (the gathered pieces; a light edit gathers nothin
 bytes of the propagation's sums each process sends per update, the propagation's peak
 memory per process (that of process 0, which runs the script), and
 the propagation's peak memory per process also on 4 processes (oversubscribed: memory only),
+the propagation with the lights made point lights (times on 1 and 2 processes, over bands
+and assembled; peak memory per process on 1, 2 and 4; the largest band process 0 held),
 the Illuminated Volume representation's still render after a camera move (the light kit,
 scale 1/2; propagation and filtered shadows) on 1 and 2 processes with process 0's peak
 memory and whether the pieces were lit where they are, and the efficiency a sweep over bands
@@ -40,14 +42,15 @@ import time
 LIGHTS = 4
 
 
-def lights(bounds, count, turn=0.0):
+def lights(bounds, count, turn=0.0, kind=0):
+    """`count` lights of `kind` (0 directional, 1 point) around and above the volume."""
     centre = [(bounds[2 * a] + bounds[2 * a + 1]) / 2 for a in range(3)]
     rows = []
     for i in range(count):
         a = 0.7 + 1.3 * i + turn
         position = [centre[0] + 300 * math.cos(a), centre[1] + 300 * math.sin(a),
                     centre[2] + 200 + 40 * i]
-        rows += [0] + position + centre + [1, 0.9, 0.8, 1.0, 90, 1, 1]
+        rows += [kind] + position + centre + [1, 0.9, 0.8, 1.0, 90, 1, 1]
     return rows
 
 
@@ -55,9 +58,11 @@ def worker(plugin, volume, mode):
     """Times a full update and a one-light edit of the propagation and (mode "all") a full
     update of filtered shadows and of the ray marcher; prints one JSON line. Mode "bands":
     the propagation only; "assembled": the propagation only, with DistributedSweeps off
-    (each process assembles the input); "filtered" and "filtered_assembled": filtered
-    shadows only, with DistributedTables on and off."""
-    assembled = mode == "assembled"
+    (each process assembles the input); "point" and "point_assembled": the same with the
+    lights made point lights; "filtered" and "filtered_assembled": filtered shadows only,
+    with DistributedTables on and off."""
+    assembled = mode in ("assembled", "point_assembled")
+    kind = 1 if mode.startswith("point") else 0
     from paraview.simple import (LoadPlugin, XMLImageDataReader, GetColorTransferFunction,
                                  GetOpacityTransferFunction)
     LoadPlugin(plugin, remote=False, ns=globals())
@@ -73,7 +78,7 @@ def worker(plugin, volume, mode):
         f = globals()[name](Input=reader, ColorTransferFunction=GetColorTransferFunction(array),
                             OpacityFunction=pwf, ResolutionScale=1.0)
         f.Scalars = ["POINTS", array]
-        f.Lights = lights(bounds, LIGHTS)
+        f.Lights = lights(bounds, LIGHTS, kind=kind)
         return f
 
     def seconds(f):
@@ -117,10 +122,7 @@ def worker(plugin, volume, mode):
         f = filter_with_lights("FilteredVolumetricShadows")
         f.DistributedTables = 0 if mode.endswith("_assembled") else 1
         if mode.startswith("filtered_point"):
-            rows = lights(bounds, LIGHTS)
-            for i in range(LIGHTS):
-                rows[14 * i] = 1
-            f.Lights = rows
+            f.Lights = lights(bounds, LIGHTS, kind=1)
         filtered = seconds(f)
         peak = 1024 * (resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before)
         fields = f.GetClientSideObject().GetOutputDataObject(0).GetFieldData()
@@ -138,7 +140,7 @@ def worker(plugin, volume, mode):
         array = f.GetClientSideObject().GetOutputDataObject(0).GetFieldData().GetArray(name)
         return int(array.GetValue(0)) if array else 0
     band, full_sent = field("BandPoints"), field("SentBytes")
-    edited = lights(bounds, LIGHTS)
+    edited = lights(bounds, LIGHTS, kind=kind)
     edited[1:4] = lights(bounds, 1, turn=0.4)[1:4]
     f.Lights = edited
     edit = seconds(f)
@@ -147,6 +149,7 @@ def worker(plugin, volume, mode):
     info = reader.GetDataInformation()
     if mode != "all":
         print("RESULT " + json.dumps({"full_s": full, "edit_s": edit, "peak_bytes": peak,
+                                      "band_points": band,
                                       "points": info.GetNumberOfPoints()}))
         return
     edit_sent = field("SentBytes")
@@ -245,6 +248,13 @@ def main():
     four = {mode: run([mpiexec] + flags.split() + ["-np", "4", pvbatch], plugin, volume, mode)
             for mode in ("bands", "assembled", "filtered", "filtered_assembled", "filtered_point",
                          "filtered_point_assembled")}
+    # The propagation with the lights made point lights (their rays followed in each band's
+    # cone back to the light), on 1, 2 and 4 processes, and with the input assembled.
+    point_lights = {"1": run([pvbatch], plugin, volume, "point")}
+    for n in ("2", "4"):
+        for mode in ("point", "point_assembled"):
+            point_lights[n + mode[len("point"):]] = run(
+                [mpiexec] + flags.split() + ["-np", n, pvbatch], plugin, volume, mode)
     # Filtered shadows alone, for their peak memory (directional and point lights).
     shadows = {"1": run([pvbatch], plugin, volume, "filtered"),
                "1_point": run([pvbatch], plugin, volume, "filtered_point")}
@@ -311,6 +321,12 @@ def main():
                    "assembled (computed)": summed,
                    "bands, full update (measured, process 0)": two["full_sent_bytes"],
                    "bands, one-light edit (measured, process 0)": two["edit_sent_bytes"]},
+               "point_lights_propagation_s": {
+                   n: {"full": r["full_s"], "edit": r["edit_s"]} for n, r in point_lights.items()},
+               "point_lights_propagation_peak_bytes_per_point_per_process": {
+                   n: r["peak_bytes"] / r["points"] for n, r in point_lights.items()},
+               "point_lights_band_points_of_process_0": {
+                   n: point_lights[n]["band_points"] for n in ("2", "4")},
                "propagation_peak_bytes_per_point_per_process": {
                    "1": one["peak_bytes"] / one["points"], "2": two["peak_bytes"] / two["points"],
                    "2 assembled": two_assembled["peak_bytes"] / two["points"],
@@ -380,6 +396,16 @@ def main():
              two_assembled["peak_bytes"] / two["points"],
              four["bands"]["peak_bytes"] / two["points"],
              four["assembled"]["peak_bytes"] / two["points"]))
+    print("propagation, the lights made point lights: full update %.2f s on 1 process, %.2f s "
+          "on 2 over bands (%.2fx), %.2f s on 2 assembled; one-light edit %.2f, %.2f and %.2f s; "
+          "peak memory per process above the input, bytes a point: %.1f on 1, %.1f on 2 over "
+          "bands, %.1f on 2 assembled, %.1f on 4 over bands, %.1f on 4 assembled; largest band "
+          "of process 0: %d points on 2 processes, %d on 4"
+          % (point_lights["1"]["full_s"], point_lights["2"]["full_s"], point_lights["1"]["full_s"] / point_lights["2"]["full_s"],
+             point_lights["2_assembled"]["full_s"], point_lights["1"]["edit_s"], point_lights["2"]["edit_s"],
+             point_lights["2_assembled"]["edit_s"],
+             *results["point_lights_propagation_peak_bytes_per_point_per_process"].values(),
+             point_lights["2"]["band_points"], point_lights["4"]["band_points"]))
     for mode, label in (("render", "propagation"), ("render_shadows", "filtered shadows")):
         runs = rendering[mode]
         print("Illuminated Volume representation, %s: a still render after a camera move "
