@@ -11,11 +11,11 @@
  * by a shadow's reach (ExchangeExtents from the neighbours), the tables' windows over it and,
  * per column, the sums of the cells between it and the light from the others (sent
  * pairwise, between processes whose windows share columns); Multi-Light Illumination
- * Volume with directional lights sweeps bands of rows, each process its band's
- * classification (ExchangeExtents from the blocks), neighbouring bands exchanging lattice
- * rows after every slice, the units moved to the pieces' processes (ExchangeExtents). The image
- * filters with cell scalars and Multi-Light Illumination Volume with point or spot lights (or the
- * distributed properties off) assemble the whole input on every process from the pieces of all
+ * Volume sweeps bands of rows, each process its band's classification (ExchangeExtents from
+ * the blocks; for point and spot lights that of the band's cone back to the light),
+ * neighbouring bands exchanging directional lights' lattice rows after every slice, the units
+ * moved to the pieces' processes (ExchangeExtents). The image filters with cell scalars (or
+ * the distributed properties off) assemble the whole input on every process from the pieces of all
  * processes (collective calls of the filter's vtkMultiProcessController) and output the part of the
  * illumination that belongs to their own piece; the propagation then shares its sweeps out among
  * the processes (SweepShare): each process propagates its sweeps over the whole illumination grid

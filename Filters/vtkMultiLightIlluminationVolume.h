@@ -104,17 +104,19 @@ public:
 
   ///@{
   /**
-   * In a parallel run with directional lights only and point scalars (default on): sweep the
-   * light over bands of the grid instead of assembling the whole input on every process. A
-   * sweep computes its slices row by row; the rows are shared out in bands, one per process
-   * with a piece (bands of at least the rows a light's lattice moves across between slices
-   * and a bicubic read, LatticeHalo). A process gets the classification of its band from the
-   * others' blocks, every process sweeps all slices of its rows at once, and after each slice
+   * In a parallel run with point scalars (default on): sweep the light over bands of the
+   * grid instead of assembling the whole input on every process. A sweep computes its slices
+   * row by row; the rows are shared out in bands, one per process with a piece (bands of at
+   * least the rows a directional light's lattice moves across between slices and a bicubic
+   * read, LatticeHalo). A process gets the classification of its band from the others'
+   * blocks, every process sweeps all slices of its rows at once, and after each slice
    * neighbouring bands exchange the few lattice rows either side of their boundary; the units
-   * go to the processes whose pieces hold them. Memory per process follows its block and
-   * band. With a point or spot light on, cell scalars or this off, the input is assembled and
-   * the sweeps shared out (see vtkIlluminationVolumeAlgorithm::SetController). The result
-   * equals the serial run's.
+   * go to the processes whose pieces hold them. A point or spot light's rays are followed in
+   * the band's cone back to the light (no exchange), whose classification the band reads: it
+   * reaches toward the light's row, up to the whole volume for a band far from a light beside
+   * or inside the volume. Memory per process follows its block and band. With cell scalars or
+   * this off, the input is assembled and the sweeps shared out (see
+   * vtkIlluminationVolumeAlgorithm::SetController). The result equals the serial run's.
    */
   vtkSetMacro(DistributedSweeps, bool);
   vtkGetMacro(DistributedSweeps, bool);
