@@ -24,7 +24,6 @@
 #include <cstring>
 #include <limits>
 #include <map>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -62,68 +61,6 @@ void CopyLitArrays(vtkAlgorithm* algorithm, vtkDataSet* piece, vtkDataSet* out)
     }
   }
 }
-
-// Which point of the whole grid a point of a piece is: by point global id (byId) or by
-// coordinates.
-class PointMatcher
-{
-public:
-  // The point remembered for point i of grid, or -1.
-  vtkIdType Find(vtkDataSet* grid, vtkIdType i, bool byId) const
-  {
-    if (byId)
-    {
-      const auto found = this->ById.find(GlobalId(grid, i));
-      return found == this->ById.end() ? -1 : found->second;
-    }
-    std::array<double, 3> x;
-    grid->GetPoint(i, x.data());
-    const auto found = this->ByCoordinates.find(x);
-    return found == this->ByCoordinates.end() ? -1 : found->second;
-  }
-
-  // Remember point i of grid as point `id` of the whole grid at the next Commit (so that
-  // the points of one piece are not matched with each other); the first one at a place
-  // is kept.
-  void Defer(vtkDataSet* grid, vtkIdType i, vtkIdType id, bool byId)
-  {
-    this->Added.push_back({ grid, i, id, byId });
-  }
-
-  void Commit()
-  {
-    for (const auto& added : this->Added)
-    {
-      if (added.ById)
-      {
-        this->ById.emplace(GlobalId(added.Grid, added.Point), added.Id);
-      }
-      else
-      {
-        std::array<double, 3> x;
-        added.Grid->GetPoint(added.Point, x.data());
-        this->ByCoordinates.emplace(x, added.Id);
-      }
-    }
-    this->Added.clear();
-  }
-
-private:
-  static vtkIdType GlobalId(vtkDataSet* grid, vtkIdType i)
-  {
-    return static_cast<vtkIdType>(grid->GetPointData()->GetGlobalIds()->GetTuple1(i));
-  }
-
-  struct Pending
-  {
-    vtkDataSet* Grid;
-    vtkIdType Point, Id;
-    bool ById;
-  };
-  std::map<std::array<double, 3>, vtkIdType> ByCoordinates;
-  std::unordered_map<vtkIdType, vtkIdType> ById;
-  std::vector<Pending> Added;
-};
 
 // FNV-1a over 8-byte words (then the last bytes), continuing from hash: a change detector,
 // at several GB/s.
@@ -475,57 +412,6 @@ void TargetPieceExtent(const int whole[6], const int target[3], const int piece[
 }
 
 //------------------------------------------------------------------------------
-std::vector<vtkIdType> MatchPoints(vtkDataSet* whole, vtkDataSet* piece)
-{
-  PointMatcher matcher;
-  const bool byId = whole->GetPointData()->GetGlobalIds() && piece->GetPointData()->GetGlobalIds();
-  for (vtkIdType i = 0; i < whole->GetNumberOfPoints(); ++i)
-  {
-    matcher.Defer(whole, i, i, byId);
-  }
-  matcher.Commit();
-  std::vector<vtkIdType> ids(static_cast<size_t>(piece->GetNumberOfPoints()));
-  for (vtkIdType i = 0; i < piece->GetNumberOfPoints(); ++i)
-  {
-    ids[i] = matcher.Find(piece, i, byId);
-  }
-  return ids;
-}
-
-//------------------------------------------------------------------------------
-void AddPointValues(vtkDataSet* whole, const std::vector<vtkIdType>& ids,
-  const std::vector<const char*>& names, vtkDataSet* piece)
-{
-  for (const char* name : names)
-  {
-    vtkDataArray* values = whole->GetPointData()->GetArray(name);
-    if (!values)
-    {
-      continue;
-    }
-    auto out = vtk::TakeSmartPointer(values->NewInstance());
-    out->SetName(name);
-    out->SetNumberOfComponents(values->GetNumberOfComponents());
-    out->SetNumberOfTuples(static_cast<vtkIdType>(ids.size()));
-    for (size_t i = 0; i < ids.size(); ++i)
-    {
-      if (ids[i] >= 0)
-      {
-        out->SetTuple(static_cast<vtkIdType>(i), ids[i], values);
-      }
-      else
-      {
-        for (int c = 0; c < out->GetNumberOfComponents(); ++c)
-        {
-          out->SetComponent(static_cast<vtkIdType>(i), c, 0.0);
-        }
-      }
-    }
-    piece->GetPointData()->AddArray(out);
-  }
-}
-
-//------------------------------------------------------------------------------
 bool DistributedInput::Changed(vtkMultiProcessController* controller, vtkDataSet* travelling)
 {
   const std::uint64_t fingerprint = Fingerprint(travelling);
@@ -609,88 +495,6 @@ vtkImageData* DistributedInput::Image(
         image->GetCellData(), cells, whole->GetCellData(), wholeCells, whole->GetNumberOfCells());
     }
   }
-  this->Whole = whole;
-  return whole;
-}
-
-//------------------------------------------------------------------------------
-vtkUnstructuredGrid* DistributedInput::Grid(
-  vtkMultiProcessController* controller, vtkAlgorithm* algorithm, vtkUnstructuredGrid* piece)
-{
-  vtkNew<vtkUnstructuredGrid> travelling;
-  if (piece && piece->GetNumberOfPoints() > 0)
-  {
-    travelling->CopyStructure(piece);
-    CopyLitArrays(algorithm, piece, travelling);
-  }
-  if (!this->Changed(controller, travelling))
-  {
-    return vtkUnstructuredGrid::SafeDownCast(this->Whole);
-  }
-  std::vector<vtkSmartPointer<vtkDataObject>> pieces;
-  controller->AllGather(travelling, pieces);
-
-  // The pieces in process order without their ghost cells; a point of an earlier piece (a
-  // boundary shared with it: the same global id, or without point global ids the same
-  // coordinates) is that point. Points of one piece are never merged with each other.
-  auto whole = vtkSmartPointer<vtkUnstructuredGrid>::New();
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToDouble();
-  whole->SetPoints(points);
-  PointMatcher earlier;
-  bool first = true;
-  const int local = controller->GetLocalProcessId();
-  this->PointIds.clear();
-  for (size_t p = 0; p < pieces.size(); ++p)
-  {
-    auto* grid = vtkUnstructuredGrid::SafeDownCast(pieces[p]);
-    if (!grid || grid->GetNumberOfPoints() == 0)
-    {
-      continue;
-    }
-    if (first)
-    {
-      whole->GetPointData()->CopyAllocate(grid->GetPointData());
-      whole->GetCellData()->CopyAllocate(grid->GetCellData());
-      whole->AllocateEstimate(grid->GetNumberOfCells() * static_cast<vtkIdType>(pieces.size()), 4);
-      first = false;
-    }
-    const vtkIdType n = grid->GetNumberOfPoints();
-    const bool byId = grid->GetPointData()->GetGlobalIds() != nullptr;
-    std::vector<vtkIdType> ids(static_cast<size_t>(n));
-    for (vtkIdType i = 0; i < n; ++i)
-    {
-      ids[i] = earlier.Find(grid, i, byId);
-      if (ids[i] < 0)
-      {
-        ids[i] = points->InsertNextPoint(grid->GetPoint(i));
-        whole->GetPointData()->CopyData(grid->GetPointData(), i, ids[i]);
-        earlier.Defer(grid, i, ids[i], byId);
-      }
-    }
-    earlier.Commit();
-    vtkUnsignedCharArray* ghosts = grid->GetCellGhostArray();
-    vtkNew<vtkIdList> cell;
-    for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
-    {
-      if (ghosts && (ghosts->GetValue(c) & vtkDataSetAttributes::DUPLICATECELL))
-      {
-        continue; // owned by another piece
-      }
-      grid->GetCellPoints(c, cell);
-      for (vtkIdType k = 0; k < cell->GetNumberOfIds(); ++k)
-      {
-        cell->SetId(k, ids[cell->GetId(k)]);
-      }
-      const vtkIdType id = whole->InsertNextCell(grid->GetCellType(c), cell);
-      whole->GetCellData()->CopyData(grid->GetCellData(), c, id);
-    }
-    if (static_cast<int>(p) == local)
-    {
-      this->PointIds = std::move(ids);
-    }
-  }
-  whole->Squeeze();
   this->Whole = whole;
   return whole;
 }

@@ -157,19 +157,6 @@ extern template VOLILLUMFILTERS_EXPORT long long ExchangeExtents<std::uint32_t>(
 VOLILLUMFILTERS_EXPORT bool AllOk(vtkMultiProcessController* controller, bool ok);
 
 /**
- * For each point of `piece`, the point of `whole` at the same place: the same point global
- * id when both have them, else the same coordinates; -1 where there is none.
- */
-VOLILLUMFILTERS_EXPORT std::vector<vtkIdType> MatchPoints(vtkDataSet* whole, vtkDataSet* piece);
-
-/**
- * Add to the point data of `piece` the point arrays `names` of `whole` (those it has), each
- * point's values taken from point ids[i] of whole (zeros where ids[i] is -1).
- */
-VOLILLUMFILTERS_EXPORT void AddPointValues(vtkDataSet* whole, const std::vector<vtkIdType>& ids,
-  const std::vector<const char*>& names, vtkDataSet* piece);
-
-/**
  * Collective: the cells of `piece` that are not ghost cells (DUPLICATECELL), its points
  * (their ids unchanged) and the arrays that travel (see DistributedInput): nullptr when the
  * piece has no cell.
@@ -185,7 +172,7 @@ VOLILLUMFILTERS_EXPORT vtkSmartPointer<vtkUnstructuredGrid> PieceWithoutGhostCel
  * say) are in the grid too. Points of the piece keep their ids; points of the
  * other pieces follow, one per place (point global ids when the pieces have them, else
  * coordinates: without global ids, coincident points of a seam near a piece's boundary are
- * taken for one point there, as in DistributedInput::Grid). All the cells around a point of
+ * taken for one point there). All the cells around a point of
  * the piece are in the grid. Each process computes the values of its piece's points;
  * Exchange gives it those of the other points of its grid, each from a process whose piece
  * has the point. A point of several pieces is owned by the lowest of their processes
@@ -252,19 +239,6 @@ public:
   vtkImageData* Image(
     vtkMultiProcessController* controller, vtkAlgorithm* algorithm, vtkImageData* piece);
 
-  /**
-   * Collective: the whole grid on every process: the pieces without their ghost cells, in
-   * process order; a point of an earlier piece (a shared boundary) is that point. Points
-   * are matched by their point global ids when the pieces have them, else by coordinates:
-   * then a grid with distinct coincident points (a seam) whose copies lie in different
-   * pieces is lit as if they were one point (give the data point global ids to avoid it).
-   */
-  vtkUnstructuredGrid* Grid(
-    vtkMultiProcessController* controller, vtkAlgorithm* algorithm, vtkUnstructuredGrid* piece);
-
-  /// After Grid: for each point of the piece, the id of the same point in the whole grid.
-  const std::vector<vtkIdType>& PiecePoints() const { return this->PointIds; }
-
 private:
   // Collective: whether what any process sends (its piece's structure and lit arrays)
   // changed since the last assembly.
@@ -272,7 +246,6 @@ private:
 
   vtkSmartPointer<vtkDataSet> Whole;
   std::uint64_t PieceFingerprint = 0;
-  std::vector<vtkIdType> PointIds;
 };
 
 }

@@ -14,27 +14,15 @@
 #include "vtkPointData.h"
 #include "vtkProjectedTetrahedraMapper.h"
 #include "vtkRenderWindow.h"
-#include "vtkTrivialProducer.h"
 #include "vtkUnstructuredGrid.h"
 #include "vtkUnstructuredGridIllumination.h"
 #include "vtkVolumeProperty.h"
-#include "vtkVolumeRepresentationPreprocessor.h"
 
 struct vtkIlluminatedUnstructuredGridRepresentation::vtkInternals
 {
   volillum::ViewLights Lights;
   volillum::RenderStart Start;
   bool Lit = false; // whether the last render drew the lit grid
-  // A parallel run (pvserver or pvbatch under MPI): the whole grid assembled from every
-  // process's piece when the data updates (all processes update together), lit at render
-  // time without further communication; the piece this process renders takes its points'
-  // values (matched once per piece and whole grid).
-  volillum::DistributedInput Distributed;
-  vtkNew<vtkTrivialProducer> Whole;
-  bool Parallel = false;
-  vtkNew<vtkUnstructuredGrid> LitPiece;
-  std::vector<vtkIdType> PiecePoints;
-  vtkMTimeType PieceTime = 0, WholeTime = 0;
 };
 
 vtkStandardNewMacro(vtkIlluminatedUnstructuredGridRepresentation);
@@ -44,7 +32,6 @@ vtkIlluminatedUnstructuredGridRepresentation::vtkIlluminatedUnstructuredGridRepr
   : Internals(new vtkInternals)
 {
   this->Illumination->SetLitColors(true);
-  this->Illumination->SetController(nullptr); // it lights what it is given (see Whole)
   volillum::ForwardProgress(this->Illumination, this);
   this->SetProgressText("Illuminating the grid");
   this->LitMapper->SetScalarModeToUsePointFieldData();
@@ -108,26 +95,6 @@ double* vtkIlluminatedUnstructuredGridRepresentation::GetMeanIllumination()
 }
 
 //------------------------------------------------------------------------------
-int vtkIlluminatedUnstructuredGridRepresentation::RequestData(
-  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
-{
-  if (!this->Superclass::RequestData(request, inputVector, outputVector))
-  {
-    return 0;
-  }
-  auto& internals = *this->Internals;
-  vtkMultiProcessController* controller =
-    volillum::ParallelRun(vtkMultiProcessController::GetGlobalController());
-  internals.Parallel = controller != nullptr;
-  if (controller)
-  {
-    internals.Whole->SetOutput(internals.Distributed.Grid(controller, this,
-      vtkUnstructuredGrid::SafeDownCast(this->Preprocessor->GetOutputDataObject(0))));
-  }
-  return 1;
-}
-
-//------------------------------------------------------------------------------
 int vtkIlluminatedUnstructuredGridRepresentation::ProcessViewRequest(
   vtkInformationRequestKey* request, vtkInformation* inInfo, vtkInformation* outInfo)
 {
@@ -164,55 +131,60 @@ bool vtkIlluminatedUnstructuredGridRepresentation::UpdateIllumination(vtkPVRende
   vtkAlgorithmOutput* port = vtkPVRenderView::GetPieceProducer(info, this);
   auto* grid =
     port ? vtkUnstructuredGrid::SafeDownCast(port->GetProducer()->GetOutputDataObject(0)) : nullptr;
+  // In parallel the processes light their pieces together (the filter's update is
+  // collective): every process decides as the others do, and one without cells takes part.
+  vtkMultiProcessController* together =
+    volillum::ParallelRun(vtkMultiProcessController::GetGlobalController());
+  auto agreed = [together](bool local)
+  { return together ? volillum::AllOk(together, local) : local; };
+  const bool empty = port && (!grid || grid->GetNumberOfCells() == 0);
   volillum::ColouredArray coloured;
   vtkDataArray* array = volillum::ColouredArrayOf(this, grid, coloured);
-  if (!array || grid->GetNumberOfCells() == 0)
-  {
-    return false;
-  }
   // Vectors are lit by what the colour map shows of them: their magnitude or a component;
   // vectors mapped as they are (colours, or a separate opacity component) are not lit.
-  const bool vectors = array->GetNumberOfComponents() > 1;
-  if (vectors &&
-    (!this->MapScalars || this->MultiComponentsMapping || this->UseSeparateOpacityArray))
+  const bool vectors = array && array->GetNumberOfComponents() > 1;
+  const bool lightable = array && !empty &&
+    !(vectors &&
+      (!this->MapScalars || this->MultiComponentsMapping || this->UseSeparateOpacityArray));
+  if (!agreed(lightable || (together && empty)))
   {
     return false;
   }
   this->Illumination->SetScalarComponent(
     vectors ? volillum::ColouredComponent(this->Property) : -1);
   this->LitProperty->SetScalarOpacityUnitDistance(this->Property->GetScalarOpacityUnitDistance(0));
-  if (volillum::IsInteractiveRender(view) && this->Internals->Lit)
-  {
-    return true; // keep the current lighting while the camera moves
-  }
   auto& internals = *this->Internals;
+  if (agreed(volillum::IsInteractiveRender(view) && (empty || internals.Lit)))
+  {
+    return internals.Lit; // keep the current lighting while the camera moves
+  }
   internals.Lights.Update(view, this->UseLightKit);
   internals.Lights.ApplyTo(this->Illumination.Get());
-  volillum::SetVolumeInput(this->Illumination.Get(),
-    internals.Parallel ? internals.Whole->GetOutputPort() : port, coloured, this->Property);
-  this->Illumination->Update();
+  volillum::SetVolumeInput(this->Illumination.Get(), port, coloured, this->Property);
+  if (together)
+  {
+    // Every process updates the filter, or none: all do when any output is older than what
+    // the filter reads.
+    vtkDataObject* output = this->Illumination->GetOutputDataObject(0);
+    const vtkMTimeType read =
+      std::max(this->Illumination->GetMTime(), grid ? grid->GetMTime() : vtkMTimeType(0));
+    if (!agreed(output && output->GetUpdateTime() > read))
+    {
+      this->Illumination->Modified();
+      this->Illumination->Update();
+    }
+  }
+  else
+  {
+    this->Illumination->Update();
+  }
   vtkUnstructuredGrid* lit = this->Illumination->GetOutput();
   if (!lit || !lit->GetPointData()->GetArray("LitColors"))
   {
     return false;
   }
   volillum::ReadUpdateFieldData(lit->GetFieldData(), this->Report, this->UpdateSeconds);
-  if (!internals.Parallel)
-  {
-    this->LitMapper->SetInputConnection(this->Illumination->GetOutputPort());
-    return true;
-  }
-  // This process draws its own piece, with the values of the whole grid's lighting.
-  vtkDataObject* whole = internals.Whole->GetOutputDataObject(0);
-  if (grid->GetMTime() != internals.PieceTime || whole->GetMTime() != internals.WholeTime)
-  {
-    internals.PiecePoints = volillum::MatchPoints(vtkDataSet::SafeDownCast(whole), grid);
-    internals.PieceTime = grid->GetMTime();
-    internals.WholeTime = whole->GetMTime();
-  }
-  internals.LitPiece->ShallowCopy(grid);
-  volillum::AddPointValues(lit, internals.PiecePoints, { "LitColors" }, internals.LitPiece);
-  this->LitMapper->SetInputData(internals.LitPiece);
+  this->LitMapper->SetInputConnection(this->Illumination->GetOutputPort());
   return true;
 }
 

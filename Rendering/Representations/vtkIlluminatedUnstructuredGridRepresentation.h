@@ -12,9 +12,11 @@
  * each light's solution, so a light edit recomputes that light only. Interactive renders
  * keep the current lighting (or draw the level-of-detail outline when ParaView asks for
  * it). UpdateMode, UpdateSeconds and PropagationPasses report the last update. In parallel
- * (pvserver or pvbatch under MPI) every process assembles the whole grid from the pieces
- * when the data updates (see IlluminationParallel.h), lights it at render time without
- * further communication and draws its own piece with those values.
+ * (pvserver or pvbatch under MPI, rendered on the server) the processes light the pieces
+ * they render together as each render starts: ParaView gives each process whole cells for
+ * ordered compositing, and the solver, with the global controller, gets from the other
+ * processes only their cells near the piece (see IlluminationParallel.h). A process without
+ * cells takes part.
  *
  * The coloured array is a point or cell array; an array of several components is lit by
  * what the colour map shows of it (its magnitude or the chosen component). Arrays mapped
@@ -91,7 +93,6 @@ protected:
   /// still there to release them in.
   bool RemoveFromView(vtkView* view) override;
 
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   /// Light the delivered piece and draw it; false when it cannot be lit.
   bool UpdateIllumination(vtkPVRenderView* view);
 
