@@ -1358,14 +1358,14 @@ struct SweepAxes
   }
 };
 
-// Margin of a band's cone of rays (ConeOfBand), in spacings along C. A point reads the rays
-// around where its own ray crosses the previous slice: less than two rays away, and rays
-// are at most a spacing apart. An anchor's rays read those of the previous anchor the same
-// way; followed from that anchor, whose cone held them within the margin, they have spread
-// from the light by a factor e between 1 and AnchorSpread, while the crossings moved toward
-// it by a factor r, and e - r >= 1/3 (the anchor lies at least AnchorSpread times farther
-// from the light than the previous one): so a margin of three times the reads (6) holds them,
-// and one more spacing for rounding.
+// Margin of a band's cone of rays (ConeOfBand), in spacings along C. Measured at an anchor
+// slice, whose rays lie 1 / AnchorSpread spacings apart: a point reads the rays within two
+// of where its own ray crosses the slice (4/3 spacings), and so does each ray of the next
+// anchor, whose own crossing lies nearer the light's row than the ray by the ratio
+// r <= 1 / AnchorSpread of the two anchors' distances from the light. So the rays a band
+// needs at an anchor lie within u of its cone, u <= r u + 4/3, u <= 4 spacings. Followed to
+// the next anchor they spread from the light by less than AnchorSpread (6 spacings), and
+// the material along them is read there: 6 spacings, and one more for rounding.
 constexpr double ConeMargin = 7.0;
 
 // The rays of a point or spot source at `light` that a band of rows of grid g needs in a
@@ -2275,10 +2275,13 @@ void BandOfData(const GridGeometry& data, const GridGeometry& target,
       }
     }
     // Unless the light lies before the sweep's first slice, the rays from the first slice in
-    // front of it cross the box up to the light (along C, clamped to the box).
+    // front of it cross the box up to the light (along C, clamped to the box). So do those
+    // of a light just before the first face: ClipToBox keeps a face's tolerance of the box
+    // around it, and a path that makes progress along the axis (at least MinimumAlong) runs
+    // up to 1 / MinimumAlong times that far across it.
     const int a = axes.Axis;
     const double start = axes.Sign > 0 ? bounds[2 * a] : bounds[2 * a + 1];
-    if (axes.Sign * (start - source.Position[a]) <= FaceTolerance(bounds, a))
+    if (axes.Sign * (start - source.Position[a]) <= FaceTolerance(bounds, a) / MinimumAlong)
     {
       const double l = std::min(std::max(source.Position[c], bounds[2 * c]), bounds[2 * c + 1]);
       low = std::min(low, l);

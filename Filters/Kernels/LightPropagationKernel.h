@@ -240,8 +240,8 @@ VOLILLUMKERNELS_EXPORT int LatticeHalo(
 /// the halo (LatticeHalo), the rays of point and spot lights between its rows and the light
 /// (the band's cone: slices nearer the light take rows nearer the light's), and one more
 /// point either side. So a band whose rows lie away from a point light's along the row axis
-/// reads material toward them: up to the light's row (clamped to the grid) when the light
-/// lies between the grid's first and last slices (inside the volume or beside it).
+/// reads material toward them: up to the light's row (clamped to the grid) unless the light
+/// lies before the sweep's first slice (so for a light inside the volume or beside it).
 VOLILLUMKERNELS_EXPORT void BandOfData(const GridGeometry& data, const GridGeometry& target,
   const std::vector<PropagationTask>& tasks, const SweepBand& band, int halo, int& first,
   int& last);

@@ -1019,7 +1019,8 @@ TEST(Kernels, SweepBandsEqualTheWholeSweep)
 // Point and spot lights swept in bands of rows (PropagateSweepBand) deposit what the whole
 // sweep does, each band alone, with only the material BandOfData gives it and no rows from
 // the others (their rays are followed in the band's cone back to the light): lights far
-// beyond a face, beside the volume in one or two groups (one with the light's coordinate
+// beyond a face and just before one (at rows between bands, anchors a slice or two apart
+// near it), beside the volume in one or two groups (one with the light's coordinate
 // along the sweep axis inside the volume), inside it (six groups), a spot light; chromatic
 // and grey material; the illumination grid at the data's resolution and at half of it; a
 // recorded task. With only the material of its own rows (and two points either side) a band
@@ -1036,7 +1037,7 @@ TEST(Kernels, PointLightBandsEqualTheWholeSweep)
     extinction.push_back(chromatic.Value(4 * static_cast<size_t>(i)));
   }
   grey.Store(extinction);
-  std::vector<LightState> lights(5);
+  std::vector<LightState> lights(6);
   for (LightState& light : lights)
   {
     light.Kind = LightKind::Point;
@@ -1050,6 +1051,8 @@ TEST(Kernels, PointLightBandsEqualTheWholeSweep)
   lights[4].FocalPoint = { { 2.0, 10.0, 7.0 } };
   lights[4].ConeAngle = 25.0;
   lights[4].Color = { { 0.3, 0.9, 0.6 } };
+  // Just before the face z = 0.5 (anchors a slice or two apart) at the rows between bands.
+  lights[5].Position = { { 1.3, 7.25, 0.3 } };
   double largest = 0.0, narrow = 0.0;
   for (const ClassifiedVolume* volume : { &chromatic, static_cast<const ClassifiedVolume*>(&grey) })
   {
@@ -1162,7 +1165,7 @@ TEST(Kernels, PointLightBandsEqualTheWholeSweep)
             << " (bands with their own rows' material only: " << narrow
             << "); a far light's largest band " << farBand << " of " << g.NumberOfPoints()
             << " points" << std::endl;
-  EXPECT_LT(largest, 1e-6);
+  EXPECT_EQ(largest, 0.0);
   EXPECT_GT(narrow, 1e-2);
   EXPECT_LT(farBand, g.NumberOfPoints());
 }

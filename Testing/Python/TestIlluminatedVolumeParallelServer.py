@@ -12,7 +12,8 @@ every process but the first) get the camera only as that render starts, and must
 it. That scene is also rendered by `mpiexec -np 2 pvbatch` running this script. Then a small
 image (9 x 5 x 5, lit at resolution scale 1/4 by 3 pvbatch processes, one of which holds an
 illumination piece that is the whole grid) is rendered twice in a row, before and after a
-camera move: the processes must agree whether to light, or wait on each other for ever. The
+camera move, and so is a cube of 5 tetrahedra (processes without cells): the processes must
+agree whether to light, or wait on each other for ever. The
 images must match (mean absolute difference below 0.5 of 255). The server's output must hold no
 error but those of the port probe.
 Usage: pvpython TestIlluminatedVolumeParallelServer.py PLUGIN OUTPUT_DIR PVSERVER MPIEXEC
@@ -121,19 +122,25 @@ def write_small_image(path):
 
 
 def small_renders(path):
-    """Renders of the small image with nothing changed in between and after a camera move:
-    every process must light (or keep its lighting) together."""
-    view = CreateView("RenderView")
-    view.ViewSize = [120, 120]
-    rep = Show(XMLImageDataReader(FileName=[path]), view)
-    rep.SetRepresentationType("Illuminated Volume")
-    ColorBy(rep, ("POINTS", "scalars"))
-    rep.IlluminationResolutionScale = 0.25
-    view.ResetCamera()
-    for _ in range(2):
-        Render(view)
-        Render(view)
-        GetActiveCamera().Azimuth(60)
+    """Renders of the small image, and of a cube of 5 tetrahedra (processes without cells
+    to render), with nothing changed in between and after a camera move: every process must
+    light (or keep its lighting) together."""
+    for source, array in ((XMLImageDataReader(FileName=[path]), "scalars"),
+                          (Tetrahedralize(Input=Wavelet(WholeExtent=[0, 1, 0, 1, 0, 1])),
+                           "RTData")):
+        view = CreateView("RenderView")
+        view.ViewSize = [120, 120]
+        rep = Show(source, view)
+        rep.SetRepresentationType("Illuminated Volume")
+        ColorBy(rep, ("POINTS", array))
+        if array == "scalars":
+            rep.IlluminationResolutionScale = 0.25
+        view.ResetCamera()
+        for _ in range(2):
+            Render(view)
+            Render(view)
+            GetActiveCamera().Azimuth(60)
+        Delete(view)
     print("small image rendered", flush=True)
 
 
