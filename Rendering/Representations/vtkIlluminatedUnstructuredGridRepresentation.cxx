@@ -18,11 +18,16 @@
 #include "vtkUnstructuredGridIllumination.h"
 #include "vtkVolumeProperty.h"
 
+#include <algorithm>
+
 struct vtkIlluminatedUnstructuredGridRepresentation::vtkInternals
 {
   volillum::ViewLights Lights;
   volillum::RenderStart Start;
   bool Lit = false; // whether the last render drew the lit grid
+  // What the lit mapper draws: a copy of the filter's output, so that a render that pulls on
+  // the mapper (its bounds) never updates the filter, whose update is collective in parallel.
+  vtkNew<vtkUnstructuredGrid> LitGrid;
 };
 
 vtkStandardNewMacro(vtkIlluminatedUnstructuredGridRepresentation);
@@ -132,12 +137,13 @@ bool vtkIlluminatedUnstructuredGridRepresentation::UpdateIllumination(vtkPVRende
   auto* grid =
     port ? vtkUnstructuredGrid::SafeDownCast(port->GetProducer()->GetOutputDataObject(0)) : nullptr;
   // In parallel the processes light their pieces together (the filter's update is
-  // collective): every process decides as the others do, and one without cells takes part.
+  // collective): every process decides as the others do, and one without cells takes part
+  // (a piece of another type, as with the mapper that resamples to an image, is not lit).
   vtkMultiProcessController* together =
     volillum::ParallelRun(vtkMultiProcessController::GetGlobalController());
   auto agreed = [together](bool local)
   { return together ? volillum::AllOk(together, local) : local; };
-  const bool empty = port && (!grid || grid->GetNumberOfCells() == 0);
+  const bool empty = grid && grid->GetNumberOfCells() == 0;
   volillum::ColouredArray coloured;
   vtkDataArray* array = volillum::ColouredArrayOf(this, grid, coloured);
   // Vectors are lit by what the colour map shows of them: their magnitude or a component;
@@ -146,18 +152,18 @@ bool vtkIlluminatedUnstructuredGridRepresentation::UpdateIllumination(vtkPVRende
   const bool lightable = array && !empty &&
     !(vectors &&
       (!this->MapScalars || this->MultiComponentsMapping || this->UseSeparateOpacityArray));
-  if (!agreed(lightable || (together && empty)))
+  if (!agreed(lightable || (together && empty)) || (together && agreed(empty)))
   {
     return false;
   }
-  this->Illumination->SetScalarComponent(
-    vectors ? volillum::ColouredComponent(this->Property) : -1);
   this->LitProperty->SetScalarOpacityUnitDistance(this->Property->GetScalarOpacityUnitDistance(0));
   auto& internals = *this->Internals;
   if (agreed(volillum::IsInteractiveRender(view) && (empty || internals.Lit)))
   {
     return internals.Lit; // keep the current lighting while the camera moves
   }
+  this->Illumination->SetScalarComponent(
+    vectors ? volillum::ColouredComponent(this->Property) : -1);
   internals.Lights.Update(view, this->UseLightKit);
   internals.Lights.ApplyTo(this->Illumination.Get());
   volillum::SetVolumeInput(this->Illumination.Get(), port, coloured, this->Property);
@@ -184,7 +190,11 @@ bool vtkIlluminatedUnstructuredGridRepresentation::UpdateIllumination(vtkPVRende
     return false;
   }
   volillum::ReadUpdateFieldData(lit->GetFieldData(), this->Report, this->UpdateSeconds);
-  this->LitMapper->SetInputConnection(this->Illumination->GetOutputPort());
+  if (internals.LitGrid->GetMTime() < lit->GetMTime())
+  {
+    internals.LitGrid->ShallowCopy(lit);
+  }
+  this->LitMapper->SetInputData(internals.LitGrid);
   return true;
 }
 
