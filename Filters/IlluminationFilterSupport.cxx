@@ -193,7 +193,16 @@ PointScalars ToPointScalars(vtkDataSet* input, vtkAbstractArray* chosen, bool on
     return found;
   }
   found.Array = source;
-  found.Time = onCells ? std::max(source->GetMTime(), input->GetMTime()) : source->GetMTime();
+  found.Time = source->GetMTime();
+  if (onCells)
+  {
+    // Points average the cells that use them: the cells' connectivity counts too (an image's
+    // is its extent, which sizes the array). Not the dataset's own time, which the pipeline
+    // advances at every update (a light edit must keep the conversion).
+    auto* grid = vtkUnstructuredGrid::SafeDownCast(input);
+    found.Time = std::max(found.Time, grid && grid->GetCells() ? grid->GetCells()->GetMTime() : 0);
+    found.Points = input->GetNumberOfPoints();
+  }
   if (components == 1 && !onCells)
   {
     return found;
@@ -202,7 +211,8 @@ PointScalars ToPointScalars(vtkDataSet* input, vtkAbstractArray* chosen, bool on
   found.OnCells = onCells;
   found.Component = components > 1 ? component : -1;
   if (previous.Array && previous.Source == found.Source && previous.OnCells == onCells &&
-    previous.Component == found.Component && previous.Time == found.Time)
+    previous.Component == found.Component && previous.Time == found.Time &&
+    previous.Points == found.Points)
   {
     return previous;
   }

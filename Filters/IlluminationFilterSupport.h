@@ -46,6 +46,7 @@ struct PointScalars
   vtkWeakPointer<vtkDataArray> Source;
   bool OnCells = false;
   int Component = -1;
+  vtkIdType Points = 0; // of the dataset whose cells were converted
 };
 
 /// Fill the one-component array out (as many tuples as array) with one component of array,
