@@ -1,9 +1,11 @@
 #include "IlluminationParallel.h"
 
+#include "IlluminationFilterSupport.h"
 #include "vtkAlgorithm.h"
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
 #include "vtkCommunicator.h"
+#include "vtkDataArray.h"
 #include "vtkDataSetAttributes.h"
 #include "vtkExtentTranslator.h"
 #include "vtkIdList.h"
@@ -1037,6 +1039,8 @@ long long ExchangeExtents(vtkMultiProcessController* controller, const int held[
   return sent;
 }
 
+template VOLILLUMFILTERS_EXPORT long long ExchangeExtents<unsigned char>(vtkMultiProcessController*,
+  const int*, const int*, const unsigned char*, const int*, unsigned char*, int, bool);
 template VOLILLUMFILTERS_EXPORT long long ExchangeExtents<std::uint16_t>(vtkMultiProcessController*,
   const int*, const int*, const std::uint16_t*, const int*, std::uint16_t*, int, bool);
 template VOLILLUMFILTERS_EXPORT long long ExchangeExtents<std::uint32_t>(vtkMultiProcessController*,
@@ -1048,6 +1052,113 @@ bool AllOk(vtkMultiProcessController* controller, bool ok)
   int all = 0;
   controller->AllReduce(&mine, &all, 1, vtkCommunicator::MIN_OP);
   return all != 0;
+}
+
+//------------------------------------------------------------------------------
+vtkImageData* BlockPointScalars::Update(vtkMultiProcessController* controller, const int whole[6],
+  const int* block, vtkImageData* input, vtkDataArray* cells, int component, std::string& error)
+{
+  const bool mine = block && input && cells;
+  const int* extent = mine ? input->GetExtent() : nullptr;
+  const bool kept = !mine ||
+    (this->Points && this->Source == cells && this->SourceTime == cells->GetMTime() &&
+      std::equal(extent, extent + 6, this->Extent) && this->Component == component);
+  if (AllOk(controller, kept))
+  {
+    return mine ? this->Points.Get() : nullptr;
+  }
+  this->Points = nullptr;
+  // Every array with a block has the same type and components (the bytes of a cell travel).
+  int local[4] = { std::numeric_limits<int>::max(), std::numeric_limits<int>::max(),
+    std::numeric_limits<int>::min(), std::numeric_limits<int>::min() };
+  if (mine)
+  {
+    local[0] = local[2] = cells->GetDataType();
+    local[1] = local[3] = cells->GetNumberOfComponents();
+  }
+  int low[2], high[2];
+  controller->AllReduce(local, low, 2, vtkCommunicator::MIN_OP);
+  controller->AllReduce(local + 2, high, 2, vtkCommunicator::MAX_OP);
+  if (low[0] != high[0] || low[1] != high[1])
+  {
+    error = "The pieces' cell scalars differ in type or components.";
+    return nullptr;
+  }
+  // Cells are given by their first point: those of an extent of points [a, b] are [a, b - 1].
+  // A block owns its cells; a point of it is used by the cells from the one before it to its
+  // own along each axis, within the image.
+  int held[6] = { 0, -1, 0, -1, 0, -1 }, owned[6] = { 0, -1, 0, -1, 0, -1 },
+      wanted[6] = { 0, -1, 0, -1, 0, -1 };
+  if (mine)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      held[2 * a] = extent[2 * a];
+      held[2 * a + 1] = extent[2 * a + 1] - 1;
+      owned[2 * a] = block[2 * a];
+      owned[2 * a + 1] = block[2 * a + 1] - 1;
+      wanted[2 * a] = std::max(block[2 * a] - 1, whole[2 * a]);
+      wanted[2 * a + 1] = std::min(block[2 * a + 1], whole[2 * a + 1] - 1);
+    }
+  }
+  const int bytes = mine ? cells->GetNumberOfComponents() * cells->GetDataTypeSize() : 1;
+  const long long count = ExtentPoints(wanted);
+  std::vector<unsigned char> values(static_cast<size_t>(bytes * count));
+  ExchangeExtents<unsigned char>(controller, held, owned,
+    mine ? static_cast<const unsigned char*>(cells->GetVoidPointer(0)) : nullptr, wanted,
+    values.data(), bytes, false);
+  if (!mine || count == 0)
+  {
+    return nullptr;
+  }
+  // The cells around the block as an image of their own, converted as a serial run converts
+  // the whole image's; its points of the block are the block's.
+  vtkNew<vtkImageData> around;
+  around->SetExtent(wanted[0], wanted[1] + 1, wanted[2], wanted[3] + 1, wanted[4], wanted[5] + 1);
+  around->SetOrigin(input->GetOrigin());
+  around->SetSpacing(input->GetSpacing());
+  auto gathered = vtk::TakeSmartPointer(cells->NewInstance());
+  gathered->SetName(cells->GetName());
+  gathered->SetNumberOfComponents(cells->GetNumberOfComponents());
+  gathered->SetNumberOfTuples(count);
+  std::memcpy(gathered->GetVoidPointer(0), values.data(), values.size());
+  around->GetCellData()->AddArray(gathered);
+  const PointScalars converted =
+    ToPointScalars(around, gathered, true, component, PointScalars(), error);
+  if (!converted.Array)
+  {
+    return nullptr;
+  }
+  this->Points = vtkSmartPointer<vtkImageData>::New();
+  this->Points->SetExtent(const_cast<int*>(block));
+  this->Points->SetOrigin(input->GetOrigin());
+  this->Points->SetSpacing(input->GetSpacing());
+  this->Points->SetDirectionMatrix(input->GetDirectionMatrix());
+  auto points = vtk::TakeSmartPointer(converted.Array->NewInstance());
+  points->SetName(cells->GetName());
+  points->SetNumberOfComponents(1);
+  points->SetNumberOfTuples(this->Points->GetNumberOfPoints());
+  const int* from = around->GetExtent();
+  vtkIdType to = 0;
+  for (int k = block[4]; k <= block[5]; ++k)
+  {
+    for (int j = block[2]; j <= block[3]; ++j)
+    {
+      for (int i = block[0]; i <= block[1]; ++i, ++to)
+      {
+        const vtkIdType at = (i - from[0]) +
+          (static_cast<vtkIdType>(from[1] - from[0] + 1) *
+            ((j - from[2]) + static_cast<vtkIdType>(from[3] - from[2] + 1) * (k - from[4])));
+        points->SetTuple(to, at, converted.Array);
+      }
+    }
+  }
+  this->Points->GetPointData()->SetScalars(points);
+  this->Source = cells;
+  this->SourceTime = cells->GetMTime();
+  std::copy_n(extent, 6, this->Extent);
+  this->Component = component;
+  return this->Points;
 }
 
 }

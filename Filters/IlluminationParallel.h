@@ -14,8 +14,9 @@
  * Volume sweeps bands of rows, each process its band's classification (ExchangeExtents from
  * the blocks; for point and spot lights that of the band's cone back to the light),
  * neighbouring bands exchanging directional lights' lattice rows after every slice, the units
- * moved to the pieces' processes (ExchangeExtents). The image filters with cell scalars (or
- * the distributed properties off) assemble the whole input on every process from the pieces of all
+ * moved to the pieces' processes (ExchangeExtents); cell scalars become point scalars over each
+ * block from its cells and the layer around it (BlockPointScalars). The image filters with
+ * the distributed properties off assemble the whole input on every process from the pieces of all
  * processes (collective calls of the filter's vtkMultiProcessController) and output the part of the
  * illumination that belongs to their own piece; the propagation then shares its sweeps out among
  * the processes (SweepShare): each process propagates its sweeps over the whole illumination grid
@@ -35,12 +36,15 @@
 #include "VolIllumFiltersModule.h"
 #include "vtkSmartPointer.h"
 #include "vtkType.h"
+#include "vtkWeakPointer.h"
 
 #include <cstdint>
 #include <functional>
+#include <string>
 #include <vector>
 
 class vtkAlgorithm;
+class vtkDataArray;
 class vtkDataSet;
 class vtkImageData;
 class vtkMultiProcessController;
@@ -223,6 +227,35 @@ private:
   // agreed on.
   std::vector<int> Peers;
   std::vector<std::vector<vtkIdType>> Reads, Sends;
+};
+
+/**
+ * Point scalars over this process's block of an image whose scalars are cell data, equal to
+ * those a serial run makes of the whole image (each point the average of the cells that use
+ * it, ToPointScalars): the cells around the block's points are its own and one layer of the
+ * neighbouring blocks', which travel from the processes whose blocks own them
+ * (ExchangeExtents, only the cell array's values).
+ */
+class VOLILLUMFILTERS_EXPORT BlockPointScalars
+{
+public:
+  /**
+   * Collective. `whole`: the image's whole extent; `block`: this process's block (nullptr
+   * for none), which its piece `input` holds; `cells`: the piece's cell array (the same type
+   * and components on every process with a block); `component` as in ToPointScalars.
+   * Returns an image over the block with the point scalars (named as `cells`), kept while no
+   * process's array, extent or component changes; nullptr for a process without a block, and
+   * on every process, with the reason in error, when the processes' arrays differ.
+   */
+  vtkImageData* Update(vtkMultiProcessController* controller, const int whole[6], const int* block,
+    vtkImageData* input, vtkDataArray* cells, int component, std::string& error);
+
+private:
+  vtkSmartPointer<vtkImageData> Points;
+  vtkWeakPointer<vtkDataArray> Source;
+  vtkMTimeType SourceTime = 0;
+  int Extent[6] = { 0, -1, 0, -1, 0, -1 };
+  int Component = -1;
 };
 
 /**

@@ -86,7 +86,7 @@ public:
 
   ///@{
   /**
-   * In a parallel run (with point scalars), on (the default): each process lights the
+   * In a parallel run, on (the default): each process lights the
    * points of its own piece from its block of the input grown by the reach of a shadow's
    * patch and near segment (a few data spacings, taken from its neighbours) and the part of
    * each table over that grown block (Cartesian for directional lights, spherical for point
@@ -114,7 +114,7 @@ protected:
   ~vtkFilteredVolumetricShadows() override = default;
 
   bool LightsPointsIndependently() const override { return true; }
-  // With DistributedTables (point scalars; cell scalars are assembled).
+  // With DistributedTables.
   bool LightsDistributedPieces() const override;
   void ComputeDistributedIllumination(vtkMultiProcessController* controller,
     const volillum::ClassifiedVolume& volume, const volillum::VolumePiece& piece,

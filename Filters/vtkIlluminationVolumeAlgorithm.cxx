@@ -64,6 +64,7 @@ bool vtkIlluminationVolumeAlgorithm::ClassificationKey::operator==(const Classif
 //------------------------------------------------------------------------------
 vtkIlluminationVolumeAlgorithm::vtkIlluminationVolumeAlgorithm()
   : Distributed(new volillum::DistributedInput)
+  , BlockScalars(new volillum::BlockPointScalars)
 {
   this->SetController(vtkMultiProcessController::GetGlobalController());
   this->SetInputArrayToProcess(
@@ -285,9 +286,9 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
     this->Illuminate(input, output);
     return 1;
   }
-  if (this->LightsDistributedPieces() &&
-    this->IlluminateDistributed(controller, inputVector[0]->GetInformationObject(0), input, output))
+  if (this->LightsDistributedPieces())
   {
+    this->IlluminateDistributed(controller, inputVector[0]->GetInformationObject(0), input, output);
     return 1;
   }
   // Light crosses every piece: every process assembles the whole image (an empty or invalid
@@ -472,7 +473,7 @@ void vtkIlluminationVolumeAlgorithm::FinishOutput(vtkImageData* output, const in
 }
 
 //------------------------------------------------------------------------------
-bool vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessController* controller,
+void vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessController* controller,
   vtkInformation* inInfo, vtkImageData* input, vtkImageData* output)
 {
   const auto start = std::chrono::steady_clock::now();
@@ -489,48 +490,60 @@ bool vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessContro
   volillum::GridGeometry data, target;
   if (!this->ValidGeometry(shape, data, target))
   {
-    return true;
+    return;
   }
   // This process takes the samples in the cells of its block of the data (the blocks share
   // their boundary planes, so each cell is taken once); its input must hold the block.
   int block[6];
   const bool piece = volillum::ProcessBlock(controller, whole, block);
-  // Cell scalars become point values by averaging the cells around a point, which differs
-  // at a block's boundary: they are lit from the assembled input (decided before any
+  bool ok = !piece || (input && volillum::ExtentHolds(input->GetExtent(), block));
+  if (!ok)
+  {
+    vtkErrorMacro("The input piece does not hold the block of the data this process lights.");
+  }
+  if (!volillum::AllOk(controller, ok))
+  {
+    return;
+  }
+  // Cell scalars become point values by averaging the cells around a point: over the block,
+  // from its cells and the layer of the neighbours' around it (decided before any
   // conversion).
   bool onCells = false;
-  std::string unused;
-  if (piece && input)
-  {
-    volillum::ChooseScalars(this, input, onCells, unused);
-  }
+  std::string error;
+  vtkAbstractArray* chosen = piece ? volillum::ChooseScalars(this, input, onCells, error) : nullptr;
   if (!volillum::AllOk(controller, !onCells))
   {
-    return false;
-  }
-  bool ok = true;
-  if (piece)
-  {
-    ok = input && volillum::ExtentHolds(input->GetExtent(), block);
-    if (!ok)
+    input = this->BlockScalars->Update(controller, whole, piece ? block : nullptr, input,
+      onCells ? vtkDataArray::SafeDownCast(chosen) : nullptr, this->ScalarComponent, error);
+    ok = !piece || input;
+    if (!volillum::AllOk(controller, ok))
     {
-      vtkErrorMacro("The input piece does not hold the block of the data this process lights.");
-    }
-    else
-    {
-      std::string error;
-      this->Scalars = volillum::CheckScalarsAndLights(
-        this, input, this->ScalarComponent, this->Scalars, this->Lights, error);
-      ok = this->Scalars.Array != nullptr;
       if (!ok)
       {
-        vtkErrorMacro(<< error);
+        vtkErrorMacro(<< (error.empty() ? "The cell scalars cannot be made point scalars."
+                                        : error.c_str()));
       }
+      return;
+    }
+  }
+  else
+  {
+    this->BlockScalars = std::make_unique<volillum::BlockPointScalars>(); // none kept
+  }
+  if (piece)
+  {
+    error.clear();
+    this->Scalars = volillum::CheckScalarsAndLights(
+      this, input, this->ScalarComponent, this->Scalars, this->Lights, error);
+    ok = this->Scalars.Array != nullptr;
+    if (!ok)
+    {
+      vtkErrorMacro(<< error);
     }
   }
   if (!volillum::AllOk(controller, ok))
   {
-    return true;
+    return;
   }
   // The transfer functions span the scalar range of all pieces.
   double local[2] = { VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX }, range[2];
@@ -547,7 +560,7 @@ bool vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessContro
     {
       vtkErrorMacro("Cannot classify the input: the scalars have no finite values.");
     }
-    return true;
+    return;
   }
   volillum::VolumePiece where;
   where.Whole = data;
@@ -576,7 +589,7 @@ bool vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessContro
   }
   if (!volillum::AllOk(controller, ok))
   {
-    return true;
+    return;
   }
   const std::vector<int> extents = volillum::GatherExtents(controller, piece ? extent : nullptr);
   // Points the computation leaves unlit stay dark.
@@ -592,7 +605,6 @@ bool vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessContro
     this->FinishOutput(output, extent, target, input->GetDirectionMatrix(), illumination, report,
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   }
-  return true;
 }
 
 //------------------------------------------------------------------------------

@@ -52,6 +52,7 @@
 
 namespace volillum
 {
+class BlockPointScalars;
 class DistributedInput;
 class EmptyBlocks;
 }
@@ -208,9 +209,9 @@ protected:
   /**
    * Whether a parallel run lights each process's piece of the input where it is
    * (ComputeDistributedIllumination) instead of assembling the whole input on every
-   * process (false by default). Used for point scalars; cell scalars, which become point
-   * values by averaging the cells around a point (different at a piece's boundary), are
-   * assembled.
+   * process (false by default). Cell scalars become point values over each process's block
+   * from its cells and the layer of cells around it (BlockPointScalars), as a serial run
+   * averages them.
    */
   virtual bool LightsDistributedPieces() const { return false; }
 
@@ -289,9 +290,9 @@ private:
   // A parallel update of a filter that LightsDistributedPieces: each process classifies its
   // piece (the transfer functions over the scalar range of all pieces) and
   // ComputeDistributedIllumination gives it its part of the illumination grid. `inInfo`:
-  // the input's pipeline information (the whole extent and geometry). Returns false, before
-  // any output, where the input must be assembled instead (cell scalars).
-  bool IlluminateDistributed(vtkMultiProcessController* controller, vtkInformation* inInfo,
+  // the input's pipeline information (the whole extent and geometry). Cell scalars become
+  // point scalars over the block (BlockScalars).
+  void IlluminateDistributed(vtkMultiProcessController* controller, vtkInformation* inInfo,
     vtkImageData* input, vtkImageData* output);
   // The end of a successful update: the output's geometry (the illumination grid `target`,
   // or its part `extent`), its arrays and the update's report.
@@ -327,6 +328,9 @@ private:
   vtkSmartPointer<vtkImageData> LastOutput;
   vtkMultiProcessController* Controller = nullptr;
   std::unique_ptr<volillum::DistributedInput> Distributed; // the whole input of a parallel run
+  // Point scalars over this process's block from cell scalars (a parallel run lit where the
+  // pieces are).
+  std::unique_ptr<volillum::BlockPointScalars> BlockScalars;
   // During a parallel update that shares sweeps: its controller and every process's extent
   // of the illumination grid (GatherExtents); null and empty otherwise. SumsDone: whether
   // OutputIllumination took part in the sums of the current update.

@@ -104,7 +104,7 @@ public:
 
   ///@{
   /**
-   * In a parallel run with point scalars (default on): sweep the light over bands of the
+   * In a parallel run (default on): sweep the light over bands of the
    * grid instead of assembling the whole input on every process. A sweep computes its slices
    * row by row; the rows are shared out in bands, one per process with a piece (bands of at
    * least the rows a directional light's lattice moves across between slices and a bicubic
@@ -115,8 +115,7 @@ public:
    * the band's cone back to the light (no exchange), whose classification the band reads: it
    * reaches toward the light's row, up to the whole volume for a band far from a light beside
    * or inside the volume. Memory per process follows its block and band (the slice buffers of
-   * the rays excepted: whole slices). With cell scalars or
-   * this off, the input is assembled and the sweeps shared out (see
+   * the rays excepted: whole slices). Off, the input is assembled and the sweeps shared out (see
    * vtkIlluminationVolumeAlgorithm::SetController). The result equals the serial run's.
    */
   vtkSetMacro(DistributedSweeps, bool);

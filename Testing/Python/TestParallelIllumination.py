@@ -33,8 +33,10 @@ and checks, against the serial run:
 - Ray-Marched Illumination, and Filtered Volumetric Shadows with directional lights (hard
   and soft shadows): no process classified the whole input (each marches through its block
   and builds its tables' windows over it: the ClassifiedPoints field of each piece); the
-  ray marcher also on the image of one cell and with cell scalars (assembled: averaging
-  cells onto points needs the neighbours);
+  ray marcher also on the image of one cell;
+- cell scalars (each point the average of the cells around it: a block's cells and a layer
+  of its neighbours'), with the ray marcher, filtered shadows and the propagation (whose
+  one-light edit stays selective): no process classified the whole input;
 - no process prints an error (an empty piece is normal in parallel).
 Usage: pvpython TestParallelIllumination.py PLUGIN OUTPUT_DIR PVBATCH MPIEXEC "MPI_FLAGS"
        GRID NPROCS...
@@ -52,7 +54,8 @@ FILES = ["multilight.pvti", "selective.pvti", "fresh.pvti", "swept.pvti", "swept
          "filtered_soft.pvti", "filtered_axis.pvti", "filtered_point.pvti",
          "filtered_inside.pvti", "filtered_assembled.pvti",
          "raymarched.pvti",
-         "tiny.pvti", "tiny_raymarched.pvti", "cells_raymarched.pvti",
+         "tiny.pvti", "tiny_raymarched.pvti", "cells_raymarched.pvti", "cells_filtered.pvti",
+         "cells_multilight.pvti",
          "unstructured.pvtu", "unstructured_pieces.pvtu", "wavelet.pvtu", "mixed.pvtu"]
 HEAD = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Data", "headsq.vti")
 
@@ -150,13 +153,20 @@ def worker(plugin, out, grid_file, tiny_file, parallel):
         f.Lights = light
         save(f, name)
     save(image_filter("RayMarchedIllumination", ResolutionScale=0.25), "raymarched.pvti")
-    # Cell scalars (averaged onto the points, which a block alone cannot do at its boundary).
-    cells = ns["RayMarchedIllumination"](Input=PointDatatoCellData(Input=head),
-                                         ColorTransferFunction=lut, OpacityFunction=pwf,
-                                         ResolutionScale=0.25)
-    cells.Scalars = ["CELLS", "scalars"]
-    cells.Lights = LIGHTS
-    save(cells, "cells_raymarched.pvti")
+    # Cell scalars (averaged onto the points: a block's cells and a layer of its neighbours').
+    # The propagation's light edit must stay selective (the converted scalars are kept).
+    head_cells = PointDatatoCellData(Input=head)
+    for name, scale, lights, saved in (
+            ("RayMarchedIllumination", 0.25, [LIGHTS], "cells_raymarched.pvti"),
+            ("FilteredVolumetricShadows", 0.5, [LIGHTS], "cells_filtered.pvti"),
+            ("MultiLightIlluminationVolume", 0.5, [LIGHTS, EDITED], "cells_multilight.pvti")):
+        cells = ns[name](Input=head_cells, ColorTransferFunction=lut, OpacityFunction=pwf,
+                         ResolutionScale=scale)
+        cells.Scalars = ["CELLS", "scalars"]
+        for edit in lights:
+            cells.Lights = edit
+            cells.UpdatePipeline()
+        save(cells, saved)
     # An image of 2 x 2 x 2 points: one cell, so all but one process have an empty block.
     tiny_image = XMLImageDataReader(FileName=[tiny_file])
     # tiny_switched: lights switched from a point light to directional only and back (one
@@ -389,6 +399,9 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
         print("\n".join(failures))
         return 1
     serial = {f: read_whole(os.path.join(out, "serial", f)) for f in FILES}
+    # A light edit on cell scalars is selective serially too (the converted scalars are kept).
+    if update_mode(serial["cells_multilight.pvti"]) != 1:
+        failures.append("serial/cells_multilight: not a selective update")
     for run in runs:
         if run == "serial":
             continue
@@ -425,7 +438,8 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
             if f in ("raymarched.pvti", "filtered_hard.pvti", "filtered_soft.pvti",
                      "filtered_axis.pvti", "filtered_point.pvti", "filtered_inside.pvti",
                      "swept.pvti", "swept_chromatic.pvti", "multilight.pvti",
-                     "swept_inside.pvti"):
+                     "swept_inside.pvti", "cells_raymarched.pvti", "cells_filtered.pvti",
+                     "cells_multilight.pvti"):
                 # Each process classified its block of the input, not the whole input.
                 held_less(out, run, f, "ClassifiedPoints",
                           "input points classified by each process", "input", failures)
@@ -448,8 +462,9 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
                   % (run, edited, update_mode(selective), edit_error))
             if update_mode(selective) != 1 or edit_error is None or edit_error > TOLERANCE:
                 failures.append("%s/%s: not an exact selective update" % (run, edited))
-        if update_mode(read_whole(os.path.join(out, run, "swept_selective.pvti"))) != 1:
-            failures.append("%s/swept_selective: not a selective update" % run)
+        for edited in ("swept_selective", "cells_multilight"):
+            if update_mode(read_whole(os.path.join(out, run, edited + ".pvti"))) != 1:
+                failures.append("%s/%s: not a selective update" % (run, edited))
     print("\n".join(failures) if failures else "all parallel runs equal the serial run")
     return 1 if failures else 0
 
