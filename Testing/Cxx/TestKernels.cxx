@@ -855,6 +855,83 @@ ClassifiedVolume BandOfVolume(const ClassifiedVolume& whole, int axis, int first
   }
   return band;
 }
+
+// The extinction of a chromatic volume alone (grey material).
+ClassifiedVolume GreyOf(const ClassifiedVolume& chromatic)
+{
+  ClassifiedVolume grey;
+  grey.Geometry = chromatic.Geometry;
+  grey.Channels = 1;
+  std::vector<float> extinction;
+  for (long long i = 0; i < chromatic.Geometry.NumberOfPoints(); ++i)
+  {
+    extinction.push_back(chromatic.Value(4 * static_cast<size_t>(i)));
+  }
+  grey.Store(extinction);
+  return grey;
+}
+
+// Every light's tasks (added, sign +1) for the box bounds, the first one recorded.
+std::vector<PropagationTask> RecordedTasks(
+  const std::vector<LightState>& lights, const double bounds[6])
+{
+  std::vector<PropagationTask> tasks;
+  for (const LightState& light : lights)
+  {
+    const auto more = TasksForLight(light, +1, bounds);
+    tasks.insert(tasks.end(), more.begin(), more.end());
+  }
+  tasks[0].Recorded = true;
+  return tasks;
+}
+
+// Zero units of `points` points for totals up to 2, recording.
+FixedPointIllumination RecordingUnits(long long points)
+{
+  FixedPointIllumination units;
+  units.Reset(points, FixedPointIllumination::ScaleFor(2.0));
+  units.StartRecord();
+  return units;
+}
+
+// Adds the units (and the record) of a band of rows along axis c of grid target into those of
+// the whole grid.
+void AddBandUnits(const GridGeometry& target, int c, const SweepBand& band,
+  const FixedPointIllumination& units, FixedPointIllumination& whole)
+{
+  const auto& d = target.Dimensions;
+  long long m[3] = { d[0], d[1], d[2] };
+  m[c] = band.Last - band.First + 1;
+  for (long long i = 0; i < m[0] * m[1] * m[2]; ++i)
+  {
+    long long index[3] = { i % m[0], (i / m[0]) % m[1], i / (m[0] * m[1]) };
+    index[c] += band.First;
+    const size_t to = 3 * (index[0] + d[0] * (index[1] + d[1] * index[2]));
+    for (int ch = 0; ch < 3; ++ch)
+    {
+      whole.Values[to + ch] += units.Values[3 * i + ch];
+      whole.Recorded[to + ch] += units.Recorded[3 * i + ch];
+    }
+  }
+}
+
+// The largest difference between two fixed-point illuminations of the same scale, values and
+// records, in units of light.
+double LargestDifference(const FixedPointIllumination& a, const FixedPointIllumination& b)
+{
+  double difference = 0.0;
+  for (const bool record : { false, true })
+  {
+    const auto& x = record ? a.Recorded : a.Values;
+    const auto& y = record ? b.Recorded : b.Values;
+    for (size_t i = 0; i < x.size(); ++i)
+    {
+      difference = std::max(difference,
+        std::abs(static_cast<std::int32_t>(x[i]) - static_cast<std::int32_t>(y[i])) / a.Scale);
+    }
+  }
+  return difference;
+}
 }
 
 // A sweep run in bands of rows (PropagateSweepBand: each band holds only the material and the
@@ -869,15 +946,7 @@ ClassifiedVolume BandOfVolume(const ClassifiedVolume& whole, int axis, int first
 TEST(Kernels, SweepBandsEqualTheWholeSweep)
 {
   const ClassifiedVolume chromatic = ChromaticVolume({ { 13, 23, 25 } });
-  ClassifiedVolume grey;
-  grey.Geometry = chromatic.Geometry;
-  grey.Channels = 1;
-  std::vector<float> extinction;
-  for (long long i = 0; i < chromatic.Geometry.NumberOfPoints(); ++i)
-  {
-    extinction.push_back(chromatic.Value(4 * static_cast<size_t>(i)));
-  }
-  grey.Store(extinction);
+  const ClassifiedVolume grey = GreyOf(chromatic);
   LightState first, second;
   first.Position = { { -3.0, 9.0, 8.0 } };
   first.FocalPoint = { { 2.0, 5.0, 3.0 } };
@@ -894,26 +963,15 @@ TEST(Kernels, SweepBandsEqualTheWholeSweep)
       const GridGeometry target = ScaledGeometry(volume->Geometry, scale);
       double bounds[6];
       target.GetBounds(bounds);
-      std::vector<PropagationTask> tasks;
-      for (const LightState& light : { first, second })
-      {
-        const auto more = TasksForLight(light, +1, bounds);
-        tasks.insert(tasks.end(), more.begin(), more.end());
-      }
-      tasks[0].Recorded = true;
-      const double unit = FixedPointIllumination::ScaleFor(2.0);
-      FixedPointIllumination whole;
-      whole.Reset(target.NumberOfPoints(), unit);
-      whole.StartRecord();
+      const std::vector<PropagationTask> tasks = RecordedTasks({ first, second }, bounds);
+      FixedPointIllumination whole = RecordingUnits(target.NumberOfPoints());
       std::vector<PropagationTask> remaining;
       PropagationStatistics statistics;
       ASSERT_TRUE(
         PropagateTasks(*volume, target, tasks, true, 0, whole, remaining, statistics, nullptr));
       for (const bool exchanged : { true, false })
       {
-        FixedPointIllumination bands;
-        bands.Reset(target.NumberOfPoints(), unit);
-        bands.StartRecord();
+        FixedPointIllumination bands = RecordingUnits(target.NumberOfPoints());
         for (const auto& sweep : PlanSweeps(tasks, true, 0, remaining))
         {
           const int c = SweepRowAxis(sweep[0].Group);
@@ -922,8 +980,7 @@ TEST(Kernels, SweepBandsEqualTheWholeSweep)
           halo = std::max(halo, h);
           // The lattices of every slice from a band of all rows.
           std::vector<std::vector<std::vector<float>>> history;
-          FixedPointIllumination all;
-          all.Reset(target.NumberOfPoints(), unit);
+          FixedPointIllumination all = RecordingUnits(target.NumberOfPoints());
           PropagateSweepBand(
             *volume, target, sweep, { 0, n - 1 }, all,
             [&](const std::vector<float*>& lattices, size_t rowValues)
@@ -945,9 +1002,7 @@ TEST(Kernels, SweepBandsEqualTheWholeSweep)
             bandPoints = std::min(bandPoints, part.Geometry.NumberOfPoints());
             GridGeometry layout = target;
             layout.Dimensions[c] = band.Last - band.First + 1;
-            FixedPointIllumination units;
-            units.Reset(layout.NumberOfPoints(), unit);
-            units.StartRecord();
+            FixedPointIllumination units = RecordingUnits(layout.NumberOfPoints());
             size_t slice = 0;
             const int own = band.Last + (band.Last == n - 1 ? 1 : 0);
             PropagateSweepBand(
@@ -974,33 +1029,10 @@ TEST(Kernels, SweepBandsEqualTheWholeSweep)
                 ++slice;
               },
               statistics);
-            // The band's units into the whole grid's.
-            const auto& d = target.Dimensions;
-            const auto& m = layout.Dimensions;
-            for (long long i = 0; i < layout.NumberOfPoints(); ++i)
-            {
-              long long index[3] = { i % m[0], (i / m[0]) % m[1], i / (m[0] * m[1]) };
-              index[c] += band.First;
-              const size_t to = 3 * (index[0] + d[0] * (index[1] + d[1] * index[2]));
-              for (int ch = 0; ch < 3; ++ch)
-              {
-                bands.Values[to + ch] += units.Values[3 * i + ch];
-                bands.Recorded[to + ch] += units.Recorded[3 * i + ch];
-              }
-            }
+            AddBandUnits(target, c, band, units, bands);
           }
         }
-        double difference = 0.0;
-        for (size_t i = 0; i < whole.Values.size(); ++i)
-        {
-          for (const bool record : { false, true })
-          {
-            const auto& a = record ? whole.Recorded : whole.Values;
-            const auto& b = record ? bands.Recorded : bands.Values;
-            difference = std::max(difference,
-              std::abs(static_cast<std::int32_t>(a[i]) - static_cast<std::int32_t>(b[i])) / unit);
-          }
-        }
+        const double difference = LargestDifference(whole, bands);
         (exchanged ? largest : unexchanged) =
           std::max(exchanged ? largest : unexchanged, difference);
       }
@@ -1028,15 +1060,7 @@ TEST(Kernels, SweepBandsEqualTheWholeSweep)
 TEST(Kernels, PointLightBandsEqualTheWholeSweep)
 {
   const ClassifiedVolume chromatic = ChromaticVolume({ { 13, 23, 25 } });
-  ClassifiedVolume grey;
-  grey.Geometry = chromatic.Geometry;
-  grey.Channels = 1;
-  std::vector<float> extinction;
-  for (long long i = 0; i < chromatic.Geometry.NumberOfPoints(); ++i)
-  {
-    extinction.push_back(chromatic.Value(4 * static_cast<size_t>(i)));
-  }
-  grey.Store(extinction);
+  const ClassifiedVolume grey = GreyOf(chromatic);
   std::vector<LightState> lights(6);
   for (LightState& light : lights)
   {
@@ -1061,26 +1085,15 @@ TEST(Kernels, PointLightBandsEqualTheWholeSweep)
       const GridGeometry target = ScaledGeometry(volume->Geometry, scale);
       double bounds[6];
       target.GetBounds(bounds);
-      std::vector<PropagationTask> tasks;
-      for (const LightState& light : lights)
-      {
-        const auto more = TasksForLight(light, +1, bounds);
-        tasks.insert(tasks.end(), more.begin(), more.end());
-      }
-      tasks[0].Recorded = true;
-      const double unit = FixedPointIllumination::ScaleFor(2.0);
-      FixedPointIllumination whole;
-      whole.Reset(target.NumberOfPoints(), unit);
-      whole.StartRecord();
+      const std::vector<PropagationTask> tasks = RecordedTasks(lights, bounds);
+      FixedPointIllumination whole = RecordingUnits(target.NumberOfPoints());
       std::vector<PropagationTask> remaining;
       PropagationStatistics statistics;
       ASSERT_TRUE(
         PropagateTasks(*volume, target, tasks, true, 0, whole, remaining, statistics, nullptr));
       for (const bool cone : { true, false })
       {
-        FixedPointIllumination bands;
-        bands.Reset(target.NumberOfPoints(), unit);
-        bands.StartRecord();
+        FixedPointIllumination bands = RecordingUnits(target.NumberOfPoints());
         for (const auto& sweep : PlanSweeps(tasks, true, 0, remaining))
         {
           const int c = SweepRowAxis(sweep[0].Group);
@@ -1106,38 +1119,14 @@ TEST(Kernels, PointLightBandsEqualTheWholeSweep)
             const ClassifiedVolume part = BandOfVolume(*volume, c, low, high);
             GridGeometry layout = target;
             layout.Dimensions[c] = band.Last - band.First + 1;
-            FixedPointIllumination units;
-            units.Reset(layout.NumberOfPoints(), unit);
-            units.StartRecord();
+            FixedPointIllumination units = RecordingUnits(layout.NumberOfPoints());
             PropagateSweepBand(
               part, target, sweep, band, units, [](const std::vector<float*>&, size_t) {},
               statistics);
-            const auto& d = target.Dimensions;
-            const auto& m = layout.Dimensions;
-            for (long long i = 0; i < layout.NumberOfPoints(); ++i)
-            {
-              long long index[3] = { i % m[0], (i / m[0]) % m[1], i / (m[0] * m[1]) };
-              index[c] += band.First;
-              const size_t to = 3 * (index[0] + d[0] * (index[1] + d[1] * index[2]));
-              for (int ch = 0; ch < 3; ++ch)
-              {
-                bands.Values[to + ch] += units.Values[3 * i + ch];
-                bands.Recorded[to + ch] += units.Recorded[3 * i + ch];
-              }
-            }
+            AddBandUnits(target, c, band, units, bands);
           }
         }
-        double difference = 0.0;
-        for (size_t i = 0; i < whole.Values.size(); ++i)
-        {
-          for (const bool record : { false, true })
-          {
-            const auto& a = record ? whole.Recorded : whole.Values;
-            const auto& b = record ? bands.Recorded : bands.Values;
-            difference = std::max(difference,
-              std::abs(static_cast<std::int32_t>(a[i]) - static_cast<std::int32_t>(b[i])) / unit);
-          }
-        }
+        const double difference = LargestDifference(whole, bands);
         (cone ? largest : narrow) = std::max(cone ? largest : narrow, difference);
       }
     }
