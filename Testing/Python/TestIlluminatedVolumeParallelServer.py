@@ -12,8 +12,9 @@ every process but the first) get the camera only as that render starts, and must
 it. That scene is also rendered by `mpiexec -np 2 pvbatch` running this script. Then a small
 image (9 x 5 x 5, lit at resolution scale 1/4 by 3 pvbatch processes, one of which holds an
 illumination piece that is the whole grid) is rendered twice in a row, before and after a
-camera move, and so is a cube of 5 tetrahedra (processes without cells): the processes must
-agree whether to light, or wait on each other for ever. The
+camera move, and so is a cube of 5 tetrahedra (processes without cells; the first process,
+which holds them, must have lit them): the processes must agree whether to light, or wait
+on each other for ever. The
 images must match (mean absolute difference below 0.5 of 255). The server's output must hold no
 error but those of the port probe.
 Usage: pvpython TestIlluminatedVolumeParallelServer.py PLUGIN OUTPUT_DIR PVSERVER MPIEXEC
@@ -140,6 +141,9 @@ def small_renders(path):
             Render(view)
             Render(view)
             GetActiveCamera().Azimuth(60)
+        if array == "RTData":
+            # The first process holds the cube's cells: it lit them (with the others).
+            print("small grid lit: %s" % (max(info(rep, "IlluminationMean")) > 0), flush=True)
         Delete(view)
     print("small image rendered", flush=True)
 
@@ -207,6 +211,8 @@ elif __name__ == "__main__":
                         "wait on each other)")
     elif "small image rendered" not in run.stdout:
         failures.append("pvbatch -np 3, small image: no renders\n" + run.stderr[-2000:])
+    elif "small grid lit: True" not in run.stdout:
+        failures.append("pvbatch -np 3, small grid: not lit\n" + run.stdout[-2000:])
     with open(log_path) as log:
         # The port probe (wait_for) connects without a handshake: the socket errors it causes
         # are expected.
