@@ -1138,21 +1138,11 @@ vtkImageData* BlockPointScalars::Update(vtkMultiProcessController* controller, c
   points->SetName(cells->GetName());
   points->SetNumberOfComponents(1);
   points->SetNumberOfTuples(this->Points->GetNumberOfPoints());
-  const int* from = around->GetExtent();
-  vtkIdType to = 0;
-  for (int k = block[4]; k <= block[5]; ++k)
-  {
-    for (int j = block[2]; j <= block[3]; ++j)
-    {
-      for (int i = block[0]; i <= block[1]; ++i, ++to)
-      {
-        const vtkIdType at = (i - from[0]) +
-          (static_cast<vtkIdType>(from[1] - from[0] + 1) *
-            ((j - from[2]) + static_cast<vtkIdType>(from[3] - from[2] + 1) * (k - from[4])));
-        points->SetTuple(to, at, converted.Array);
-      }
-    }
-  }
+  // The block's rows of the converted points (one value a point), byte for byte.
+  const auto* from = static_cast<const unsigned char*>(converted.Array->GetVoidPointer(0));
+  auto* to = static_cast<unsigned char*>(points->GetVoidPointer(0));
+  ForEachRow(around->GetExtent(), block, converted.Array->GetDataTypeSize(),
+    [&](long long offset, long long count) { to = std::copy_n(from + offset, count, to); });
   this->Points->GetPointData()->SetScalars(points);
   this->Source = cells;
   this->SourceTime = cells->GetMTime();
