@@ -1048,10 +1048,32 @@ template VOLILLUMFILTERS_EXPORT long long ExchangeExtents<std::uint32_t>(vtkMult
 
 bool AllOk(vtkMultiProcessController* controller, bool ok)
 {
+  if (!controller)
+  {
+    return ok;
+  }
   int mine = ok ? 1 : 0;
   int all = 0;
   controller->AllReduce(&mine, &all, 1, vtkCommunicator::MIN_OP);
   return all != 0;
+}
+
+//------------------------------------------------------------------------------
+bool MustUpdateTogether(
+  vtkMultiProcessController* controller, vtkAlgorithm* filter, vtkMTimeType read)
+{
+  if (!controller)
+  {
+    return true;
+  }
+  vtkDataObject* output = filter->GetOutputDataObject(0);
+  read = std::max(read, filter->GetMTime());
+  if (AllOk(controller, output && output->GetUpdateTime() > read))
+  {
+    return false;
+  }
+  filter->Modified();
+  return true;
 }
 
 //------------------------------------------------------------------------------

@@ -157,8 +157,20 @@ extern template VOLILLUMFILTERS_EXPORT long long ExchangeExtents<std::uint32_t>(
   vtkMultiProcessController*, const int*, const int*, const std::uint32_t*, const int*,
   std::uint32_t*, int, bool);
 
-/// Collective: whether `ok` holds on every process.
+/// Collective: whether `ok` holds on every process (`ok` itself without a controller: a
+/// serial run).
 VOLILLUMFILTERS_EXPORT bool AllOk(vtkMultiProcessController* controller, bool ok);
+
+/**
+ * Collective: whether every process must update `filter`, whose output covers only this
+ * process's piece (so its pipeline, asked for the whole data, would run it on some
+ * processes and not on the others): when any process's output is older than `read` (what
+ * the filter reads besides its own settings, which count too). Then the filter is marked
+ * modified on every process, so that each runs it. Without a controller (a serial run):
+ * true, and the pipeline decides.
+ */
+VOLILLUMFILTERS_EXPORT bool MustUpdateTogether(
+  vtkMultiProcessController* controller, vtkAlgorithm* filter, vtkMTimeType read);
 
 /**
  * Collective: the cells of `piece` that are not ghost cells (DUPLICATECELL), its points

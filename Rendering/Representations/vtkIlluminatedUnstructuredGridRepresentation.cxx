@@ -141,8 +141,6 @@ bool vtkIlluminatedUnstructuredGridRepresentation::UpdateIllumination(vtkPVRende
   // (a piece of another type, as with the mapper that resamples to an image, is not lit).
   vtkMultiProcessController* together =
     volillum::ParallelRun(vtkMultiProcessController::GetGlobalController());
-  auto agreed = [together](bool local)
-  { return together ? volillum::AllOk(together, local) : local; };
   const bool empty = grid && grid->GetNumberOfCells() == 0;
   volillum::ColouredArray coloured;
   vtkDataArray* array = volillum::ColouredArrayOf(this, grid, coloured);
@@ -152,13 +150,14 @@ bool vtkIlluminatedUnstructuredGridRepresentation::UpdateIllumination(vtkPVRende
   const bool lightable = array && !empty &&
     !(vectors &&
       (!this->MapScalars || this->MultiComponentsMapping || this->UseSeparateOpacityArray));
-  if (!agreed(lightable || (together && empty)) || (together && agreed(empty)))
+  if (!volillum::AllOk(together, lightable || (together && empty)) ||
+    (together && volillum::AllOk(together, empty)))
   {
     return false;
   }
   this->LitProperty->SetScalarOpacityUnitDistance(this->Property->GetScalarOpacityUnitDistance(0));
   auto& internals = *this->Internals;
-  if (agreed(volillum::IsInteractiveRender(view) && (empty || internals.Lit)))
+  if (volillum::AllOk(together, volillum::IsInteractiveRender(view) && (empty || internals.Lit)))
   {
     return internals.Lit; // keep the current lighting while the camera moves
   }
@@ -167,20 +166,9 @@ bool vtkIlluminatedUnstructuredGridRepresentation::UpdateIllumination(vtkPVRende
   internals.Lights.Update(view, this->UseLightKit);
   internals.Lights.ApplyTo(this->Illumination.Get());
   volillum::SetVolumeInput(this->Illumination.Get(), port, coloured, this->Property);
-  if (together)
-  {
-    // Every process updates the filter, or none: all do when any output is older than what
-    // the filter reads.
-    vtkDataObject* output = this->Illumination->GetOutputDataObject(0);
-    const vtkMTimeType read =
-      std::max(this->Illumination->GetMTime(), grid ? grid->GetMTime() : vtkMTimeType(0));
-    if (!agreed(output && output->GetUpdateTime() > read))
-    {
-      this->Illumination->Modified();
-      this->Illumination->Update();
-    }
-  }
-  else
+  // Every process updates the filter, or none.
+  if (volillum::MustUpdateTogether(
+        together, this->Illumination, grid ? grid->GetMTime() : vtkMTimeType(0)))
   {
     this->Illumination->Update();
   }

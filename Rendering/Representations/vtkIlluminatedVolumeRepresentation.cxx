@@ -321,12 +321,10 @@ void vtkIlluminatedVolumeRepresentation::UpdateIllumination(vtkPVRenderView* vie
   // is collective), a process without a piece takes part.
   auto& internals = *this->Internals;
   vtkMultiProcessController* together = internals.Controller;
-  auto agreed = [together](bool local)
-  { return together ? volillum::AllOk(together, local) : local; };
   const bool empty = !image || image->GetNumberOfPoints() == 0;
   volillum::ColouredArray coloured;
   const bool lightable = volillum::ColouredScalars(this, image, coloured) != nullptr;
-  if (!agreed(lightable || (together && empty)))
+  if (!volillum::AllOk(together, lightable || (together && empty)))
   {
     // Nothing this representation can light: draw as the Volume representation does.
     mapper->SetIlluminationData(nullptr);
@@ -336,9 +334,10 @@ void vtkIlluminatedVolumeRepresentation::UpdateIllumination(vtkPVRenderView* vie
   vtkIlluminationVolumeAlgorithm* filter = this->GetIlluminationFilter();
   auto* propagation = vtkMultiLightIlluminationVolume::SafeDownCast(filter);
   const bool progressive = propagation && this->MaximumPassesPerUpdate > 0;
-  const bool interactive = agreed(volillum::IsInteractiveRender(view));
-  if (agreed(interactive && !progressive &&
-        (empty || mapper->GetIlluminationData() == filter->GetOutput())))
+  const bool interactive = volillum::AllOk(together, volillum::IsInteractiveRender(view));
+  if (volillum::AllOk(together,
+        interactive && !progressive &&
+          (empty || mapper->GetIlluminationData() == filter->GetOutput())))
   {
     return; // keep the current illumination while the camera moves
   }
@@ -363,23 +362,11 @@ void vtkIlluminatedVolumeRepresentation::UpdateIllumination(vtkPVRenderView* vie
     shadows->SetFilterWidth(this->ShadowFilterWidth);
     shadows->SetFilterKernel(this->ShadowFilterKernel);
   }
-  if (together)
+  // Every process updates the filter, or none.
+  if (!volillum::MustUpdateTogether(together, filter,
+        std::max(internals.Piece->GetMTime(), image ? image->GetMTime() : vtkMTimeType(0))))
   {
-    // Every process updates the filter, or none. Its output covers this process's piece
-    // only, so its pipeline, asked for the whole grid, would run it at every update on the
-    // processes whose piece is not the whole grid and not on the others: the processes agree
-    // instead whether any output is older than what the filter reads.
-    vtkDataObject* output = filter->GetOutputDataObject(0);
-    vtkMTimeType read = std::max(filter->GetMTime(), internals.Piece->GetMTime());
-    if (image)
-    {
-      read = std::max(read, image->GetMTime());
-    }
-    if (volillum::AllOk(together, output && output->GetUpdateTime() > read))
-    {
-      return; // the mapper has the current illumination (none for an empty piece)
-    }
-    filter->Modified();
+    return; // the mapper has the current illumination (none for an empty piece)
   }
   if (!this->UpdateFilter(filter))
   {
