@@ -26,6 +26,7 @@
 #include <cstring>
 #include <limits>
 #include <map>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -979,6 +980,92 @@ void Unpack(const std::vector<T>& packed, const int* extent, const int* part, in
       at += count;
     });
 }
+
+// Collective: the data type, components and association (0 points, 1 cells) of the arrays
+// that processes pass (nullptr: none) in form; false when they differ. Where no process
+// passes one, form[0] is the largest int.
+bool AgreeOnArrays(
+  vtkMultiProcessController* controller, vtkDataArray* array, int association, int form[3])
+{
+  constexpr int none = std::numeric_limits<int>::max();
+  int local[6] = { none, none, none, -none, -none, -none };
+  if (array)
+  {
+    local[0] = local[3] = array->GetDataType();
+    local[1] = local[4] = array->GetNumberOfComponents();
+    local[2] = local[5] = association;
+  }
+  int high[3];
+  controller->AllReduce(local, form, 3, vtkCommunicator::MIN_OP);
+  controller->AllReduce(local + 3, high, 3, vtkCommunicator::MAX_OP);
+  return form[0] == none || std::equal(form, form + 3, high);
+}
+
+// Collective: the name of the array of the first process that passes one ("" for none).
+std::string NameOfFirst(vtkMultiProcessController* controller, vtkDataArray* array)
+{
+  const int processes = controller->GetNumberOfProcesses();
+  const int mine = array ? controller->GetLocalProcessId() : processes;
+  int first = processes;
+  controller->AllReduce(&mine, &first, 1, vtkCommunicator::MIN_OP);
+  std::string name = array && array->GetName() ? array->GetName() : "";
+  if (first == processes)
+  {
+    return name;
+  }
+  int length = static_cast<int>(name.size());
+  controller->Broadcast(&length, 1, first);
+  name.resize(static_cast<size_t>(length));
+  if (length > 0)
+  {
+    controller->Broadcast(&name[0], length, first);
+  }
+  return name;
+}
+}
+
+//------------------------------------------------------------------------------
+bool ExtentsCover(const std::vector<int>& extents, const int wanted[6])
+{
+  // What no extent so far holds, as boxes: each extent cuts the part of a box it holds out,
+  // leaving at most two slabs of the box along each axis.
+  std::vector<std::array<int, 6>> left;
+  if (!IsEmpty(wanted))
+  {
+    left.push_back({ { wanted[0], wanted[1], wanted[2], wanted[3], wanted[4], wanted[5] } });
+  }
+  for (size_t p = 0; p + 6 <= extents.size() && !left.empty(); p += 6)
+  {
+    std::vector<std::array<int, 6>> next;
+    for (auto box : left)
+    {
+      int common[6];
+      if (!Intersect(box.data(), extents.data() + p, common))
+      {
+        next.push_back(box);
+        continue;
+      }
+      for (int a = 0; a < 3; ++a)
+      {
+        if (box[2 * a] < common[2 * a])
+        {
+          auto below = box;
+          below[2 * a + 1] = common[2 * a] - 1;
+          next.push_back(below);
+        }
+        if (box[2 * a + 1] > common[2 * a + 1])
+        {
+          auto above = box;
+          above[2 * a] = common[2 * a + 1] + 1;
+          next.push_back(above);
+        }
+        box[2 * a] = common[2 * a];
+        box[2 * a + 1] = common[2 * a + 1];
+      }
+    }
+    left = std::move(next);
+  }
+  return left.empty();
 }
 
 template <typename T>
@@ -1091,17 +1178,8 @@ vtkImageData* BlockPointScalars::Update(vtkMultiProcessController* controller, c
   }
   this->Points = nullptr;
   // Every array with a block has the same type and components (the bytes of a cell travel).
-  int local[4] = { std::numeric_limits<int>::max(), std::numeric_limits<int>::max(),
-    std::numeric_limits<int>::min(), std::numeric_limits<int>::min() };
-  if (mine)
-  {
-    local[0] = local[2] = cells->GetDataType();
-    local[1] = local[3] = cells->GetNumberOfComponents();
-  }
-  int low[2], high[2];
-  controller->AllReduce(local, low, 2, vtkCommunicator::MIN_OP);
-  controller->AllReduce(local + 2, high, 2, vtkCommunicator::MAX_OP);
-  if (low[0] != high[0] || low[1] != high[1])
+  int form[3];
+  if (!AgreeOnArrays(controller, mine ? cells : nullptr, 1, form))
   {
     error = "The pieces' cell scalars differ in type or components.";
     return nullptr;
@@ -1171,6 +1249,139 @@ vtkImageData* BlockPointScalars::Update(vtkMultiProcessController* controller, c
   std::copy_n(extent, 6, this->Extent);
   this->Component = component;
   return this->Points;
+}
+
+//------------------------------------------------------------------------------
+void MovePointArrays(
+  vtkMultiProcessController* controller, vtkImageData* from, const int* extent, vtkImageData* to)
+{
+  const int none[6] = { 0, -1, 0, -1, 0, -1 };
+  const int* held = from ? from->GetExtent() : none;
+  vtkPointData* arrays = from ? from->GetPointData() : nullptr;
+  const int mine = arrays ? arrays->GetNumberOfArrays() : 0;
+  int count = 0;
+  controller->AllReduce(&mine, &count, 1, vtkCommunicator::MAX_OP);
+  if (extent)
+  {
+    to->Initialize();
+    to->SetExtent(const_cast<int*>(extent));
+  }
+  const std::string scalars = NameOfFirst(controller, arrays ? arrays->GetScalars() : nullptr);
+  for (int i = 0; i < count; ++i)
+  {
+    vtkDataArray* array = arrays ? arrays->GetArray(i) : nullptr;
+    int form[3];
+    AgreeOnArrays(controller, array, 0, form);
+    const std::string name = NameOfFirst(controller, array);
+    auto moved = vtk::TakeSmartPointer(vtkDataArray::CreateDataArray(form[0]));
+    moved->SetName(name.c_str());
+    moved->SetNumberOfComponents(form[1]);
+    moved->SetNumberOfTuples(extent ? ExtentPoints(extent) : 0);
+    moved->Fill(0.0);
+    ExchangeExtents<unsigned char>(controller, held, held,
+      array ? static_cast<const unsigned char*>(array->GetVoidPointer(0)) : nullptr,
+      extent ? extent : none, static_cast<unsigned char*>(moved->GetVoidPointer(0)),
+      form[1] * vtkDataArray::GetDataTypeSize(form[0]), false);
+    if (extent)
+    {
+      to->GetPointData()->AddArray(moved);
+    }
+  }
+  if (extent && !scalars.empty())
+  {
+    to->GetPointData()->SetActiveScalars(scalars.c_str());
+  }
+}
+
+//------------------------------------------------------------------------------
+vtkImageData* BlockOfPieces::Update(vtkMultiProcessController* controller, vtkImageData* shape,
+  const int* block, vtkImageData* piece, vtkDataArray* array, bool onCells, std::string& error)
+{
+  const int none[6] = { 0, -1, 0, -1, 0, -1 };
+  const int* extent = piece ? piece->GetExtent() : none;
+  const int* wantedPoints = block ? block : none;
+  const bool kept = (!block || this->Block) && this->Source == (piece ? array : nullptr) &&
+    (!piece || !array || this->SourceTime == array->GetMTime()) &&
+    std::equal(extent, extent + 6, this->Extent) &&
+    std::equal(wantedPoints, wantedPoints + 6, this->BlockExtent) && this->OnCells == onCells;
+  if (AllOk(controller, kept))
+  {
+    if (block)
+    {
+      this->Block->SetOrigin(shape->GetOrigin()); // (each a change only if it changed)
+      this->Block->SetSpacing(shape->GetSpacing());
+      this->Block->SetDirectionMatrix(shape->GetDirectionMatrix());
+    }
+    return block ? this->Block.Get() : nullptr;
+  }
+  this->Block = nullptr;
+  this->Source = nullptr;
+  std::copy_n(none, 6, this->Extent);
+  if (piece && !array && error.empty())
+  {
+    error = "This process's piece has no numeric array to illuminate.";
+  }
+  if (!AllOk(controller, !piece || array))
+  {
+    return nullptr;
+  }
+  int form[3];
+  if (!AgreeOnArrays(controller, array, onCells ? 1 : 0, form))
+  {
+    if (controller->GetLocalProcessId() == 0)
+    {
+      error = "The pieces' arrays to illuminate differ in type, components or association.";
+    }
+    return nullptr;
+  }
+  const std::string name = NameOfFirst(controller, array);
+  // Cells are given by their first point: those of an extent of points [a, b] are [a, b - 1]
+  // (a piece one point thick holds none of the volume's cells).
+  int held[6], wanted[6];
+  std::copy_n(piece ? extent : none, 6, held);
+  std::copy_n(wantedPoints, 6, wanted);
+  if (form[2] == 1)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      --held[2 * a + 1];
+      --wanted[2 * a + 1];
+    }
+  }
+  const std::vector<int> pieces = GatherExtents(controller, held);
+  const bool covered = !block || ExtentsCover(pieces, wanted);
+  if (!AllOk(controller, covered))
+  {
+    if (!covered)
+    {
+      error = "The pieces leave part of this process's block of the image uncovered.";
+    }
+    return nullptr;
+  }
+  const int bytes = form[1] * vtkDataArray::GetDataTypeSize(form[0]);
+  auto values = vtk::TakeSmartPointer(vtkDataArray::CreateDataArray(form[0]));
+  values->SetName(name.c_str());
+  values->SetNumberOfComponents(form[1]);
+  values->SetNumberOfTuples(ExtentPoints(wanted));
+  ExchangeExtents<unsigned char>(controller, held, held,
+    array ? static_cast<const unsigned char*>(array->GetVoidPointer(0)) : nullptr, wanted,
+    static_cast<unsigned char*>(values->GetVoidPointer(0)), bytes, false);
+  if (block)
+  {
+    this->Block = vtkSmartPointer<vtkImageData>::New();
+    this->Block->SetExtent(const_cast<int*>(block));
+    this->Block->SetOrigin(shape->GetOrigin());
+    this->Block->SetSpacing(shape->GetSpacing());
+    this->Block->SetDirectionMatrix(shape->GetDirectionMatrix());
+    this->Block->GetAttributes(form[2] == 1 ? vtkDataObject::CELL : vtkDataObject::POINT)
+      ->SetScalars(values);
+  }
+  this->Source = piece ? array : nullptr;
+  this->SourceTime = array ? array->GetMTime() : 0;
+  std::copy_n(extent, 6, this->Extent);
+  std::copy_n(wantedPoints, 6, this->BlockExtent);
+  this->OnCells = onCells;
+  return this->Block;
 }
 
 }

@@ -15,7 +15,9 @@
  * the blocks; for point and spot lights that of the band's cone back to the light),
  * neighbouring bands exchanging directional lights' lattice rows after every slice, the units
  * moved to the pieces' processes (ExchangeExtents); cell scalars become point scalars over each
- * block from its cells and the layer around it (BlockPointScalars). The image filters with
+ * block from its cells and the layer around it (BlockPointScalars). Pieces that are not the
+ * blocks (another decomposition) give each block its lit array (BlockOfPieces), and the
+ * illumination over the blocks moves to the pieces' processes (MovePointArrays). The image filters with
  * the distributed properties off assemble the whole input on every process from the pieces of all
  * processes (collective calls of the filter's vtkMultiProcessController) and output the part of the
  * illumination that belongs to their own piece; the propagation then shares its sweeps out among
@@ -269,6 +271,52 @@ private:
   int Extent[6] = { 0, -1, 0, -1, 0, -1 };
   int Component = -1;
 };
+
+/// Whether the union of the extents (6 values each, as GatherExtents gives them) holds every
+/// point of `wanted`.
+VOLILLUMFILTERS_EXPORT bool ExtentsCover(const std::vector<int>& extents, const int wanted[6]);
+
+/**
+ * The lit array of an image over this process's block, gathered from the pieces the
+ * processes hold when those pieces are not the blocks (a simulation's own decomposition
+ * handed over by Catalyst or a script, pieces cut along another axis): each point (or
+ * cell) of the block comes from a process whose piece holds it (ExchangeExtents, only the
+ * array's values travel). Memory per process: its piece and its block.
+ */
+class VOLILLUMFILTERS_EXPORT BlockOfPieces
+{
+public:
+  /**
+   * Collective. `shape`: an image with the whole extent, origin, spacing and direction of the
+   * data; `block`: this process's block (nullptr for none); `piece`: its piece (nullptr or
+   * without points for none) and `array` the piece's array to light, on its cells when
+   * `onCells` (nullptr where the piece has none). Returns an image over the block holding the
+   * array (as its point or cell scalars, named as `array`), kept while no process's piece or
+   * array changes; nullptr for a process without a block, and on every process, with the
+   * reason in error, when a piece lacks the array, the arrays differ in type, components or
+   * association, or the pieces leave part of a block uncovered.
+   */
+  vtkImageData* Update(vtkMultiProcessController* controller, vtkImageData* shape, const int* block,
+    vtkImageData* piece, vtkDataArray* array, bool onCells, std::string& error);
+
+private:
+  vtkSmartPointer<vtkImageData> Block;
+  vtkWeakPointer<vtkDataArray> Source;
+  vtkMTimeType SourceTime = 0;
+  int Extent[6] = { 0, -1, 0, -1, 0, -1 };
+  int BlockExtent[6] = { 0, -1, 0, -1, 0, -1 };
+  bool OnCells = false;
+};
+
+/**
+ * Collective: the point arrays of images over parts of a grid moved to other parts of it.
+ * `from` (nullptr for none) holds the arrays over its extent, the same arrays on every
+ * process that passes one (names, types, components); `to` gets each of them over `extent`
+ * (nullptr: none; `to` is left alone), every point from a process whose `from` holds it
+ * (ExchangeExtents; points that none holds are 0), with the same active scalars.
+ */
+VOLILLUMFILTERS_EXPORT void MovePointArrays(
+  vtkMultiProcessController* controller, vtkImageData* from, const int* extent, vtkImageData* to);
 
 /**
  * The whole input of a filter assembled from the pieces of all processes, kept until the

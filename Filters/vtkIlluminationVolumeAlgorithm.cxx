@@ -65,6 +65,7 @@ bool vtkIlluminationVolumeAlgorithm::ClassificationKey::operator==(const Classif
 vtkIlluminationVolumeAlgorithm::vtkIlluminationVolumeAlgorithm()
   : Distributed(new volillum::DistributedInput)
   , BlockScalars(new volillum::BlockPointScalars)
+  , Blocks(new volillum::BlockOfPieces)
 {
   this->SetController(vtkMultiProcessController::GetGlobalController());
   this->SetInputArrayToProcess(
@@ -487,23 +488,44 @@ void vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessContro
   shape->SetExtent(whole);
   shape->SetOrigin(origin);
   shape->SetSpacing(spacing);
+  if (inInfo->Has(vtkDataObject::DIRECTION()))
+  {
+    double direction[9];
+    inInfo->Get(vtkDataObject::DIRECTION(), direction);
+    shape->SetDirectionMatrix(direction);
+  }
   volillum::GridGeometry data, target;
   if (!this->ValidGeometry(shape, data, target))
   {
     return;
   }
   // This process takes the samples in the cells of its block of the data (the blocks share
-  // their boundary planes, so each cell is taken once); its input must hold the block.
+  // their boundary planes, so each cell is taken once). Where the pieces are not the blocks
+  // (another decomposition), each block's lit array is gathered from the pieces that hold it.
   int block[6];
   const bool piece = volillum::ProcessBlock(controller, whole, block);
   bool ok = !piece || (input && volillum::ExtentHolds(input->GetExtent(), block));
-  if (!ok)
+  vtkImageData* const own = input && input->GetNumberOfPoints() > 0 ? input : nullptr;
+  const bool gathered = !volillum::AllOk(controller, ok);
+  if (gathered)
   {
-    vtkErrorMacro("The input piece does not hold the block of the data this process lights.");
+    bool onCells = false;
+    std::string error;
+    vtkAbstractArray* chosen = own ? volillum::ChooseScalars(this, own, onCells, error) : nullptr;
+    input = this->Blocks->Update(controller, shape, piece ? block : nullptr, own,
+      vtkDataArray::SafeDownCast(chosen), onCells, error);
+    if (!error.empty())
+    {
+      vtkErrorMacro(<< error);
+    }
+    if (!volillum::AllOk(controller, !piece || input))
+    {
+      return;
+    }
   }
-  if (!volillum::AllOk(controller, ok))
+  else
   {
-    return;
+    this->Blocks = std::make_unique<volillum::BlockOfPieces>(); // none kept
   }
   // Cell scalars become point values by averaging the cells around a point: over the block,
   // from its cells and the layer of the neighbours' around it (decided before any
@@ -600,10 +622,32 @@ void vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessContro
     target, extents, inputModified, illumination->GetPointer(0), report);
   this->SetAbortExecute(0); // not aborted: the other processes took part
   this->Distributed = std::make_unique<volillum::DistributedInput>(); // no whole input kept
+  vtkNew<vtkImageData> lit; // the illumination over the block, when the pieces are others
   if (piece)
   {
-    this->FinishOutput(output, extent, target, input->GetDirectionMatrix(), illumination, report,
+    this->FinishOutput(gathered ? lit.Get() : output, extent, target, input->GetDirectionMatrix(),
+      illumination, report,
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  }
+  if (gathered)
+  {
+    // Each process outputs the illumination over its own piece, as where the pieces are the
+    // blocks: the parts of the illumination grid over the blocks move to the pieces'.
+    if (own)
+    {
+      volillum::TargetPieceExtent(whole, target.Dimensions.data(), own->GetExtent(), extent);
+    }
+    volillum::MovePointArrays(
+      controller, piece ? lit.Get() : nullptr, own ? extent : nullptr, output);
+    if (own)
+    {
+      output->SetOrigin(target.Origin.data());
+      output->SetSpacing(target.Spacing.data());
+      output->SetDirectionMatrix(own->GetDirectionMatrix());
+      output->GetFieldData()->ShallowCopy(lit->GetFieldData());
+    }
+    this->LastOutput = vtkSmartPointer<vtkImageData>::New();
+    this->LastOutput->ShallowCopy(output);
   }
 }
 

@@ -52,6 +52,7 @@
 
 namespace volillum
 {
+class BlockOfPieces;
 class BlockPointScalars;
 class DistributedInput;
 class EmptyBlocks;
@@ -153,8 +154,9 @@ public:
    * The processes of a parallel run (default: the global controller). With more than one
    * process, each process outputs the illumination points that cover its own piece (see
    * IlluminationParallel.h) and the result equals a serial run's: filters that light
-   * distributed pieces (LightsDistributedPieces) march through the piece each process holds
-   * and combine the parts of the rays; the others assemble the whole input on every process
+   * distributed pieces (LightsDistributedPieces) light the block of the input each process
+   * holds (gathered from the pieces where they are not the blocks) and combine the parts of
+   * the light; the others assemble the whole input on every process
    * and light their share of it (their piece's points, or their share of the sweeps). A parallel
    * run of the propagation does not stop when aborted. Every process must update the filter
    * together. Set nullptr to light each piece on its own.
@@ -209,9 +211,11 @@ protected:
   /**
    * Whether a parallel run lights each process's piece of the input where it is
    * (ComputeDistributedIllumination) instead of assembling the whole input on every
-   * process (false by default). Cell scalars become point values over each process's block
-   * from its cells and the layer of cells around it (BlockPointScalars), as a serial run
-   * averages them.
+   * process (false by default). Each process lights its block of the input (vtkExtentTranslator's
+   * block p of N), gathered from the pieces where they are not the blocks (BlockOfPieces), and
+   * outputs the illumination over its own piece. Cell scalars become point values over each
+   * process's block from its cells and the layer of cells around it (BlockPointScalars), as a
+   * serial run averages them.
    */
   virtual bool LightsDistributedPieces() const { return false; }
 
@@ -290,8 +294,9 @@ private:
   // A parallel update of a filter that LightsDistributedPieces: each process classifies its
   // piece (the transfer functions over the scalar range of all pieces) and
   // ComputeDistributedIllumination gives it its part of the illumination grid. `inInfo`:
-  // the input's pipeline information (the whole extent and geometry). Cell scalars become
-  // point scalars over the block (BlockScalars).
+  // the input's pipeline information (the whole extent and geometry). Pieces that are not
+  // the blocks are gathered into blocks first (Blocks); cell scalars become point scalars
+  // over the block (BlockScalars).
   void IlluminateDistributed(vtkMultiProcessController* controller, vtkInformation* inInfo,
     vtkImageData* input, vtkImageData* output);
   // The end of a successful update: the output's geometry (the illumination grid `target`,
@@ -331,6 +336,8 @@ private:
   // Point scalars over this process's block from cell scalars (a parallel run lit where the
   // pieces are).
   std::unique_ptr<volillum::BlockPointScalars> BlockScalars;
+  // This process's block of the lit array, from pieces that are not the blocks.
+  std::unique_ptr<volillum::BlockOfPieces> Blocks;
   // During a parallel update that shares sweeps: its controller and every process's extent
   // of the illumination grid (GatherExtents); null and empty otherwise. SumsDone: whether
   // OutputIllumination took part in the sums of the current update.

@@ -37,11 +37,16 @@ and checks, against the serial run:
 - cell scalars (each point the average of the cells around it: a block's cells and a layer
   of its neighbours'), with the ray marcher, filtered shadows and the propagation (whose
   one-light edit stays selective): no process classified the whole input;
+- pieces of another decomposition (slabs along x cut away from the blocks' boundaries, one
+  process empty on 3), point and cell scalars, with the three image filters: each process
+  classified only its block (gathered from the slabs), and a light edit stays selective;
 - no process prints an error (an empty piece is normal in parallel).
 Usage: pvpython TestParallelIllumination.py PLUGIN OUTPUT_DIR PVBATCH MPIEXEC "MPI_FLAGS"
        GRID NPROCS...
 """
 import os
+import re
+import shutil
 import subprocess
 import sys
 
@@ -55,7 +60,8 @@ FILES = ["multilight.pvti", "selective.pvti", "fresh.pvti", "swept.pvti", "swept
          "filtered_inside.pvti", "filtered_assembled.pvti",
          "raymarched.pvti",
          "tiny.pvti", "tiny_raymarched.pvti", "cells_raymarched.pvti", "cells_filtered.pvti",
-         "cells_multilight.pvti",
+         "cells_multilight.pvti", "slabs_multilight.pvti", "slabs_filtered.pvti",
+         "slabs_raymarched.pvti", "slabs_cells.pvti",
          "unstructured.pvtu", "unstructured_pieces.pvtu", "wavelet.pvtu", "mixed.pvtu"]
 HEAD = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Data", "headsq.vti")
 
@@ -69,6 +75,11 @@ EDITED = LIGHTS[:14] + [1, 330, -40, 90, 100, 100, 70, 0.4, 0.6, 1.0, 0.8, 90, 1
 # twice.
 SWEPT = LIGHTS[:14] + [0, 300, 250, -100, 100, 100, 70, 0.3, 0.8, 1.0, 1.0, 90, 1, 1,
                        0, 40, 90, 380, 100, 100, 70, 1.0, 1.0, 1.0, 0.6, 90, 1, 1]
+# Slabs of the CT head along x per number of processes, one per process, cut where no block
+# of vtkExtentTranslator's has a boundary (pieces of another decomposition); "first" and
+# "last" stand for the image's first and last x, None for no piece.
+SLABS = {1: [("first", "last")], 2: [("first", 20), (20, "last")],
+         3: [("first", 11), (11, "last"), None]}
 SWEPT_EDITED = SWEPT[:14] + [0, 320, 200, -60] + SWEPT[18:]
 SWEPT_AGAIN = SWEPT[:14] + [0, 280, 260, 140, 100, 100, 70, 0.3, 0.8, 1.0, 0.9, 90, 1, 1] + \
     SWEPT[28:]
@@ -243,6 +254,80 @@ out.GetPointData().SetGlobalIds(ids)
     mixed.Lights = [0, -1, -2, -3, 0, 0, 0, 1.0, 0.8, 0.6, 1.0, 90, 1, 1]
     save(mixed, "mixed.pvtu")
 
+    # Pieces of another decomposition than the blocks the filters read (as a simulation hands
+    # its own over): slabs along x, cut where no block boundary lies, the third process's
+    # empty; each block is gathered from the slabs that hold it, and each process outputs
+    # the illumination over its slab. On point scalars (a light edit must stay selective) and
+    # on cell scalars. Last: a programmable filter leaves numpy's max in this module.
+    slabs = {association: x_slabs(source, SLABS)
+             for association, source in (("POINTS", head), ("CELLS", head_cells))}
+    for name, association, scale, lights, saved in (
+            ("MultiLightIlluminationVolume", "POINTS", 0.5, [LIGHTS, EDITED],
+             "slabs_multilight.pvti"),
+            ("FilteredVolumetricShadows", "POINTS", 0.5, [LIGHTS], "slabs_filtered.pvti"),
+            ("RayMarchedIllumination", "POINTS", 0.25, [LIGHTS], "slabs_raymarched.pvti"),
+            ("MultiLightIlluminationVolume", "CELLS", 0.5, [SWEPT], "slabs_cells.pvti")):
+        f = ns[name](Input=slabs[association], ColorTransferFunction=lut, OpacityFunction=pwf,
+                     ResolutionScale=scale)
+        f.Scalars = [association, "scalars"]
+        for edit in lights:
+            f.Lights = edit
+            f.UpdatePipeline()
+        save(f, saved)
+
+
+def x_slabs(source, slabs):
+    """A programmable filter that gives process p of N the slab slabs[N][p] of the image
+    along x, reading the whole image. Its scripts run in the __main__ module of the process
+    (ParaView's prelude gives it numpy's names, max among them: in the worker, this
+    module): they define no other names but their functions'."""
+    from paraview.simple import ProgrammableFilter
+    return ProgrammableFilter(Input=source, OutputDataSetType="Same as Input",
+                              RequestUpdateExtentScript="""
+def _whole_input(algorithm):
+    from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline as sddp
+    request = algorithm.GetInputInformation(0, 0)
+    request.Set(sddp.UPDATE_EXTENT(), request.Get(sddp.WHOLE_EXTENT()), 6)
+_whole_input(self)
+""", Script="""
+def _slab(algorithm, slabs):
+    from vtkmodules.vtkParallelCore import vtkMultiProcessController
+    from vtkmodules.vtkImagingCore import vtkExtractVOI
+    controller = vtkMultiProcessController.GetGlobalController()
+    slab = slabs[controller.GetNumberOfProcesses()][controller.GetLocalProcessId()]
+    e = list(algorithm.GetInput().GetExtent())
+    if slab is None:
+        algorithm.GetOutput().SetExtent(0, -1, 0, -1, 0, -1)
+        return
+    # The pipeline runs this again whenever a block is asked for that the slab does not
+    # hold: the same slab again, as a simulation's unchanged piece would be.
+    if not hasattr(algorithm, "slab"):
+        x = [e[0] if c == "first" else e[1] if c == "last" else c for c in slab]
+        algorithm.slab = vtkExtractVOI()
+        algorithm.slab.SetInputData(algorithm.GetInput())
+        algorithm.slab.SetVOI(x[0], x[1], e[2], e[3], e[4], e[5])
+        algorithm.slab.Update()
+    algorithm.GetOutput().ShallowCopy(algorithm.slab.GetOutput())
+_slab(self, %r)
+""" % (slabs,))
+
+
+def gap_worker(plugin):
+    """Slabs that leave x = 21 to 24 in no piece: every image filter must refuse them with
+    an error and output nothing, and the processes go on."""
+    from paraview.simple import (LoadPlugin, XMLImageDataReader, GetColorTransferFunction,
+                                 GetOpacityTransferFunction)
+    ns = globals()
+    LoadPlugin(plugin, remote=False, ns=ns)
+    gap = x_slabs(XMLImageDataReader(FileName=[HEAD]), {2: [("first", 20), (25, "last")]})
+    for name in ("MultiLightIlluminationVolume", "FilteredVolumetricShadows",
+                 "RayMarchedIllumination"):
+        f = ns[name](Input=gap, ColorTransferFunction=GetColorTransferFunction("scalars"),
+                     OpacityFunction=GetOpacityTransferFunction("scalars"))
+        f.Scalars = ["POINTS", "scalars"]
+        f.UpdatePipeline()
+        print("%s output points: %d" % (name, f.GetDataInformation().GetNumberOfPoints()))
+
 
 def read_whole(path):
     from paraview.simple import OpenDataFile
@@ -280,7 +365,9 @@ def held_less(out, run, f, field, what, held, failures):
     whole = piece_counts(os.path.join(out, "serial", f[:-len(".pvti")]), "ClassifiedPoints")
     counts = piece_counts(os.path.join(out, run, f[:-len(".pvti")]), field)
     print("%-5s %-26s %s %s of %s" % (run, f, what, counts, whole))
-    if len(counts) != int(run[2:]) or max(counts) >= whole[0]:
+    # Every process writes a piece, but a process without a slab (the third) for slabs_*.
+    pieces = min(int(run[2:]), 2) if f.startswith("slabs_") else int(run[2:])
+    if len(counts) != pieces or max(counts) >= whole[0]:
         failures.append("%s/%s: a process held the whole %s" % (run, f, held))
 
 
@@ -387,7 +474,8 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
     write_mixed_pieces(out)
     for run, command in runs.items():
         directory = os.path.join(out, run)
-        os.makedirs(directory, exist_ok=True)
+        shutil.rmtree(directory, ignore_errors=True)  # no piece files of an earlier run
+        os.makedirs(directory)
         result = subprocess.run(command + [os.path.abspath(__file__), "--worker", plugin, directory,
                                            grid_file, tiny_file, "0" if run == "serial" else "1"],
                                 stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
@@ -395,6 +483,16 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
         log = result.stdout
         if result.returncode != 0 or "ERROR" in log or "Warning" in log:
             failures.append("%s: exit %d, output:\n%s" % (run, result.returncode, log[-3000:]))
+    if "np2" in runs:
+        result = subprocess.run(runs["np2"] + [os.path.abspath(__file__), "--gap", plugin],
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                                env=environment_for_mpiexec(), timeout=600)
+        print(result.stdout)
+        refused = result.stdout.count("leave part of this process's block of the image uncovered")
+        if result.returncode != 0 or refused < 3 or \
+                result.stdout.count(" output points: 0\n") != 3:
+            failures.append("np2 gap: exit %d, output:\n%s" % (result.returncode,
+                                                                 result.stdout[-3000:]))
     if failures:
         print("\n".join(failures))
         return 1
@@ -424,6 +522,14 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
                 print("%-5s %-26s points lit by each process %s of %d" % (run, f, lit, whole))
                 if not lit or max(lit) >= whole:
                     failures.append("%s/%s: a process lit the whole grid" % (run, f))
+            if f.startswith("slabs_"):
+                # Each process output the illumination over its slab: pieces across x only.
+                with open(os.path.join(out, run, f)) as pvti:
+                    pieces = [[int(v) for v in e.split()] for e in
+                              re.findall(r'<Piece Extent="([^"]*)"', pvti.read())]
+                whole = serial[f].GetExtent()
+                if len(pieces) != 2 or any(e[2:] != list(whole[2:]) for e in pieces):
+                    failures.append("%s/%s: pieces %s are not slabs along x" % (run, f, pieces))
             if f.startswith("filtered_"):
                 shadow = compare(serial[f], data, "Transmittance0")
                 if shadow is None or shadow > TOLERANCE:
@@ -439,7 +545,8 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
                      "filtered_axis.pvti", "filtered_point.pvti", "filtered_inside.pvti",
                      "swept.pvti", "swept_chromatic.pvti", "multilight.pvti",
                      "swept_inside.pvti", "cells_raymarched.pvti", "cells_filtered.pvti",
-                     "cells_multilight.pvti"):
+                     "cells_multilight.pvti", "slabs_multilight.pvti", "slabs_filtered.pvti",
+                     "slabs_raymarched.pvti", "slabs_cells.pvti"):
                 # Each process classified its block of the input, not the whole input.
                 held_less(out, run, f, "ClassifiedPoints",
                           "input points classified by each process", "input", failures)
@@ -462,7 +569,7 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
                   % (run, edited, update_mode(selective), edit_error))
             if update_mode(selective) != 1 or edit_error is None or edit_error > TOLERANCE:
                 failures.append("%s/%s: not an exact selective update" % (run, edited))
-        for edited in ("swept_selective", "cells_multilight"):
+        for edited in ("swept_selective", "cells_multilight", "slabs_multilight"):
             if update_mode(read_whole(os.path.join(out, run, edited + ".pvti"))) != 1:
                 failures.append("%s/%s: not a selective update" % (run, edited))
     print("\n".join(failures) if failures else "all parallel runs equal the serial run")
@@ -470,7 +577,9 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
 
 
 if __name__ == "__main__":
-    if sys.argv[1] == "--worker":
+    if sys.argv[1] == "--gap":
+        gap_worker(sys.argv[2])
+    elif sys.argv[1] == "--worker":
         worker(sys.argv[2], sys.argv[3], sys.argv[4], sys.argv[5], sys.argv[6] == "1")
     else:
         sys.exit(driver(*sys.argv[1:7], sys.argv[7:]))
