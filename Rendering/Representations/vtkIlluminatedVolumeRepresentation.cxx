@@ -38,17 +38,11 @@ struct vtkIlluminatedVolumeRepresentation::vtkInternals
   vtkSmartPointer<vtkDataArray> Vectors;
   vtkSmartPointer<vtkDataArray> Reduced;
   int Component = -1;
-  // A parallel run (pvserver or pvbatch under MPI). Where every process's piece holds its
-  // block of the image (the parallel readers' pieces), the filter lights the pieces where
-  // they are as each render starts, every process together (Piece: this process's piece
-  // within the whole extent). Otherwise the whole image is assembled from every process's
-  // piece when the data updates (all processes update together) and lit on each process
-  // without further communication when it renders its own piece (Whole).
-  volillum::DistributedInput Distributed;
-  vtkNew<vtkTrivialProducer> Whole;
+  // A parallel run (pvserver or pvbatch under MPI): the filter lights the pieces where they
+  // are as each render starts, every process together (Piece: this process's piece within
+  // the whole extent), and gives each process the illumination over its piece.
   vtkNew<vtkTrivialProducer> Piece;
   vtkMultiProcessController* Controller = nullptr; // lighting the pieces where they are
-  bool Parallel = false;
 };
 
 vtkStandardNewMacro(vtkIlluminatedVolumeRepresentation);
@@ -136,7 +130,7 @@ vtkIlluminationVolumeAlgorithm* vtkIlluminatedVolumeRepresentation::GetIlluminat
     }
     volillum::ForwardProgress(filter, this);
   }
-  // Pieces lit where they are, or what it is given (see vtkInternals).
+  // Pieces lit where they are in a parallel run (see vtkInternals).
   filter->SetController(this->Internals->Controller);
   return filter;
 }
@@ -178,40 +172,19 @@ int vtkIlluminatedVolumeRepresentation::RequestData(
   }
   this->ReduceColouredVectors();
   auto& internals = *this->Internals;
-  vtkMultiProcessController* controller =
-    volillum::ParallelRun(vtkMultiProcessController::GetGlobalController());
-  internals.Parallel = controller != nullptr;
-  internals.Controller = nullptr;
-  if (!controller)
+  internals.Controller = volillum::ParallelRun(vtkMultiProcessController::GetGlobalController());
+  if (!internals.Controller)
   {
     return 1;
   }
-  auto* piece = vtkImageData::SafeDownCast(this->Cache);
   vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
-  int whole[6] = { 0, -1, 0, -1, 0, -1 }, block[6];
+  int whole[6] = { 0, -1, 0, -1, 0, -1 };
   if (inInfo && inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
   {
     inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
   }
-  // Lit where they are when every process's piece holds its block (the filter reads it).
-  bool holds = piece != nullptr;
-  if (holds && volillum::ProcessBlock(controller, whole, block))
-  {
-    holds = piece->GetNumberOfPoints() > 0 && volillum::ExtentHolds(piece->GetExtent(), block);
-  }
-  if (volillum::AllOk(controller, holds))
-  {
-    internals.Controller = controller;
-    internals.Piece->SetOutput(piece);
-    internals.Piece->SetWholeExtent(whole);
-    internals.Whole->SetOutput(nullptr);
-    internals.Distributed = volillum::DistributedInput();
-  }
-  else
-  {
-    internals.Piece->SetOutput(nullptr);
-    internals.Whole->SetOutput(internals.Distributed.Image(controller, this, piece));
-  }
+  internals.Piece->SetOutput(vtkImageData::SafeDownCast(this->Cache));
+  internals.Piece->SetWholeExtent(whole);
   return 1;
 }
 
@@ -344,12 +317,8 @@ void vtkIlluminatedVolumeRepresentation::UpdateIllumination(vtkPVRenderView* vie
 
   internals.Lights.Update(view, this->UseLightKit);
   internals.Lights.ApplyTo(filter);
-  vtkAlgorithmOutput* input = port;
-  if (internals.Parallel)
-  {
-    input = together ? internals.Piece->GetOutputPort() : internals.Whole->GetOutputPort();
-  }
-  volillum::SetVolumeInput(filter, input, coloured, this->Property);
+  volillum::SetVolumeInput(
+    filter, together ? internals.Piece->GetOutputPort() : port, coloured, this->Property);
   filter->SetResolutionScale(this->ResolutionScale);
   filter->SetChromaticAttenuation(this->ChromaticAttenuation);
   if (propagation)

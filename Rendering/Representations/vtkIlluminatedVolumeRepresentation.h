@@ -10,16 +10,14 @@
  * lights to world coordinates, hands them with the colour map editor's transfer functions to an
  * illumination filter (IlluminationMethod: multi-light propagation, filtered shadows or
  * the ray-marched reference) on the piece this process renders, and draws the volume
- * with vtkIlluminatedVolumeMapper. In parallel (pvserver or pvbatch under MPI), where every
- * process's piece holds its block of the image (vtkExtentTranslator's blocks, as ParaView's
- * parallel image readers give them; checked when the data updates), the filter lights the
- * pieces where they are with the global controller (see IlluminationParallel.h), every
- * process together as each render starts (ParaView renders on every process then; the
- * decisions to light or keep the illumination are agreed by reductions), and each process
- * draws its own piece with the illumination over it. Otherwise every process assembles the
- * whole image from the pieces when the data updates (all processes update together), lights
- * it at render time without communication and draws its own piece with it. Either way the
- * composited image is lit as a serial one. The filters keep their state between renders, so a
+ * with vtkIlluminatedVolumeMapper. In parallel (pvserver or pvbatch under MPI) the filter
+ * lights the pieces where they are with the global controller (see IlluminationParallel.h;
+ * pieces that are not vtkExtentTranslator's blocks, as ParaView's parallel image readers
+ * give them, are gathered into blocks by the filter), every process together as each
+ * render starts (ParaView renders on every process then; the decisions to light or keep
+ * the illumination are agreed by reductions), and each process draws its own piece with
+ * the illumination over it, so the composited image is lit as a serial one. The filters
+ * keep their state between renders, so a
  * light edit re-propagates that light only; a transfer-function or data change
  * recomputes everything.
  *
@@ -123,9 +121,8 @@ public:
   ///@}
 
   /**
-   * In a parallel run, whether this process lights its own piece where it is, the
-   * processes together as each render starts (every piece holds its block of the image);
-   * false where the whole image is assembled on every process, and in a serial run.
+   * Whether this process lights its own piece where it is, the processes together as each
+   * render starts: true in a parallel run, false in a serial one.
    */
   bool GetDistributedIllumination() const;
 
