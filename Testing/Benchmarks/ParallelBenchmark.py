@@ -25,7 +25,7 @@ and assembled; peak memory per process on 1, 2 and 4; the largest band process 0
 the Illuminated Volume representation's still render after a camera move (the light kit,
 scale 1/2; propagation and filtered shadows) on 1 and 2 processes with process 0's peak
 memory and whether the pieces were lit where they are, and the efficiency a sweep over bands
-reaches at 8, 64 and 204 processes for 1024^3 by the
+reaches at 8, 64, 204 and 512 processes for 1024^3 by the
 model of Documentation/parallel.md with this run's compute cost per voxel and light.
 Writes the figures as JSON with --json FILE.
 Usage: pvpython ParallelBenchmark.py PLUGIN DATA_DIR OUT_DIR MPIEXEC "MPI_FLAGS"
@@ -217,16 +217,20 @@ def prepare(data_dir, out, smoke):
 
 
 def model(compute_per_voxel_light, halo=5):
-    """Efficiency of one sweep of a 1024^3 volume over bands of rows (Documentation/parallel.md):
-    per slice each process computes its n^2 / P points and exchanges `halo` lattice rows (4
-    bytes a ray, one light) with each of its two neighbours, in two steps of a message each
-    way. Bands hold at least `halo` rows, so at most n / halo processes share a sweep."""
+    """Efficiency of one sweep of a 1024^3 volume over bands of rows on P processes
+    (Documentation/parallel.md): per slice each of the S processes that sweep computes its
+    n^2 / S points and exchanges `halo` lattice rows (4 bytes a ray, one light) with each of
+    its two neighbours, in two steps of a message each way. Bands hold at least `halo` rows,
+    so S = min(P, n / halo) and the other processes wait; the efficiency is the serial slice
+    time over P times the parallel one."""
     rows = []
     n, latency, bandwidth = 1024, 2e-6, 10e9
-    for p in (8, 64, n // halo):
-        compute = n * n / p * compute_per_voxel_light
+    for p in (8, 64, n // halo, 512):
+        sweeping = min(p, n // halo)
+        compute = n * n / sweeping * compute_per_voxel_light
         exchange = 4 * (latency + halo * (n + 1) * 4 / bandwidth)
-        rows.append({"processes": p, "efficiency": compute / (compute + exchange),
+        rows.append({"processes": p, "sweeping": sweeping,
+                     "efficiency": n * n * compute_per_voxel_light / (p * (compute + exchange)),
                      "slice_s": compute, "exchange_s": exchange})
     return rows
 
@@ -419,9 +423,9 @@ def main():
     print("model of a sweep over bands, 1024^3 (%.0f ns per voxel and light sweep, halo of 5 "
           "rows):" % (per_voxel_light * 1e9))
     for row in results["model_1024_cubed"]:
-        print("  %4d processes: efficiency %.1f %% (slice %.3f ms, exchange %.0f us)"
-              % (row["processes"], 100 * row["efficiency"], 1e3 * row["slice_s"],
-                 1e6 * row["exchange_s"]))
+        print("  %4d processes (%d sweeping): efficiency %.1f %% (slice %.3f ms, exchange %.0f us)"
+              % (row["processes"], row["sweeping"], 100 * row["efficiency"],
+                 1e3 * row["slice_s"], 1e6 * row["exchange_s"]))
     if json_path:
         with open(json_path, "w") as f:
             json.dump(results, f, indent=2)
