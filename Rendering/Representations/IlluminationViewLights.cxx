@@ -123,7 +123,10 @@ void RenderStart::Arm(vtkPVRenderView* view, std::function<void(vtkPVRenderView*
     }
   }
   this->View = view;
-  this->Pending = renderer ? std::move(run) : nullptr;
+  // A render ParaView suppresses (SuppressRendering) draws nothing: nothing is armed, so that
+  // no later render of the renderer outside a view's render lights (in parallel one process
+  // may make such a render alone, and the lighting is collective).
+  this->Pending = renderer && !view->GetSuppressRendering() ? std::move(run) : nullptr;
 }
 
 //------------------------------------------------------------------------------

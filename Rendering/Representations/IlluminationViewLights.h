@@ -91,7 +91,8 @@ public:
   ~RenderStart() { this->Detach(); }
 
   /// The next start of a render of the view's renderer calls run (with the view); a later
-  /// Arm before that start replaces it.
+  /// Arm before that start replaces it. A view that suppresses its render (SuppressRendering)
+  /// arms nothing and disarms what was armed.
   void Arm(vtkPVRenderView* view, std::function<void(vtkPVRenderView*)> run);
   /// Stop observing (the representation leaves the view); nothing armed runs.
   void Detach();

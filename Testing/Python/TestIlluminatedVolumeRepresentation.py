@@ -11,7 +11,8 @@ of that light (its recorded contribution subtracted); a colour map change
 forces a full update; interactive renders keep the lighting and the next still render
 updates it; the light kit counts only with Use Light Kit on; the rendered image takes
 the lights' colours; a cell array is lit like the filter lights it; a vector array is
-coloured and lit by its magnitude or the colour map's component.
+coloured and lit by its magnitude or the colour map's component; a suppressed render leaves
+no lighting armed for a later render of the window.
 Usage: pvpython TestIlluminatedVolumeRepresentation.py PLUGIN OUTPUT_DIR
 """
 import os
@@ -165,6 +166,24 @@ r_b, _, b_b = mean_colours(blue)
 check((r_o - b_o) - (r_b - b_b) > 10,
       "image colours follow the light (red - blue: orange key %.1f, blue key %.1f)" %
       (r_o - b_o, r_b - b_b))
+
+# A render ParaView suppresses (SuppressRendering: the representations are updated, nothing
+# is drawn) leaves no lighting armed: a later render of the window outside a view's render
+# (in parallel, one process's alone, where a collective update would wait for ever) must not
+# light; the next render of the view does, with the edited light.
+key.DiffuseColor = [1.0, 0.5, 0.1]
+view.SuppressRendering = 1
+Render(view)
+view.SuppressRendering = 0
+blue_mean = info(rep, "IlluminationMean")
+view.GetRenderWindow().Render()
+check(info(rep, "IlluminationMean") == blue_mean,
+      "a suppressed render leaves no lighting for the window's next render (mean %s, before %s)"
+      % (["%.4f" % v for v in info(rep, "IlluminationMean")], ["%.4f" % v for v in blue_mean]))
+Render(view)
+check(info(rep, "IlluminationMean")[0] > blue_mean[0],
+      "the next render of the view lights with the edited light (red %.4f, blue key %.4f)"
+      % (info(rep, "IlluminationMean")[0], blue_mean[0]))
 
 for method, label in ((1, "Filtered Shadows"), (2, "Ray-Marched Reference")):
     rep.IlluminationMethod = label
