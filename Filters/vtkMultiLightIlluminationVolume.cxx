@@ -373,6 +373,7 @@ void vtkMultiLightIlluminationVolume::SweepBands(const Bands& bands, int rowAxis
   {
     band.First = static_cast<int>(static_cast<long long>(n) * b / count);
     band.Last = static_cast<int>(static_cast<long long>(n) * (b + 1) / count) - 1;
+    band.Halo = halo;
     // The data all of its sweeps read.
     int low = piece.Whole.Dimensions[rowAxis], high = -1;
     for (const size_t i : mine)
@@ -418,7 +419,7 @@ void vtkMultiLightIlluminationVolume::SweepBands(const Bands& bands, int rowAxis
         neighbours.push_back(m);
       }
     }
-    auto exchange = [&](const std::vector<float*>& lattices, size_t rowValues)
+    auto exchange = [&](const std::vector<float*>& lattices, size_t rowValues, int firstRow)
     {
       const vtkIdType size = static_cast<vtkIdType>(rowValues) * halo;
       for (const int m : neighbours)
@@ -430,7 +431,7 @@ void vtkMultiLightIlluminationVolume::SweepBands(const Bands& bands, int rowAxis
                                   : (send ? ownLast - halo + 1 : ownLast + 1);
           for (size_t j = 0; j < lattices.size(); ++j)
           {
-            float* at = lattices[j] + rowValues * first;
+            float* at = lattices[j] + rowValues * (first - firstRow);
             const int tag = LatticeTag + static_cast<int>(j);
             if (send)
             {

@@ -162,13 +162,17 @@ inline float ClampToSurrounding(float sum, float a, float b, float c, float d)
 
 // Bicubic (Catmull-Rom) interpolation of a slice buffer (nb x nc pixels, `channels` values
 // each) at `at`, limited to the range of the four surrounding pixels so that it adds no new
-// extremes.
-inline void MonotoneBicubic(
-  const float* base, int channels, int nb, int nc, const SlicePoint& at, float* out)
+// extremes. The buffer may hold only the rows from firstRow on (base: that row), those the
+// taps read.
+inline void MonotoneBicubic(const float* base, int channels, int nb, int nc, const SlicePoint& at,
+  float* out, int firstRow = 0)
 {
+  const long long rowValues = 1LL * channels * nb;
   if (nb < 4 || nc < 4)
   {
-    Bilinear(base, channels, nb > 1 ? channels : 0, nc > 1 ? 1LL * channels * nb : 0, at, out);
+    SlicePoint local = at;
+    local.V -= firstRow;
+    Bilinear(base, channels, nb > 1 ? channels : 0, nc > 1 ? rowValues : 0, local, out);
     return;
   }
   float wu[4], wv[4];
@@ -178,9 +182,8 @@ inline void MonotoneBicubic(
   for (int m = 0; m < 4; ++m)
   {
     iu[m] = std::min(std::max(at.U - 1 + m, 0), nb - 1);
-    iv[m] = std::min(std::max(at.V - 1 + m, 0), nc - 1);
+    iv[m] = std::min(std::max(at.V - 1 + m, 0), nc - 1) - firstRow;
   }
-  const long long rowValues = 1LL * channels * nb;
   for (int ch = 0; ch < channels; ++ch)
   {
     float sum = 0.0f;
@@ -1230,9 +1233,10 @@ void RowTransmittance(const SweepContext& s, const SweepSource& sweep, const flo
 }
 
 // Row j of a directional source's ray lattice at slice t (out: 3 floats a ray), from the
-// lattice of slice t - 1 (previous); rays without a predecessor entered through a side face.
+// lattice of slice t - 1 (previous: its rows from firstRow on, those the row reads); rays
+// without a predecessor entered through a side face.
 void LatticeRow(const SweepContext& s, const SweepSource& sweep, const LatticePhase& phase,
-  const float* previous, int t, int k, int j, float* out)
+  const float* previous, int firstRow, int t, int k, int j, float* out)
 {
   const int width = s.N[s.B] + 1;
   const int height = s.N[s.C] + 1;
@@ -1256,7 +1260,8 @@ void LatticeRow(const SweepContext& s, const SweepSource& sweep, const LatticePh
   std::fill(out, out + channels * first, 1.0f);
   if (first < last)
   {
-    const long long offset = channels * (static_cast<long long>(from) * width - phase.ShiftU);
+    const long long offset =
+      channels * (static_cast<long long>(from - firstRow) * width - phase.ShiftU);
     std::copy(previous + (offset + channels * first), previous + (offset + channels * last),
       out + channels * first);
   }
@@ -1270,11 +1275,11 @@ void LatticeRow(const SweepContext& s, const SweepSource& sweep, const LatticePh
 }
 
 // Light of a directional source along row ic of slice t (out: 3 floats a pixel): the ray
-// lattice of slice t - 1 (previous) interpolated where the point's ray crosses that slice,
-// attenuated over the point's own last step (material just before a point shades it
-// exactly, as in the reference).
+// lattice of slice t - 1 (previous: its rows from firstRow on, those the row reads)
+// interpolated where the point's ray crosses that slice, attenuated over the point's own
+// last step (material just before a point shades it exactly, as in the reference).
 void RowFromLattice(const SweepContext& s, const SweepSource& sweep, const LatticePhase& phase,
-  const float* previous, int t, int k, int ic, float* out)
+  const float* previous, int firstRow, int t, int k, int ic, float* out)
 {
   const int nb = s.N[s.B];
   const int nc = s.N[s.C];
@@ -1319,11 +1324,13 @@ void RowFromLattice(const SweepContext& s, const SweepSource& sweep, const Latti
     {
       if (channels == 1)
       {
-        MonotoneBicubicRow<1>(previous, nb + 1, shiftU, at.V, at.FU, at.FV, inner, outer, out);
+        MonotoneBicubicRow<1>(
+          previous, nb + 1, shiftU, at.V - firstRow, at.FU, at.FV, inner, outer, out);
       }
       else
       {
-        MonotoneBicubicRow<3>(previous, nb + 1, shiftU, at.V, at.FU, at.FV, inner, outer, out);
+        MonotoneBicubicRow<3>(
+          previous, nb + 1, shiftU, at.V - firstRow, at.FU, at.FV, inner, outer, out);
       }
     }
   }
@@ -1332,7 +1339,7 @@ void RowFromLattice(const SweepContext& s, const SweepSource& sweep, const Latti
     if (ib < inner || ib > outer)
     {
       Locate(ib + latticeU, latticeV, nb + 1, nc + 1, at);
-      MonotoneBicubic(previous, channels, nb + 1, nc + 1, at, out + channels * ib);
+      MonotoneBicubic(previous, channels, nb + 1, nc + 1, at, out + channels * ib, firstRow);
     }
   }
   // Each point's own last step: material just before it shades it exactly.
@@ -1474,13 +1481,13 @@ void PrepareDeposits(const SweepContext& s, const std::vector<PropagationTask>& 
 // The read and write slice buffers of each source; returns the bytes of every buffer of
 // the sweep, the threads' row buffers included.
 size_t AllocateSliceBuffers(std::vector<SweepSource>& prepared, int channels, int nb, int nc,
-  std::vector<std::vector<float>>& read, std::vector<std::vector<float>>& write)
+  int latticeRows, std::vector<std::vector<float>>& read, std::vector<std::vector<float>>& write)
 {
   const size_t count = prepared.size();
-  // Slice buffers: a ray lattice (one ray more than points along each slice axis) for a
-  // directional source; the rays from the anchor and those of the next anchor for a point
-  // or spot source.
-  const size_t latticeValues = channels * static_cast<size_t>(nb + 1) * (nc + 1);
+  // Slice buffers: a ray lattice (one ray more than points along each slice axis; the
+  // latticeRows rows a band reads) for a directional source; the rays from the anchor and
+  // those of the next anchor for a point or spot source.
+  const size_t latticeValues = channels * static_cast<size_t>(nb + 1) * latticeRows;
   size_t bufferBytes = 0;
   for (SweepSource& sweep : prepared)
   {
@@ -1601,8 +1608,9 @@ struct SweepSlices
   std::vector<size_t> Anchored; // the point and spot sources
   // The rows this sweep computes (all, or a band's): lattice and deposit rows FirstRow to
   // FirstRow + Rows - 1, of which the first DepositRows are the grid's (a lattice has a row
-  // more than the grid).
-  int FirstRow = 0, Rows = 0, DepositRows = 0;
+  // more than the grid). The lattices hold the rows from LatticeFirst on, those the sweep's
+  // rows read (a band's and the halo the exchange fills either side).
+  int FirstRow = 0, Rows = 0, DepositRows = 0, LatticeFirst = 0;
   int ChunkFirst = 0; // the first slice t of the chunk being swept
   std::uint32_t* Values = nullptr;
   std::uint32_t* Recorded = nullptr; // when a task is recorded
@@ -1627,15 +1635,23 @@ struct SweepSlices
     std::vector<double> Direction, GroupFactor, Factors;
   };
 
+  // halo: the lattice rows beyond its own that a band reads either side (banded only).
   SweepSlices(const SweepContext& s, const std::vector<PropagationTask>& tasks,
     FixedPointIllumination& illumination, PropagationStatistics& statistics, int firstRow,
-    int lastRow, bool banded)
+    int lastRow, bool banded, int halo)
     : S(s)
     , Values(illumination.Values.data())
   {
     PrepareDeposits(s, tasks, illumination.Scale, this->Prepared, this->Deposits);
-    size_t bytes =
-      AllocateSliceBuffers(this->Prepared, s.Channels, s.N[s.B], s.N[s.C], this->Read, this->Write);
+    const int nc = s.N[s.C];
+    int latticeLast = nc;
+    if (banded)
+    {
+      this->LatticeFirst = std::max(0, firstRow - halo);
+      latticeLast = std::min(nc, lastRow + (lastRow == nc - 1 ? 1 : 0) + halo);
+    }
+    size_t bytes = AllocateSliceBuffers(this->Prepared, s.Channels, s.N[s.B], nc,
+      latticeLast - this->LatticeFirst + 1, this->Read, this->Write);
     bool lattices = false;
     for (size_t j = 0; j < this->Prepared.size(); ++j)
     {
@@ -1761,7 +1777,9 @@ struct SweepSlices
       if (this->Prepared[j].FollowsRays())
       {
         LatticeRow(s, this->Prepared[j], LatticePhase(this->Prepared[j], t), this->Read[j].data(),
-          t, k, ic, this->Write[j].data() + s.Channels * static_cast<size_t>(ic) * (nb + 1));
+          this->LatticeFirst, t, k, ic,
+          this->Write[j].data() +
+            s.Channels * static_cast<size_t>(ic - this->LatticeFirst) * (nb + 1));
       }
     }
     if (ic == s.N[s.C])
@@ -1778,7 +1796,7 @@ struct SweepSlices
       if (this->Prepared[j].FollowsRays())
       {
         RowFromLattice(s, this->Prepared[j], LatticePhase(this->Prepared[j], t),
-          this->Read[j].data(), t, k, ic, light);
+          this->Read[j].data(), this->LatticeFirst, t, k, ic, light);
       }
       else
       {
@@ -1872,7 +1890,8 @@ struct SweepSlices
 };
 
 // The rows of a sweep one call runs: all, or a band's (SweepBand), whose units hold only its
-// rows and whose ray lattices' neighbouring rows `Exchange` fills after every slice.
+// rows and whose ray lattices (its rows and the halo either side) get their neighbouring
+// rows from `Exchange` after every slice.
 struct SweepSpan
 {
   bool Banded = false;
@@ -1903,7 +1922,8 @@ bool Sweep(const ClassifiedVolume& volume, const EmptyBlocks* empty, bool rowKer
     s.UnitStride[2] = rows[0] * rows[1];
     s.UnitFirst[s.C] = firstRow;
   }
-  SweepSlices slices(s, tasks, illumination, statistics, firstRow, lastRow, span.Banded);
+  SweepSlices slices(s, tasks, illumination, statistics, firstRow, lastRow, span.Banded,
+    span.Banded && span.Band.Halo <= 0 ? LatticeHalo(g, tasks) : span.Band.Halo);
   if (span.Banded)
   {
     for (const size_t j : slices.Anchored)
@@ -2002,7 +2022,7 @@ bool Sweep(const ClassifiedVolume& volume, const EmptyBlocks* empty, bool rowKer
           lattices[m++] = slices.Read[j].data();
         }
       }
-      span.Exchange(lattices, s.Channels * static_cast<size_t>(s.N[s.B] + 1));
+      span.Exchange(lattices, s.Channels * static_cast<size_t>(s.N[s.B] + 1), slices.LatticeFirst);
     }
     if (progress && !progress(static_cast<double>(first + count) / na))
     {

@@ -222,6 +222,9 @@ struct SweepBand
 {
   int First = 0;
   int Last = -1;
+  /// The lattice rows beyond its own that the band reads and the exchange fills either side:
+  /// at least LatticeHalo of its sweep (0: that).
+  int Halo = 0;
 };
 
 /// The axis along which a sweep of `group` orders its rows (the one across the rows, which
@@ -247,9 +250,11 @@ VOLILLUMKERNELS_EXPORT void BandOfData(const GridGeometry& data, const GridGeome
   int& last);
 
 /// Fills, after every slice but the last, the rows of the ray lattices (one pointer per
-/// lattice; rows of rowValues floats, row r at lattice + r rowValues) that a band reads and
-/// other bands compute (LatticeHalo rows either side of its own).
-using LatticeExchange = std::function<void(const std::vector<float*>& lattices, size_t rowValues)>;
+/// lattice; rows of rowValues floats, row r at lattice + (r - firstRow) rowValues) that a
+/// band reads and other bands compute (SweepBand::Halo rows either side of its own). A band's
+/// lattices hold only its rows and those (from firstRow, clamped to the lattice).
+using LatticeExchange =
+  std::function<void(const std::vector<float*>& lattices, size_t rowValues, int firstRow)>;
 
 /**
  * One sweep of the tasks (one group) over the rows `band`: `volume` is a band of the data
@@ -257,7 +262,7 @@ using LatticeExchange = std::function<void(const std::vector<float*>& lattices, 
  * read (BandOfData); `units` the fixed-point illumination of the band's points only
  * (target's points with the band's rows along the row axis, x fastest; Recorded as in
  * PropagateTasks). A band's own lattice rows are its points' rows (the last band's also the
- * lattice's extra row). A point or spot light's rays are followed only in the band's cone
+ * lattice's extra row); its lattices hold those and band.Halo rows either side. A point or spot light's rays are followed only in the band's cone
  * (the rays its rows read, slice by slice, back to the light), which needs no other band's.
  * Sweeping every band this way, each band's neighbouring lattice rows filled by `exchange`
  * from the bands that compute them, deposits PropagateTasks's units of the sweep.

@@ -983,7 +983,7 @@ TEST(Kernels, SweepBandsEqualTheWholeSweep)
           FixedPointIllumination all = RecordingUnits(target.NumberOfPoints());
           PropagateSweepBand(
             *volume, target, sweep, { 0, n - 1 }, all,
-            [&](const std::vector<float*>& lattices, size_t rowValues)
+            [&](const std::vector<float*>& lattices, size_t rowValues, int)
             {
               history.emplace_back();
               for (float* lattice : lattices)
@@ -1007,22 +1007,26 @@ TEST(Kernels, SweepBandsEqualTheWholeSweep)
             const int own = band.Last + (band.Last == n - 1 ? 1 : 0);
             PropagateSweepBand(
               part, target, sweep, band, units,
-              [&](const std::vector<float*>& lattices, size_t rowValues)
+              [&](const std::vector<float*>& lattices, size_t rowValues, int firstRow)
               {
+                // The band's lattices hold only its rows and h either side (ASan checks
+                // every access), from firstRow.
+                EXPECT_EQ(firstRow, std::max(0, band.First - h));
                 for (size_t m = 0; m < lattices.size(); ++m)
                 {
                   const auto& reference = history[slice][m];
                   for (size_t v = rowValues * band.First; v < rowValues * (own + 1) && exchanged;
                        ++v)
                   {
-                    rows = std::max(rows, std::abs(double(lattices[m][v]) - reference[v]));
+                    rows = std::max(
+                      rows, std::abs(double(lattices[m][v - rowValues * firstRow]) - reference[v]));
                   }
                   for (int r = std::max(0, band.First - h); r <= std::min(n, own + h); ++r)
                   {
                     if (exchanged && (r < band.First || r > own))
                     {
-                      std::copy_n(
-                        &reference[rowValues * r], rowValues, lattices[m] + rowValues * r);
+                      std::copy_n(&reference[rowValues * r], rowValues,
+                        lattices[m] + rowValues * (r - firstRow));
                     }
                   }
                 }
@@ -1121,7 +1125,7 @@ TEST(Kernels, PointLightBandsEqualTheWholeSweep)
             layout.Dimensions[c] = band.Last - band.First + 1;
             FixedPointIllumination units = RecordingUnits(layout.NumberOfPoints());
             PropagateSweepBand(
-              part, target, sweep, band, units, [](const std::vector<float*>&, size_t) {},
+              part, target, sweep, band, units, [](const std::vector<float*>&, size_t, int) {},
               statistics);
             AddBandUnits(target, c, band, units, bands);
           }
