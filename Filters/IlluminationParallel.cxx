@@ -1300,28 +1300,41 @@ vtkImageData* BlockOfPieces::Update(vtkMultiProcessController* controller, vtkIm
   const int none[6] = { 0, -1, 0, -1, 0, -1 };
   const int* extent = piece ? piece->GetExtent() : none;
   const int* wantedPoints = block ? block : none;
-  const bool kept = (!block || this->Block) && this->Source == (piece ? array : nullptr) &&
-    (!piece || !array || this->SourceTime == array->GetMTime()) &&
-    std::equal(extent, extent + 6, this->Extent) &&
-    std::equal(wantedPoints, wantedPoints + 6, this->BlockExtent) && this->OnCells == onCells;
+  // The array's content, not its time: an upstream filter whose output does not hold the
+  // block asked of it runs again at every update, with new arrays of the same values.
+  const int components = array ? array->GetNumberOfComponents() : 0;
+  const std::uint64_t fingerprint =
+    HashArray(array, HashBytes(&components, sizeof(components), onCells ? 1 : 0));
+  const bool kept = (!block || this->Block) && (!piece || array) &&
+    fingerprint == this->Fingerprint && std::equal(extent, extent + 6, this->Extent) &&
+    std::equal(wantedPoints, wantedPoints + 6, this->BlockExtent);
   if (AllOk(controller, kept))
   {
     if (block)
     {
-      this->Block->SetOrigin(shape->GetOrigin()); // (each a change only if it changed)
+      // (each a change only if it changed)
+      this->Block->SetOrigin(shape->GetOrigin());
       this->Block->SetSpacing(shape->GetSpacing());
-      this->Block->SetDirectionMatrix(shape->GetDirectionMatrix());
+      this->Block->SetDirectionMatrix(shape->GetDirectionMatrix()->GetData());
     }
     return block ? this->Block.Get() : nullptr;
   }
   this->Block = nullptr;
-  this->Source = nullptr;
+  this->Fingerprint = 0;
   std::copy_n(none, 6, this->Extent);
+  const long long tuples = !piece ? 0
+    : onCells                     ? piece->GetNumberOfCells()
+                                  : piece->GetNumberOfPoints();
   if (piece && !array && error.empty())
   {
     error = "This process's piece has no numeric array to illuminate.";
   }
-  if (!AllOk(controller, !piece || array))
+  else if (array && array->GetNumberOfTuples() != tuples)
+  {
+    error = "This process's array to illuminate does not have a value for every point or cell "
+            "of its piece.";
+  }
+  if (!AllOk(controller, error.empty()))
   {
     return nullptr;
   }
@@ -1372,15 +1385,13 @@ vtkImageData* BlockOfPieces::Update(vtkMultiProcessController* controller, vtkIm
     this->Block->SetExtent(const_cast<int*>(block));
     this->Block->SetOrigin(shape->GetOrigin());
     this->Block->SetSpacing(shape->GetSpacing());
-    this->Block->SetDirectionMatrix(shape->GetDirectionMatrix());
+    this->Block->SetDirectionMatrix(shape->GetDirectionMatrix()->GetData());
     this->Block->GetAttributes(form[2] == 1 ? vtkDataObject::CELL : vtkDataObject::POINT)
       ->SetScalars(values);
   }
-  this->Source = piece ? array : nullptr;
-  this->SourceTime = array ? array->GetMTime() : 0;
+  this->Fingerprint = fingerprint;
   std::copy_n(extent, 6, this->Extent);
   std::copy_n(wantedPoints, 6, this->BlockExtent);
-  this->OnCells = onCells;
   return this->Block;
 }
 

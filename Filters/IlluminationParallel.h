@@ -17,13 +17,13 @@
  * moved to the pieces' processes (ExchangeExtents); cell scalars become point scalars over each
  * block from its cells and the layer around it (BlockPointScalars). Pieces that are not the
  * blocks (another decomposition) give each block its lit array (BlockOfPieces), and the
- * illumination over the blocks moves to the pieces' processes (MovePointArrays). The image filters with
- * the distributed properties off assemble the whole input on every process from the pieces of all
- * processes (collective calls of the filter's vtkMultiProcessController) and output the part of the
- * illumination that belongs to their own piece; the propagation then shares its sweeps out among
- * the processes (SweepShare): each process propagates its sweeps over the whole illumination grid
- * into fixed-point units of its own, and the sums over the processes (SumOverPieces, exact in any
- * order) give each process its piece. Every process keeps the same bookkeeping of lights, so
+ * illumination over the blocks moves to the pieces' processes (MovePointArrays). The image filters
+ * with the distributed properties off assemble the whole input on every process from the pieces of
+ * all processes (collective calls of the filter's vtkMultiProcessController) and output the part of
+ * the illumination that belongs to their own piece; the propagation then shares its sweeps out
+ * among the processes (SweepShare): each process propagates its sweeps over the whole illumination
+ * grid into fixed-point units of its own, and the sums over the processes (SumOverPieces, exact in
+ * any order) give each process its piece. Every process keeps the same bookkeeping of lights, so
  * selective updates work as in a serial run. Filters that light points independently compute only
  * the points of the piece. The result equals the serial run's: bit for bit in the tests for the
  * propagation and the ray marcher, up to rounding (1e-8 of the largest value) for distributed
@@ -291,21 +291,21 @@ public:
    * data; `block`: this process's block (nullptr for none); `piece`: its piece (nullptr or
    * without points for none) and `array` the piece's array to light, on its cells when
    * `onCells` (nullptr where the piece has none). Returns an image over the block holding the
-   * array (as its point or cell scalars, named as `array`), kept while no process's piece or
-   * array changes; nullptr for a process without a block, and on every process, with the
-   * reason in error, when a piece lacks the array, the arrays differ in type, components or
-   * association, or the pieces leave part of a block uncovered.
+   * array (as its point or cell scalars, named as `array`), kept while no process's piece
+   * extent or array content changes; nullptr for a process without a block, and on every
+   * process, with the reason in error, when a piece lacks the array (or its array lacks
+   * values), the arrays differ in type, components or association, or the pieces leave part
+   * of a block uncovered. Pieces may overlap (shared planes, ghost layers): a point held by
+   * several comes from one of them.
    */
   vtkImageData* Update(vtkMultiProcessController* controller, vtkImageData* shape, const int* block,
     vtkImageData* piece, vtkDataArray* array, bool onCells, std::string& error);
 
 private:
   vtkSmartPointer<vtkImageData> Block;
-  vtkWeakPointer<vtkDataArray> Source;
-  vtkMTimeType SourceTime = 0;
+  std::uint64_t Fingerprint = 0; // of the piece's array (content, components, association)
   int Extent[6] = { 0, -1, 0, -1, 0, -1 };
   int BlockExtent[6] = { 0, -1, 0, -1, 0, -1 };
-  bool OnCells = false;
 };
 
 /**

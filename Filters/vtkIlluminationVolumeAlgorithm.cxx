@@ -289,7 +289,8 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
   }
   if (this->LightsDistributedPieces())
   {
-    this->IlluminateDistributed(controller, inputVector[0]->GetInformationObject(0), input, output);
+    this->IlluminateDistributed(controller, inputVector[0]->GetInformationObject(0),
+      outputVector->GetInformationObject(0), input, output);
     return 1;
   }
   // Light crosses every piece: every process assembles the whole image (an empty or invalid
@@ -475,7 +476,7 @@ void vtkIlluminationVolumeAlgorithm::FinishOutput(vtkImageData* output, const in
 
 //------------------------------------------------------------------------------
 void vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessController* controller,
-  vtkInformation* inInfo, vtkImageData* input, vtkImageData* output)
+  vtkInformation* inInfo, vtkInformation* outInfo, vtkImageData* input, vtkImageData* output)
 {
   const auto start = std::chrono::steady_clock::now();
   // The whole grid, from the pipeline information (the same on every process).
@@ -631,19 +632,31 @@ void vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessContro
   }
   if (gathered)
   {
-    // Each process outputs the illumination over its own piece, as where the pieces are the
-    // blocks: the parts of the illumination grid over the blocks move to the pieces'.
-    if (own)
+    // Each process outputs the part of the illumination grid the pipeline asks of it (else
+    // the part over its own piece): the parts over the blocks move there. So whether an
+    // output holds what a later request asks of it does not depend on how the pieces lie
+    // (an output over a piece that is the whole image would hold any, one over an empty piece
+    // none), and no process runs the filter again alone while the others wait.
+    bool asked = outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()) != 0;
+    if (asked)
+    {
+      outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), extent);
+      const int grid[6] = { 0, target.Dimensions[0] - 1, 0, target.Dimensions[1] - 1, 0,
+        target.Dimensions[2] - 1 };
+      asked = volillum::ExtentHolds(grid, extent);
+    }
+    const bool some = asked ? volillum::ExtentPoints(extent) > 0 : own != nullptr;
+    if (!asked && own)
     {
       volillum::TargetPieceExtent(whole, target.Dimensions.data(), own->GetExtent(), extent);
     }
     volillum::MovePointArrays(
-      controller, piece ? lit.Get() : nullptr, own ? extent : nullptr, output);
-    if (own)
+      controller, piece ? lit.Get() : nullptr, some ? extent : nullptr, output);
+    if (some)
     {
       output->SetOrigin(target.Origin.data());
       output->SetSpacing(target.Spacing.data());
-      output->SetDirectionMatrix(own->GetDirectionMatrix());
+      output->SetDirectionMatrix((own ? own : shape.Get())->GetDirectionMatrix()->GetData());
       output->GetFieldData()->ShallowCopy(lit->GetFieldData());
     }
     this->LastOutput = vtkSmartPointer<vtkImageData>::New();
