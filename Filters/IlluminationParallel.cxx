@@ -1084,8 +1084,22 @@ long long ExchangeExtents(vtkMultiProcessController* controller, const int held[
   int part[6];
   if (Intersect(owned, wanted, part))
   {
-    Pack(values, held, part, components, buffer);
-    Unpack(buffer, wanted, part, components, add, into);
+    // This process's own points, row by row without a packed copy (which could be the
+    // whole extent).
+    std::vector<long long> rows;
+    ForEachRow(
+      held, part, components, [&](long long offset, long long) { rows.push_back(offset); });
+    size_t r = 0;
+    ForEachRow(wanted, part, components,
+      [&](long long offset, long long count)
+      {
+        const T* from = values + rows[r++];
+        T* to = into + offset;
+        for (long long i = 0; i < count; ++i)
+        {
+          to[i] = add ? static_cast<T>(to[i] + from[i]) : from[i];
+        }
+      });
   }
   // The peers: processes that want points this one owns, or own points it wants.
   std::vector<int> peers;
@@ -1249,48 +1263,6 @@ vtkImageData* BlockPointScalars::Update(vtkMultiProcessController* controller, c
   std::copy_n(extent, 6, this->Extent);
   this->Component = component;
   return this->Points;
-}
-
-//------------------------------------------------------------------------------
-void MovePointArrays(
-  vtkMultiProcessController* controller, vtkImageData* from, const int* extent, vtkImageData* to)
-{
-  const int none[6] = { 0, -1, 0, -1, 0, -1 };
-  const int* held = from ? from->GetExtent() : none;
-  vtkPointData* arrays = from ? from->GetPointData() : nullptr;
-  const int mine = arrays ? arrays->GetNumberOfArrays() : 0;
-  int count = 0;
-  controller->AllReduce(&mine, &count, 1, vtkCommunicator::MAX_OP);
-  if (extent)
-  {
-    to->Initialize();
-    to->SetExtent(const_cast<int*>(extent));
-  }
-  const std::string scalars = NameOfFirst(controller, arrays ? arrays->GetScalars() : nullptr);
-  for (int i = 0; i < count; ++i)
-  {
-    vtkDataArray* array = arrays ? arrays->GetArray(i) : nullptr;
-    int form[3];
-    AgreeOnArrays(controller, array, 0, form);
-    const std::string name = NameOfFirst(controller, array);
-    auto moved = vtk::TakeSmartPointer(vtkDataArray::CreateDataArray(form[0]));
-    moved->SetName(name.c_str());
-    moved->SetNumberOfComponents(form[1]);
-    moved->SetNumberOfTuples(extent ? ExtentPoints(extent) : 0);
-    moved->Fill(0.0);
-    ExchangeExtents<unsigned char>(controller, held, held,
-      array ? static_cast<const unsigned char*>(array->GetVoidPointer(0)) : nullptr,
-      extent ? extent : none, static_cast<unsigned char*>(moved->GetVoidPointer(0)),
-      form[1] * vtkDataArray::GetDataTypeSize(form[0]), false);
-    if (extent)
-    {
-      to->GetPointData()->AddArray(moved);
-    }
-  }
-  if (extent && !scalars.empty())
-  {
-    to->GetPointData()->SetActiveScalars(scalars.c_str());
-  }
 }
 
 //------------------------------------------------------------------------------

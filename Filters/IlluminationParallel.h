@@ -16,8 +16,8 @@
  * neighbouring bands exchanging directional lights' lattice rows after every slice, the units
  * moved to the pieces' processes (ExchangeExtents); cell scalars become point scalars over each
  * block from its cells and the layer around it (BlockPointScalars). Pieces that are not the
- * blocks (another decomposition) give each block its lit array (BlockOfPieces), and the
- * illumination over the blocks moves to the pieces' processes (MovePointArrays). The image filters
+ * blocks (another decomposition) give each block its lit array (BlockOfPieces), and each
+ * process outputs the illumination over its block. The image filters
  * with the distributed properties off assemble the whole input on every process from the pieces of
  * all processes (collective calls of the filter's vtkMultiProcessController) and output the part of
  * the illumination that belongs to their own piece; the propagation then shares its sweeps out
@@ -307,16 +307,6 @@ private:
   int Extent[6] = { 0, -1, 0, -1, 0, -1 };
   int BlockExtent[6] = { 0, -1, 0, -1, 0, -1 };
 };
-
-/**
- * Collective: the point arrays of images over parts of a grid moved to other parts of it.
- * `from` (nullptr for none) holds the arrays over its extent, the same arrays on every
- * process that passes one (names, types, components); `to` gets each of them over `extent`
- * (nullptr: none; `to` is left alone), every point from a process whose `from` holds it
- * (ExchangeExtents; points that none holds are 0), with the same active scalars.
- */
-VOLILLUMFILTERS_EXPORT void MovePointArrays(
-  vtkMultiProcessController* controller, vtkImageData* from, const int* extent, vtkImageData* to);
 
 /**
  * The whole input of a filter assembled from the pieces of all processes, kept until the

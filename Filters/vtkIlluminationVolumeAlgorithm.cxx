@@ -289,8 +289,7 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
   }
   if (this->LightsDistributedPieces())
   {
-    this->IlluminateDistributed(controller, inputVector[0]->GetInformationObject(0),
-      outputVector->GetInformationObject(0), input, output);
+    this->IlluminateDistributed(controller, inputVector[0]->GetInformationObject(0), input, output);
     return 1;
   }
   // Light crosses every piece: every process assembles the whole image (an empty or invalid
@@ -476,7 +475,7 @@ void vtkIlluminationVolumeAlgorithm::FinishOutput(vtkImageData* output, const in
 
 //------------------------------------------------------------------------------
 void vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessController* controller,
-  vtkInformation* inInfo, vtkInformation* outInfo, vtkImageData* input, vtkImageData* output)
+  vtkInformation* inInfo, vtkImageData* input, vtkImageData* output)
 {
   const auto start = std::chrono::steady_clock::now();
   // The whole grid, from the pipeline information (the same on every process).
@@ -506,10 +505,9 @@ void vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessContro
   int block[6];
   const bool piece = volillum::ProcessBlock(controller, whole, block);
   bool ok = !piece || (input && volillum::ExtentHolds(input->GetExtent(), block));
-  vtkImageData* const own = input && input->GetNumberOfPoints() > 0 ? input : nullptr;
-  const bool gathered = !volillum::AllOk(controller, ok);
-  if (gathered)
+  if (!volillum::AllOk(controller, ok))
   {
+    vtkImageData* const own = input && input->GetNumberOfPoints() > 0 ? input : nullptr;
     bool onCells = false;
     std::string error;
     vtkAbstractArray* chosen = own ? volillum::ChooseScalars(this, own, onCells, error) : nullptr;
@@ -623,44 +621,12 @@ void vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessContro
     target, extents, inputModified, illumination->GetPointer(0), report);
   this->SetAbortExecute(0); // not aborted: the other processes took part
   this->Distributed = std::make_unique<volillum::DistributedInput>(); // no whole input kept
-  vtkNew<vtkImageData> lit; // the illumination over the block, when the pieces are others
+  // Where the pieces are not the blocks the output covers the block (input), as the
+  // pieces the pipeline asks for do: they are vtkExtentTranslator's blocks of the output.
   if (piece)
   {
-    this->FinishOutput(gathered ? lit.Get() : output, extent, target, input->GetDirectionMatrix(),
-      illumination, report,
+    this->FinishOutput(output, extent, target, input->GetDirectionMatrix(), illumination, report,
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-  }
-  if (gathered)
-  {
-    // Each process outputs the part of the illumination grid the pipeline asks of it (else
-    // the part over its own piece): the parts over the blocks move there. So whether an
-    // output holds what a later request asks of it does not depend on how the pieces lie
-    // (an output over a piece that is the whole image would hold any, one over an empty piece
-    // none), and no process runs the filter again alone while the others wait.
-    bool asked = outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()) != 0;
-    if (asked)
-    {
-      outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), extent);
-      const int grid[6] = { 0, target.Dimensions[0] - 1, 0, target.Dimensions[1] - 1, 0,
-        target.Dimensions[2] - 1 };
-      asked = volillum::ExtentHolds(grid, extent);
-    }
-    const bool some = asked ? volillum::ExtentPoints(extent) > 0 : own != nullptr;
-    if (!asked && own)
-    {
-      volillum::TargetPieceExtent(whole, target.Dimensions.data(), own->GetExtent(), extent);
-    }
-    volillum::MovePointArrays(
-      controller, piece ? lit.Get() : nullptr, some ? extent : nullptr, output);
-    if (some)
-    {
-      output->SetOrigin(target.Origin.data());
-      output->SetSpacing(target.Spacing.data());
-      output->SetDirectionMatrix((own ? own : shape.Get())->GetDirectionMatrix()->GetData());
-      output->GetFieldData()->ShallowCopy(lit->GetFieldData());
-    }
-    this->LastOutput = vtkSmartPointer<vtkImageData>::New();
-    this->LastOutput->ShallowCopy(output);
   }
 }
 

@@ -213,7 +213,7 @@ protected:
    * (ComputeDistributedIllumination) instead of assembling the whole input on every
    * process (false by default). Each process lights its block of the input (vtkExtentTranslator's
    * block p of N), gathered from the pieces where they are not the blocks (BlockOfPieces: the
-   * process then outputs the part of the illumination grid asked of it). Cell scalars become point
+   * output then covers the block). Cell scalars become point
    * values over each process's block from its cells and the layer of cells around it
    * (BlockPointScalars), as a serial run averages them.
    */
@@ -294,12 +294,11 @@ private:
   // A parallel update of a filter that LightsDistributedPieces: each process classifies its
   // piece (the transfer functions over the scalar range of all pieces) and
   // ComputeDistributedIllumination gives it its part of the illumination grid. `inInfo`:
-  // the input's pipeline information (the whole extent and geometry), `outInfo` the output's
-  // (the extent asked of it). Pieces that are not the blocks are gathered into blocks first
-  // (Blocks), and the process outputs the extent asked of it; cell scalars become point
-  // scalars over the block (BlockScalars).
+  // the input's pipeline information (the whole extent and geometry). Pieces that are not
+  // the blocks are gathered into blocks first (Blocks), and the output covers the block;
+  // cell scalars become point scalars over the block (BlockScalars).
   void IlluminateDistributed(vtkMultiProcessController* controller, vtkInformation* inInfo,
-    vtkInformation* outInfo, vtkImageData* input, vtkImageData* output);
+    vtkImageData* input, vtkImageData* output);
   // The end of a successful update: the output's geometry (the illumination grid `target`,
   // or its part `extent`), its arrays and the update's report.
   void FinishOutput(vtkImageData* output, const int extent[6], const volillum::GridGeometry& target,

@@ -40,7 +40,8 @@ struct vtkIlluminatedVolumeRepresentation::vtkInternals
   int Component = -1;
   // A parallel run (pvserver or pvbatch under MPI): the filter lights the pieces where they
   // are as each render starts, every process together (Piece: this process's piece within
-  // the whole extent), and gives each process the illumination over its piece.
+  // the whole extent), and gives each process the illumination over its piece (ParaView's
+  // pieces are the filter's blocks).
   vtkNew<vtkTrivialProducer> Piece;
   vtkMultiProcessController* Controller = nullptr; // lighting the pieces where they are
 };

@@ -40,8 +40,8 @@ and checks, against the serial run:
 - pieces of another decomposition (slabs along x cut away from the blocks' boundaries, one
   process empty on 3; the whole image on the first process, none on the others), point and
   cell scalars, with the three image filters: each process classified only its block
-  (gathered from the pieces), a light edit stays selective, and every process outputs the
-  extent asked of it;
+  (gathered from the pieces) and outputs the illumination over it, and a light edit stays
+  selective;
 - no process prints an error (an empty piece is normal in parallel).
 Usage: pvpython TestParallelIllumination.py PLUGIN OUTPUT_DIR PVBATCH MPIEXEC "MPI_FLAGS"
        GRID NPROCS...
@@ -261,8 +261,7 @@ out.GetPointData().SetGlobalIds(ids)
     # Pieces of another decomposition than the blocks the filters read (as a simulation hands
     # its own over): slabs along x, cut where no block boundary lies, the third process's
     # empty, and the whole image on the first process alone; each block is gathered from the
-    # pieces that hold it, and each process outputs the part of the illumination the pipeline
-    # asks of it (the save's piece, after the updates).
+    # pieces that hold it, and each process outputs the illumination over its block.
     # On point scalars (a light edit must stay selective) and on cell scalars. Last: a
     # programmable filter leaves numpy's max in this module.
     pieces = {(association, layout): x_slabs(source, slabs)
