@@ -936,20 +936,44 @@ bool Intersect(const int* a, const int* b, int* out)
   return some;
 }
 
-// Calls row(offset, count) for each row along x of `part`, offset being the row's first
-// value in an array over `extent` (`components` a point); the rows come in order (y, then z).
+// Calls row(offsetA, offsetB, count) for each row along x of `part`, the offsets being the
+// row's first value in arrays over the extents a and b (`components` a point); the rows come
+// in order (y, then z).
 template <typename Row>
-void ForEachRow(const int* extent, const int* part, int components, Row&& row)
+void ForEachRowOf(const int* a, const int* b, const int* part, int components, Row&& row)
 {
-  const long long nx = extent[1] - extent[0] + 1, ny = extent[3] - extent[2] + 1;
+  // The row's first point in an array over extent e.
+  auto point = [part](const int* e, int j, int k)
+  {
+    const long long nx = e[1] - e[0] + 1, ny = e[3] - e[2] + 1;
+    return (part[0] - e[0]) + nx * ((j - e[2]) + ny * (k - e[4]));
+  };
   const long long count = components * static_cast<long long>(part[1] - part[0] + 1);
   for (int k = part[4]; k <= part[5]; ++k)
   {
     for (int j = part[2]; j <= part[3]; ++j)
     {
-      const long long point = (part[0] - extent[0]) + nx * ((j - extent[2]) + ny * (k - extent[4]));
-      row(components * point, count);
+      row(components * point(a, j, k), components * point(b, j, k), count);
     }
+  }
+}
+
+// ForEachRowOf for one extent: row(offset, count).
+template <typename Row>
+void ForEachRow(const int* extent, const int* part, int components, Row&& row)
+{
+  ForEachRowOf(extent, extent, part, components,
+    [&](long long offset, long long, long long count) { row(offset, count); });
+}
+
+// `count` values copied from `from` to `to`, or added to them with `add` (modulo 2^32 for
+// unsigned values).
+template <typename T>
+void CopyOrAdd(const T* from, long long count, bool add, T* to)
+{
+  for (long long i = 0; i < count; ++i)
+  {
+    to[i] = add ? static_cast<T>(to[i] + from[i]) : from[i];
   }
 }
 
@@ -972,11 +996,7 @@ void Unpack(const std::vector<T>& packed, const int* extent, const int* part, in
   ForEachRow(extent, part, components,
     [&](long long offset, long long count)
     {
-      T* to = into + offset;
-      for (long long i = 0; i < count; ++i)
-      {
-        to[i] = add ? static_cast<T>(to[i] + at[i]) : at[i];
-      }
+      CopyOrAdd(at, count, add, into + offset);
       at += count;
     });
 }
@@ -1086,20 +1106,9 @@ long long ExchangeExtents(vtkMultiProcessController* controller, const int held[
   {
     // This process's own points, row by row without a packed copy (which could be the
     // whole extent).
-    std::vector<long long> rows;
-    ForEachRow(
-      held, part, components, [&](long long offset, long long) { rows.push_back(offset); });
-    size_t r = 0;
-    ForEachRow(wanted, part, components,
-      [&](long long offset, long long count)
-      {
-        const T* from = values + rows[r++];
-        T* to = into + offset;
-        for (long long i = 0; i < count; ++i)
-        {
-          to[i] = add ? static_cast<T>(to[i] + from[i]) : from[i];
-        }
-      });
+    ForEachRowOf(held, wanted, part, components,
+      [&](long long from, long long to, long long count)
+      { CopyOrAdd(values + from, count, add, into + to); });
   }
   // The peers: processes that want points this one owns, or own points it wants.
   std::vector<int> peers;

@@ -1648,7 +1648,7 @@ struct SweepSlices
     if (banded)
     {
       this->LatticeFirst = std::max(0, firstRow - halo);
-      latticeLast = std::min(nc, lastRow + (lastRow == nc - 1 ? 1 : 0) + halo);
+      latticeLast = std::min(nc, lastRow + halo); // (the last band's: up to the extra row nc)
     }
     size_t bytes = AllocateSliceBuffers(this->Prepared, s.Channels, s.N[s.B], nc,
       latticeLast - this->LatticeFirst + 1, this->Read, this->Write);

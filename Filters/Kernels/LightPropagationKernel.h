@@ -262,10 +262,11 @@ using LatticeExchange =
  * read (BandOfData); `units` the fixed-point illumination of the band's points only
  * (target's points with the band's rows along the row axis, x fastest; Recorded as in
  * PropagateTasks). A band's own lattice rows are its points' rows (the last band's also the
- * lattice's extra row); its lattices hold those and band.Halo rows either side. A point or spot light's rays are followed only in the band's cone
- * (the rays its rows read, slice by slice, back to the light), which needs no other band's.
- * Sweeping every band this way, each band's neighbouring lattice rows filled by `exchange`
- * from the bands that compute them, deposits PropagateTasks's units of the sweep.
+ * lattice's extra row); its lattices hold those and band.Halo rows either side. A point or spot
+ * light's rays are followed only in the band's cone (the rays its rows read, slice by slice, back
+ * to the light), which needs no other band's. Sweeping every band this way, each band's
+ * neighbouring lattice rows filled by `exchange` from the bands that compute them, deposits
+ * PropagateTasks's units of the sweep.
  */
 VOLILLUMKERNELS_EXPORT void PropagateSweepBand(const ClassifiedVolume& volume,
   const GridGeometry& target, const std::vector<PropagationTask>& tasks, const SweepBand& band,

@@ -12,8 +12,8 @@
  * the ray-marched reference) on the piece this process renders, and draws the volume
  * with vtkIlluminatedVolumeMapper. In parallel (pvserver or pvbatch under MPI) the filter
  * lights the pieces where they are with the global controller (see IlluminationParallel.h;
- * pieces that are not vtkExtentTranslator's blocks, as ParaView's parallel image readers
- * give them, are gathered into blocks by the filter), every process together as each
+ * ParaView gives a representation vtkExtentTranslator's pieces, the blocks the filter
+ * reads), every process together as each
  * render starts (ParaView renders on every process then; the decisions to light or keep
  * the illumination are agreed by reductions), and each process draws its own piece with
  * the illumination over it, so the composited image is lit as a serial one. The filters
