@@ -115,8 +115,8 @@ public:
    * the band's cone back to the light (no exchange), whose classification the band reads: it
    * reaches toward the light's row, up to the whole volume for a band far from a light beside
    * or inside the volume. Memory per process follows its block and band (the lattices hold the
-   * band's rows and halo; a point or spot light's ray buffers are whole slices). Off, the input
-   * is assembled and the sweeps shared out (see
+   * band's rows and halo; a point or spot light's ray buffers the rows of the band's cone).
+   * Off, the input is assembled and the sweeps shared out (see
    * vtkIlluminationVolumeAlgorithm::SetController). The result equals the serial run's.
    */
   vtkSetMacro(DistributedSweeps, bool);

@@ -162,11 +162,12 @@ inline float ClampToSurrounding(float sum, float a, float b, float c, float d)
 
 // Bicubic (Catmull-Rom) interpolation of a slice buffer (nb x nc pixels, `channels` values
 // each) at `at`, limited to the range of the four surrounding pixels so that it adds no new
-// extremes. The buffer may hold only the rows from firstRow on (base: that row), those the
-// taps read.
+// extremes. The buffer may hold only `rows` rows from firstRow on (base: that row; 0: those
+// up to the last), those the taps read; a tap beyond them reads the nearest row held.
 inline void MonotoneBicubic(const float* base, int channels, int nb, int nc, const SlicePoint& at,
-  float* out, int firstRow = 0)
+  float* out, int firstRow = 0, int rows = 0)
 {
+  rows = rows > 0 ? rows : nc - firstRow;
   const long long rowValues = 1LL * channels * nb;
   if (nb < 4 || nc < 4)
   {
@@ -183,6 +184,7 @@ inline void MonotoneBicubic(const float* base, int channels, int nb, int nc, con
   {
     iu[m] = std::min(std::max(at.U - 1 + m, 0), nb - 1);
     iv[m] = std::min(std::max(at.V - 1 + m, 0), nc - 1) - firstRow;
+    iv[m] = std::min(std::max(iv[m], 0), rows - 1);
   }
   for (int ch = 0; ch < channels; ++ch)
   {
@@ -343,6 +345,9 @@ struct SweepSource
   /// followed, -1 while there is none, and the number of rays along each slice axis.
   int Anchor = -1;
   int RaysB = 0, RaysC = 0;
+  /// Point and spot sources: the rows of rays the buffers (and Norms) hold, RayRows from
+  /// RayFirst on: every row, or those of a band's cone at any anchor (ConeRows).
+  int RayFirst = 0, RayRows = 0;
   /// Point and spot sources: each ray's distance from the light to its anchor point, which
   /// gives its direction at every slice until the anchor moves, so computed once per anchor
   /// (a square root a ray and slice cost more than a fifth of the ray's step): row j of rays
@@ -991,7 +996,8 @@ void TransmittanceAtPoint(const SweepContext& s, const SweepSource& sweep, const
     SegmentTransmittance(s, p, d, remaining, out);
     return;
   }
-  MonotoneBicubic(rays, s.Channels, sweep.RaysB, sweep.RaysC, at, out);
+  MonotoneBicubic(
+    rays, s.Channels, sweep.RaysB, sweep.RaysC, at, out, sweep.RayFirst, sweep.RayRows);
   lastStep = s.Spacing[a] / along;
 }
 
@@ -1143,7 +1149,8 @@ void AdvanceAnchoredRays(const SweepContext& s, SweepSource& sweep, const Anchor
   ConeRows(s, sweep, step.Anchor ? k : sweep.Anchor, first, last);
   for (int j = std::max(begin, first); j < std::min(end, last + 1); ++j)
   {
-    double* norms = sweep.Norms.data() + static_cast<long long>(j) * sweep.RaysB;
+    const long long row = static_cast<long long>(j - sweep.RayFirst) * sweep.RaysB;
+    double* norms = sweep.Norms.data() + row;
     if (!step.Anchor && sweep.RowAnchor[j] != sweep.Anchor)
     {
       for (int i = 0; i < sweep.RaysB; ++i)
@@ -1174,7 +1181,7 @@ void AdvanceAnchoredRays(const SweepContext& s, SweepSource& sweep, const Anchor
       {
         continue;
       }
-      const long long firstRay = static_cast<long long>(j) * sweep.RaysB + i0;
+      const long long firstRay = row + i0;
       if (step.Anchor)
       {
         // The rays leave slice k: their light is read from the rays at slice k - 1.
@@ -1478,15 +1485,16 @@ void PrepareDeposits(const SweepContext& s, const std::vector<PropagationTask>& 
   }
 }
 
-// The read and write slice buffers of each source; returns the bytes of every buffer of
-// the sweep, the threads' row buffers included.
-size_t AllocateSliceBuffers(std::vector<SweepSource>& prepared, int channels, int nb, int nc,
+// The read and write slice buffers of each source of a sweep (s); returns the bytes of
+// every buffer of the sweep, the threads' row buffers included.
+size_t AllocateSliceBuffers(const SweepContext& s, std::vector<SweepSource>& prepared,
   int latticeRows, std::vector<std::vector<float>>& read, std::vector<std::vector<float>>& write)
 {
+  const int channels = s.Channels, nb = s.N[s.B], nc = s.N[s.C];
   const size_t count = prepared.size();
   // Slice buffers: a ray lattice (one ray more than points along each slice axis; the
   // latticeRows rows a band reads) for a directional source; the rays from the anchor and
-  // those of the next anchor for a point or spot source.
+  // those of the next anchor for a point or spot source (a band's: the rows of its cone).
   const size_t latticeValues = channels * static_cast<size_t>(nb + 1) * latticeRows;
   size_t bufferBytes = 0;
   for (SweepSource& sweep : prepared)
@@ -1497,8 +1505,29 @@ size_t AllocateSliceBuffers(std::vector<SweepSource>& prepared, int channels, in
       // The rays leaving an anchor, AnchorSpread times denser than its points.
       sweep.RaysB = static_cast<int>(std::ceil((nb - 1) * AnchorSpread)) + 1;
       sweep.RaysC = static_cast<int>(std::ceil((nc - 1) * AnchorSpread)) + 1;
-      size = channels * static_cast<size_t>(sweep.RaysB) * sweep.RaysC;
-      const size_t rays = static_cast<size_t>(sweep.RaysB) * sweep.RaysC;
+      int first = 0, last = sweep.RaysC - 1;
+      if (!sweep.ConeLow.empty())
+      {
+        // A band's: the rows of its cone at any anchor, which hold the taps of its reads
+        // (ConeMargin).
+        int low = sweep.RaysC - 1, high = -1;
+        for (int k = 0; k < s.N[s.Axis]; ++k)
+        {
+          int f, l;
+          ConeRows(s, sweep, k, f, l);
+          if (f <= l)
+          {
+            low = std::min(low, f);
+            high = std::max(high, l);
+          }
+        }
+        first = low;
+        last = std::max(high, low);
+      }
+      sweep.RayFirst = first;
+      sweep.RayRows = last - first + 1;
+      const size_t rays = static_cast<size_t>(sweep.RaysB) * sweep.RayRows;
+      size = channels * rays;
       sweep.Norms.assign(rays, 0.0);
       sweep.RowAnchor.assign(sweep.RaysC, -1);
       bufferBytes += rays * sizeof(double) + sweep.RaysC * sizeof(int);
@@ -1595,6 +1624,16 @@ void DepositRow(const SweepContext& s, const std::vector<Deposit>& deposits, con
   }
 }
 
+// The rows of a sweep one call runs: all, or a band's (SweepBand), whose units hold only its
+// rows and whose ray lattices (its rows and the halo either side) get their neighbouring
+// rows from `Exchange` after every slice.
+struct SweepSpan
+{
+  bool Banded = false;
+  SweepBand Band;
+  LatticeExchange Exchange;
+};
+
 // The work of one sweep's slices, shared by the threads of the sweep. Slice t (index k
 // along the axis) takes these steps: its rows (Row: a directional source's lattice row and
 // the points' deposits, which read the previous slice's buffers only), each point or spot
@@ -1635,23 +1674,36 @@ struct SweepSlices
     std::vector<double> Direction, GroupFactor, Factors;
   };
 
-  // halo: the lattice rows beyond its own that a band reads either side (banded only).
-  SweepSlices(const SweepContext& s, const std::vector<PropagationTask>& tasks,
-    FixedPointIllumination& illumination, PropagationStatistics& statistics, int firstRow,
-    int lastRow, bool banded, int halo)
+  // The sweep (s) of the tasks of a group through the grid g, over the rows `span` gives.
+  SweepSlices(const SweepContext& s, const GridGeometry& g, int group,
+    const std::vector<PropagationTask>& tasks, FixedPointIllumination& illumination,
+    PropagationStatistics& statistics, const SweepSpan& span)
     : S(s)
     , Values(illumination.Values.data())
   {
     PrepareDeposits(s, tasks, illumination.Scale, this->Prepared, this->Deposits);
     const int nc = s.N[s.C];
+    const bool banded = span.Banded;
+    const int firstRow = banded ? span.Band.First : 0;
+    const int lastRow = banded ? span.Band.Last : nc - 1;
     int latticeLast = nc;
     if (banded)
     {
+      // The lattice rows beyond its own that a band reads either side.
+      const int halo = span.Band.Halo <= 0 ? LatticeHalo(g, tasks) : span.Band.Halo;
       this->LatticeFirst = std::max(0, firstRow - halo);
       latticeLast = std::min(nc, lastRow + halo); // (the last band's: up to the extra row nc)
+      for (SweepSource& sweep : this->Prepared)
+      {
+        if (!sweep.Source.Directional)
+        {
+          ConeOfBand(
+            g, SweepAxes(group), sweep.Source.Position, span.Band, sweep.ConeLow, sweep.ConeHigh);
+        }
+      }
     }
-    size_t bytes = AllocateSliceBuffers(this->Prepared, s.Channels, s.N[s.B], nc,
-      latticeLast - this->LatticeFirst + 1, this->Read, this->Write);
+    size_t bytes = AllocateSliceBuffers(
+      s, this->Prepared, latticeLast - this->LatticeFirst + 1, this->Read, this->Write);
     bool lattices = false;
     for (size_t j = 0; j < this->Prepared.size(); ++j)
     {
@@ -1889,16 +1941,6 @@ struct SweepSlices
   }
 };
 
-// The rows of a sweep one call runs: all, or a band's (SweepBand), whose units hold only its
-// rows and whose ray lattices (its rows and the halo either side) get their neighbouring
-// rows from `Exchange` after every slice.
-struct SweepSpan
-{
-  bool Banded = false;
-  SweepBand Band;
-  LatticeExchange Exchange;
-};
-
 // One sweep of the tasks (all in the same group) through the grid, or over the rows `span`
 // gives: its slices' steps run by one team of threads per chunk of slices (ForSteps),
 // progress reported between chunks from this thread.
@@ -1911,28 +1953,16 @@ bool Sweep(const ClassifiedVolume& volume, const EmptyBlocks* empty, bool rowKer
   // step that copies it.
   SweepContext s = MakeSweepContext(volume, empty, rowKernels, g, group);
   const int na = s.N[s.Axis];
-  int firstRow = 0, lastRow = s.N[s.C] - 1;
   if (span.Banded)
   {
-    firstRow = span.Band.First;
-    lastRow = span.Band.Last;
+    const int firstRow = span.Band.First, lastRow = span.Band.Last;
     const long long rows[3] = { s.C == 0 ? lastRow - firstRow + 1 : s.N[0],
       s.C == 1 ? lastRow - firstRow + 1 : s.N[1], 0 };
     s.UnitStride[1] = rows[0];
     s.UnitStride[2] = rows[0] * rows[1];
     s.UnitFirst[s.C] = firstRow;
   }
-  SweepSlices slices(s, tasks, illumination, statistics, firstRow, lastRow, span.Banded,
-    span.Banded && span.Band.Halo <= 0 ? LatticeHalo(g, tasks) : span.Band.Halo);
-  if (span.Banded)
-  {
-    for (const size_t j : slices.Anchored)
-    {
-      SweepSource& sweep = slices.Prepared[j];
-      ConeOfBand(
-        g, SweepAxes(group), sweep.Source.Position, span.Band, sweep.ConeLow, sweep.ConeHigh);
-    }
-  }
+  SweepSlices slices(s, g, group, tasks, illumination, statistics, span);
   std::vector<float*> lattices; // a band's, for the exchange
   for (size_t j = 0; j < slices.Prepared.size(); ++j)
   {

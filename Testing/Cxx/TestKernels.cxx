@@ -1060,7 +1060,8 @@ TEST(Kernels, SweepBandsEqualTheWholeSweep)
 // along the sweep axis inside the volume), inside it (six groups), a spot light; chromatic
 // and grey material; the illumination grid at the data's resolution and at half of it; a
 // recorded task. With only the material of its own rows (and two points either side) a band
-// differs (checked), and every band of a far light reads less than the whole volume.
+// differs (checked). Every band of a far light reads less than the whole volume and its ray
+// buffers hold only its cone's rows (fewer buffer bytes than the whole sweep's).
 TEST(Kernels, PointLightBandsEqualTheWholeSweep)
 {
   const ClassifiedVolume chromatic = ChromaticVolume({ { 13, 23, 25 } });
@@ -1136,16 +1137,22 @@ TEST(Kernels, PointLightBandsEqualTheWholeSweep)
     }
   }
   // A far light alone (one group) on a grid of 90 rows: each of three bands reads less than
-  // the whole.
-  long long farBand = 0;
-  GridGeometry g = chromatic.Geometry;
-  g.Dimensions[1] = 90;
+  // the whole, holds fewer rays (its cone's rows) and deposits what the whole sweep does.
+  const ClassifiedVolume tall = GreyOf(ChromaticVolume({ { 13, 90, 25 } }));
+  const GridGeometry& g = tall.Geometry;
   double bounds[6];
   g.GetBounds(bounds);
   LightState distant = lights[0];
   distant.Position[1] = 0.5 * (bounds[2] + bounds[3]);
   const auto far = TasksForLight(distant, +1, bounds);
   ASSERT_EQ(far.size(), 1u);
+  std::vector<PropagationTask> remaining;
+  PropagationStatistics wholeSweep;
+  FixedPointIllumination whole = RecordingUnits(g.NumberOfPoints());
+  ASSERT_TRUE(PropagateTasks(tall, g, far, true, 0, whole, remaining, wholeSweep, nullptr));
+  FixedPointIllumination bands = RecordingUnits(g.NumberOfPoints());
+  long long farBand = 0;
+  size_t farBuffers = 0;
   const int c = SweepRowAxis(far[0].Group), n = g.Dimensions[c];
   for (const SweepBand& band :
     { SweepBand{ 0, n / 3 - 1 }, SweepBand{ n / 3, n / 3 }, SweepBand{ n / 3 + 1, n - 1 } })
@@ -1153,14 +1160,27 @@ TEST(Kernels, PointLightBandsEqualTheWholeSweep)
     int low, high;
     BandOfData(g, g, far, band, LatticeHalo(g, far), low, high);
     farBand = std::max(farBand, g.NumberOfPoints() / n * (high - low + 1));
+    GridGeometry layout = g;
+    layout.Dimensions[c] = band.Last - band.First + 1;
+    FixedPointIllumination units = RecordingUnits(layout.NumberOfPoints());
+    PropagationStatistics statistics;
+    PropagateSweepBand(
+      BandOfVolume(tall, c, low, high), g, far, band, units,
+      [](const std::vector<float*>&, size_t, int) {}, statistics);
+    farBuffers = std::max(farBuffers, statistics.PeakBufferBytes);
+    AddBandUnits(g, c, band, units, bands);
   }
+  const double farDifference = LargestDifference(whole, bands);
   std::cout << "point light bands against whole sweeps: largest difference " << largest
             << " (bands with their own rows' material only: " << narrow
             << "); a far light's largest band " << farBand << " of " << g.NumberOfPoints()
-            << " points" << std::endl;
+            << " points, buffers " << farBuffers << " of " << wholeSweep.PeakBufferBytes
+            << " bytes, difference " << farDifference << std::endl;
+  EXPECT_LT(farBand, g.NumberOfPoints());
+  EXPECT_LT(farBuffers, wholeSweep.PeakBufferBytes);
+  EXPECT_EQ(farDifference, 0.0);
   EXPECT_EQ(largest, 0.0);
   EXPECT_GT(narrow, 1e-2);
-  EXPECT_LT(farBand, g.NumberOfPoints());
 }
 
 namespace
