@@ -361,18 +361,31 @@ void vtkMultiLightIlluminationVolume::SweepBands(const Bands& bands, int rowAxis
       halo = std::max(halo, volillum::LatticeHalo(target, sweeps[i]));
     }
   }
-  // Bands of at least `halo` rows (their neighbours' hold the rows they read), one for each
-  // of the first processes with a piece.
+  // A band for each of the first processes with a piece, at least a row each; its own rows
+  // (the last band's also the lattices' extra row n) and the lattice rows it reads (its
+  // window: its own and `halo` either side).
   const int n = target.Dimensions[rowAxis];
-  const int count = std::max(1, std::min(static_cast<int>(bands.Participants.size()), n / halo));
+  const int count = std::max(1, std::min(static_cast<int>(bands.Participants.size()), n));
   const int b = bands.Me < count ? bands.Me : -1;
+  auto ownRows = [n, count](int m, int& first, int& last)
+  {
+    first = static_cast<int>(static_cast<long long>(n) * m / count);
+    last = static_cast<int>(static_cast<long long>(n) * (m + 1) / count) - 1;
+    last = last == n - 1 ? n : last;
+  };
+  auto windowRows = [&](int m, int& first, int& last)
+  {
+    ownRows(m, first, last);
+    first = std::max(0, first - halo);
+    last = std::min(n, last + halo);
+  };
   volillum::SweepBand band;
   int rows[6] = { 0, -1, 0, -1, 0, -1 };   // the band's extent of the illumination grid
   int wanted[6] = { 0, -1, 0, -1, 0, -1 }; // the band of the data grid it reads
   if (b >= 0)
   {
-    band.First = static_cast<int>(static_cast<long long>(n) * b / count);
-    band.Last = static_cast<int>(static_cast<long long>(n) * (b + 1) / count) - 1;
+    ownRows(b, band.First, band.Last);
+    band.Last = std::min(band.Last, n - 1);
     band.Halo = halo;
     // The data all of its sweeps read.
     int low = piece.Whole.Dimensions[rowAxis], high = -1;
@@ -406,41 +419,52 @@ void vtkMultiLightIlluminationVolume::SweepBands(const Bands& bands, int rowAxis
   if (b >= 0)
   {
     const volillum::EmptyBlocks empty(slab);
-    // After every slice each band sends its first and last `halo` lattice rows to the
-    // neighbouring bands and gets theirs: first the pairs of bands (2i, 2i + 1), then the
-    // pairs (2i + 1, 2i + 2), the lower band of a pair sending first, so that the exchange
-    // takes two steps however many bands there are.
-    const int ownLast = band.Last + (band.Last == n - 1 ? 1 : 0); // and the lattice's extra row
-    std::vector<int> neighbours; // bands, in the order of the steps
-    for (const int m : { b % 2 == 0 ? b + 1 : b - 1, b % 2 == 0 ? b - 1 : b + 1 })
-    {
-      if (m >= 0 && m < count)
-      {
-        neighbours.push_back(m);
-      }
-    }
+    // After every slice each band sends the bands whose windows meet its own rows those rows
+    // and gets from the bands whose rows meet its window theirs: the bands up to `reach` away
+    // either side (bands hold n / count rows or one more). Bands d apart meet in two steps:
+    // first the pairs whose lower band lies in an even block of d bands, then the others, the
+    // lower band of a pair sending first; every band is in one pair a step, so no blocking
+    // send waits in a cycle, and the exchange takes 2 reach steps however many bands there
+    // are (2 when bands hold at least `halo` rows).
+    const int reach = (halo + n / count - 1) / (n / count);
     auto exchange = [&](const std::vector<float*>& lattices, size_t rowValues, int firstRow)
     {
-      const vtkIdType size = static_cast<vtkIdType>(rowValues) * halo;
-      for (const int m : neighbours)
+      for (int d = 1; d <= reach; ++d)
       {
-        const int process = bands.Participants[m];
-        for (const bool send : { m > b, m < b })
+        for (const bool lowerFirst : { true, false })
         {
-          const int first = m < b ? (send ? band.First : band.First - halo)
-                                  : (send ? ownLast - halo + 1 : ownLast + 1);
-          for (size_t j = 0; j < lattices.size(); ++j)
+          const int m = ((b / d) % 2 == 0) == lowerFirst ? b + d : b - d;
+          if (m < 0 || m >= count)
           {
-            float* at = lattices[j] + rowValues * (first - firstRow);
-            const int tag = LatticeTag + static_cast<int>(j);
-            if (send)
+            continue;
+          }
+          const int process = bands.Participants[m];
+          for (const bool send : { m > b, m < b })
+          {
+            // Sent: this band's rows in m's window; received: m's rows in this band's.
+            int first, last, windowFirst, windowLast;
+            ownRows(send ? b : m, first, last);
+            windowRows(send ? m : b, windowFirst, windowLast);
+            first = std::max(first, windowFirst);
+            last = std::min(last, windowLast);
+            if (first > last)
             {
-              controller->Send(at, size, process, tag);
-              this->SentBytes += size * static_cast<long long>(sizeof(float));
+              continue;
             }
-            else
+            const vtkIdType size = static_cast<vtkIdType>(rowValues) * (last - first + 1);
+            for (size_t j = 0; j < lattices.size(); ++j)
             {
-              controller->Receive(at, size, process, tag);
+              float* at = lattices[j] + rowValues * (first - firstRow);
+              const int tag = LatticeTag + static_cast<int>(j);
+              if (send)
+              {
+                controller->Send(at, size, process, tag);
+                this->SentBytes += size * static_cast<long long>(sizeof(float));
+              }
+              else
+              {
+                controller->Receive(at, size, process, tag);
+              }
             }
           }
         }

@@ -106,11 +106,12 @@ public:
   /**
    * In a parallel run (default on): sweep the light over bands of the
    * grid instead of assembling the whole input on every process. A sweep computes its slices
-   * row by row; the rows are shared out in bands, one per process with a piece (bands of at
-   * least the rows a directional light's lattice moves across between slices and a bicubic
-   * read, LatticeHalo). A process gets the classification of its band from the others'
-   * blocks, every process sweeps all slices of its rows at once, and after each slice
-   * neighbouring bands exchange the few lattice rows either side of their boundary; the units
+   * row by row; the rows are shared out in bands, one per process with a piece (at least a
+   * row each). A process gets the classification of its band from the others' blocks, every
+   * process sweeps all slices of its rows at once, and after each slice a band gets the
+   * lattice rows either side of its own that a directional light's rays move across between
+   * slices and a bicubic read takes (LatticeHalo) from the bands that hold them (bands up to
+   * ceil(halo / rows a band) away when bands are thinner than the halo); the units
    * go to the processes whose pieces hold them. A point or spot light's rays are followed in
    * the band's cone back to the light (no exchange), whose classification the band reads: it
    * reaches toward the light's row, up to the whole volume for a band far from a light beside

@@ -218,18 +218,19 @@ def prepare(data_dir, out, smoke):
 
 def model(compute_per_voxel_light, halo=5):
     """Efficiency of one sweep of a 1024^3 volume over bands of rows on P processes
-    (Documentation/parallel.md): per slice each of the S processes that sweep computes its
-    n^2 / S points and exchanges `halo` lattice rows (4 bytes a ray, one light) with each of
-    its two neighbours, in two steps of a message each way. Bands hold at least `halo` rows,
-    so S = min(P, n / halo) and the other processes wait; the efficiency is the serial slice
-    time over P times the parallel one."""
+    (Documentation/parallel.md): per slice each of the S = min(P, n) processes that sweep (a
+    band holds at least a row; the others wait) computes its n^2 / S points and exchanges
+    `halo` lattice rows (4 bytes a ray, one light) either side with the bands that hold them:
+    up to D = ceil(halo / (n / S)) bands away, in two steps of a message each way per
+    distance. The efficiency is the serial slice time over P times the parallel one."""
     rows = []
     n, latency, bandwidth = 1024, 2e-6, 10e9
-    for p in (8, 64, n // halo, 512):
-        sweeping = min(p, n // halo)
+    for p in (8, 64, n // halo, 512, n):
+        sweeping = min(p, n)
+        distances = -(-halo // (n // sweeping))
         compute = n * n / sweeping * compute_per_voxel_light
-        exchange = 4 * (latency + halo * (n + 1) * 4 / bandwidth)
-        rows.append({"processes": p, "sweeping": sweeping,
+        exchange = 4 * distances * latency + 4 * halo * (n + 1) * 4 / bandwidth
+        rows.append({"processes": p, "sweeping": sweeping, "distances": distances,
                      "efficiency": n * n * compute_per_voxel_light / (p * (compute + exchange)),
                      "slice_s": compute, "exchange_s": exchange})
     return rows
@@ -423,8 +424,9 @@ def main():
     print("model of a sweep over bands, 1024^3 (%.0f ns per voxel and light sweep, halo of 5 "
           "rows):" % (per_voxel_light * 1e9))
     for row in results["model_1024_cubed"]:
-        print("  %4d processes (%d sweeping): efficiency %.1f %% (slice %.3f ms, exchange %.0f us)"
-              % (row["processes"], row["sweeping"], 100 * row["efficiency"],
+        print("  %4d processes (%d sweeping, exchanges up to %d bands away): efficiency %.1f %% "
+              "(slice %.3f ms, exchange %.0f us)"
+              % (row["processes"], row["sweeping"], row["distances"], 100 * row["efficiency"],
                  1e3 * row["slice_s"], 1e6 * row["exchange_s"]))
     if json_path:
         with open(json_path, "w") as f:

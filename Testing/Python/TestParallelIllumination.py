@@ -14,7 +14,9 @@ and checks, against the serial run:
 - a one-light change in parallel is a selective update (UpdateMode 1) and equals a fresh
   parallel filter with the new lights;
 - Multi-Light Illumination Volume sweeps over bands of rows without assembling the input,
-  with directional lights (scale 1/2 grey and scale 1 chromatic), a point light beside the
+  with directional lights (scale 1/2 grey and scale 1 chromatic; a light almost along z
+  whose sweep along x reads more lattice rows either side of a band than the bands of 3
+  processes hold), a point light beside the
   volume, and a point light inside it with a spot light below it: each process classified
   its block (ClassifiedPoints) and, but with the light inside, held bands of the
   classification smaller than the input (BandPoints); two edits of one light (the second subtracts its record) are selective and
@@ -58,7 +60,7 @@ FILES = ["multilight.pvti", "selective.pvti", "fresh.pvti", "swept.pvti", "swept
          "swept_reclassified.pvti",
          "filtered.pvti", "filtered_hard.pvti",
          "filtered_soft.pvti", "filtered_axis.pvti", "filtered_point.pvti",
-         "filtered_inside.pvti", "filtered_assembled.pvti",
+         "filtered_inside.pvti", "filtered_assembled.pvti", "swept_grazing.pvti",
          "raymarched.pvti",
          "tiny.pvti", "tiny_raymarched.pvti", "cells_raymarched.pvti", "cells_filtered.pvti",
          "cells_multilight.pvti", "slabs_multilight.pvti", "slabs_filtered.pvti",
@@ -84,6 +86,7 @@ SLABS = {1: [("first", "last")], 2: [("first", 20), (20, "last")],
          3: [("first", 11), (11, "last"), None]}
 # The whole image on the first process, none on the others (a simulation that gathers to one).
 ROOT = {1: [("first", "last")], 2: [("first", "last"), None], 3: [("first", "last"), None, None]}
+GRAZING = [0, 52, 100, -326, 100, 100, 70, 1.0, 0.9, 0.8, 1.0, 90, 1, 1]
 SWEPT_EDITED = SWEPT[:14] + [0, 320, 200, -60] + SWEPT[18:]
 SWEPT_AGAIN = SWEPT[:14] + [0, 280, 260, 140, 100, 100, 70, 0.3, 0.8, 1.0, 0.9, 90, 1, 1] + \
     SWEPT[28:]
@@ -139,6 +142,12 @@ def worker(plugin, out, grid_file, tiny_file, parallel):
     save(reclassified, "swept_reclassified.pvti")
     save(image_filter("MultiLightIlluminationVolume", SWEPT, ResolutionScale=0.5,
                       DistributedSweeps=0), "swept_assembled.pvti")
+    # A directional light almost along z: its sweep along x (the second group) moves its rays
+    # about 18 rows of z a slice, so the bands of z rows (47 at scale 1/2) read 21 lattice rows
+    # either side, more than a band of 3 processes holds: bands exchange with the bands two
+    # away too.
+    save(image_filter("MultiLightIlluminationVolume", GRAZING, ResolutionScale=0.5),
+         "swept_grazing.pvti")
     save(image_filter("FilteredVolumetricShadows", ResolutionScale=0.5, FilterWidth=3),
          "filtered.pvti")
     # A point light inside the first block (six groups) and a spot light below the volume.
