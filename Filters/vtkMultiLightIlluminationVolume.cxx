@@ -319,11 +319,12 @@ void vtkMultiLightIlluminationVolume::ComputeDistributedIllumination(
   }
   int agreed[4];
   controller->AllReduce(mine, agreed, 4, vtkCommunicator::MAX_OP);
+  size_t swept = 0;
   for (const int rowAxis : { 2, 1 })
   {
     if (agreed[rowAxis])
     {
-      this->SweepBands(bands, rowAxis, volume, piece, target, sweeps, agreed[3] != 0, own);
+      this->SweepBands(bands, rowAxis, volume, piece, target, sweeps, agreed[3] != 0, own, swept);
     }
   }
   if (bands.Me >= 0)
@@ -347,7 +348,8 @@ void vtkMultiLightIlluminationVolume::ComputeDistributedIllumination(
 void vtkMultiLightIlluminationVolume::SweepBands(const Bands& bands, int rowAxis,
   const volillum::ClassifiedVolume& volume, const volillum::VolumePiece& piece,
   const volillum::GridGeometry& target,
-  const std::vector<std::vector<volillum::PropagationTask>>& sweeps, bool record, const int own[6])
+  const std::vector<std::vector<volillum::PropagationTask>>& sweeps, bool record, const int own[6],
+  size_t& swept)
 {
   vtkMultiProcessController* controller = bands.Controller;
   // The sweeps with these rows, and the lattice rows a band reads beyond its own.
@@ -470,11 +472,12 @@ void vtkMultiLightIlluminationVolume::SweepBands(const Bands& bands, int rowAxis
         }
       }
     };
-    for (size_t m = 0; m < mine.size(); ++m)
+    for (const size_t i : mine)
     {
-      volillum::PropagateSweepBand(
-        slab, target, sweeps[mine[m]], band, units, exchange, this->LastStatistics, &empty);
-      this->ReportProgress(static_cast<double>(m + 1) / mine.size());
+      volillum::PropagateSweepBand(slab, target, sweeps[i], band, units, exchange,
+        this->LastStatistics, &empty,
+        [&](double f) { this->ReportProgress((swept + f) / sweeps.size()); });
+      ++swept;
     }
   }
   // Each band's units to the processes whose pieces hold its points (bands do not overlap).

@@ -215,11 +215,12 @@ private:
   };
   // Collective: the planned sweeps whose rows lie along `rowAxis`, over bands of those rows
   // (see DistributedSweeps), their units added to this process's illumination over its
-  // extent `own`.
+  // extent `own`. Progress: the sweeps done (`swept`, counted up) and the fraction of the
+  // current one's slices, over all the planned sweeps.
   void SweepBands(const Bands& bands, int rowAxis, const volillum::ClassifiedVolume& volume,
     const volillum::VolumePiece& piece, const volillum::GridGeometry& target,
     const std::vector<std::vector<volillum::PropagationTask>>& sweeps, bool record,
-    const int own[6]);
+    const int own[6], size_t& swept);
 
   // The accumulated illumination and the states it holds (with Pending still to do).
   volillum::FixedPointIllumination Illumination;

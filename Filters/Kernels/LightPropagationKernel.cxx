@@ -2347,7 +2347,8 @@ void BandOfData(const GridGeometry& data, const GridGeometry& target,
 
 void PropagateSweepBand(const ClassifiedVolume& volume, const GridGeometry& target,
   const std::vector<PropagationTask>& tasks, const SweepBand& band, FixedPointIllumination& units,
-  const LatticeExchange& exchange, PropagationStatistics& statistics, const EmptyBlocks* empty)
+  const LatticeExchange& exchange, PropagationStatistics& statistics, const EmptyBlocks* empty,
+  const std::function<void(double)>& progress)
 {
   if (tasks.empty())
   {
@@ -2357,7 +2358,17 @@ void PropagateSweepBand(const ClassifiedVolume& volume, const GridGeometry& targ
   span.Banded = true;
   span.Band = band;
   span.Exchange = exchange;
-  Sweep(volume, empty, true, target, tasks[0].Group, tasks, units, statistics, nullptr, span);
+  Sweep(
+    volume, empty, true, target, tasks[0].Group, tasks, units, statistics,
+    [&progress](double f)
+    {
+      if (progress)
+      {
+        progress(f);
+      }
+      return true; // the other bands wait on this one
+    },
+    span);
 }
 
 std::vector<int> AssignSweeps(

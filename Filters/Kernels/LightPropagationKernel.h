@@ -266,12 +266,13 @@ using LatticeExchange =
  * light's rays are followed only in the band's cone (the rays its rows read, slice by slice, back
  * to the light), which needs no other band's. Sweeping every band this way, each band's
  * neighbouring lattice rows filled by `exchange` from the bands that compute them, deposits
- * PropagateTasks's units of the sweep.
+ * PropagateTasks's units of the sweep. `progress`, if given, is told the fraction of the slices
+ * swept after each slice (a band's sweep runs to its end: the other bands wait on it).
  */
 VOLILLUMKERNELS_EXPORT void PropagateSweepBand(const ClassifiedVolume& volume,
   const GridGeometry& target, const std::vector<PropagationTask>& tasks, const SweepBand& band,
   FixedPointIllumination& units, const LatticeExchange& exchange, PropagationStatistics& statistics,
-  const EmptyBlocks* empty = nullptr);
+  const EmptyBlocks* empty = nullptr, const std::function<void(double)>& progress = nullptr);
 
 }
 

@@ -942,7 +942,7 @@ double LargestDifference(const FixedPointIllumination& a, const FixedPointIllumi
 // neighbouring rows come from a run of one band of all rows, and every band's own rows must
 // equal that run's at every slice (so bands that exchange their rows compute the same).
 // The bands' volumes are smaller than the whole. Without the exchange the units differ
-// (checked).
+// (checked). Each band's sweep reports its progress after every slice (the fraction swept).
 TEST(Kernels, SweepBandsEqualTheWholeSweep)
 {
   const ClassifiedVolume chromatic = ChromaticVolume({ { 13, 23, 25 } });
@@ -956,6 +956,8 @@ TEST(Kernels, SweepBandsEqualTheWholeSweep)
   double largest = 0.0, rows = 0.0, unexchanged = 0.0;
   long long bandPoints = chromatic.Geometry.NumberOfPoints();
   int halo = 0;
+  bool progressed = true; // each band's sweep told its progress after every slice
+  int reports = 0;
   for (const ClassifiedVolume* volume : { &chromatic, static_cast<const ClassifiedVolume*>(&grey) })
   {
     for (const double scale : { 1.0, 0.5 })
@@ -1032,7 +1034,15 @@ TEST(Kernels, SweepBandsEqualTheWholeSweep)
                 }
                 ++slice;
               },
-              statistics);
+              statistics, nullptr,
+              [&](double f)
+              {
+                // Told after each slice: an exchange after every slice but the last.
+                progressed =
+                  progressed && f == double(++reports) / target.Dimensions[sweep[0].Group / 2];
+              });
+            progressed = progressed && reports == slice + 1;
+            reports = 0;
             AddBandUnits(target, c, band, units, bands);
           }
         }
@@ -1049,6 +1059,7 @@ TEST(Kernels, SweepBandsEqualTheWholeSweep)
   EXPECT_EQ(largest, 0.0);
   EXPECT_EQ(rows, 0.0);
   EXPECT_GT(unexchanged, 1e-2);
+  EXPECT_TRUE(progressed);
   EXPECT_LT(bandPoints, chromatic.Geometry.NumberOfPoints());
 }
 

@@ -25,6 +25,7 @@ and checks, against the serial run:
   in the collective calls only); a filter whose lights switch between directional only and
   a point light, also on the image of one cell; a new opacity function after an update over
   bands;
+- an update over bands reports its progress after every slice of its sweeps, rising to 1;
 - the files read back whole (the image pieces cover the illumination grid);
 - a tetrahedralised Wavelet (thin layers of other pieces' cells, eight level-1 steps,
   strong scattering) on redistributed pieces equals the serial run too;
@@ -48,6 +49,7 @@ and checks, against the serial run:
 Usage: pvpython TestParallelIllumination.py PLUGIN OUTPUT_DIR PVBATCH MPIEXEC "MPI_FLAGS"
        GRID NPROCS...
 """
+import json
 import os
 import shutil
 import subprocess
@@ -126,6 +128,14 @@ def worker(plugin, out, grid_file, tiny_file, parallel):
              fresh + ".pvti")
     save(image_filter("MultiLightIlluminationVolume", SWEPT, ChromaticAttenuation=1),
          "swept_chromatic.pvti")
+    # The progress this process's filter reports in an update over bands (after every slice).
+    reporting = image_filter("MultiLightIlluminationVolume", SWEPT, ResolutionScale=0.5)
+    progress = []
+    algorithm = reporting.GetClientSideObject()
+    algorithm.AddObserver("ProgressEvent", lambda o, e: progress.append(o.GetProgress()))
+    reporting.UpdatePipeline()
+    with open(os.path.join(out, "progress.json"), "w") as f:
+        json.dump(progress, f)
     # One filter switching between directional lights only and a point light on.
     switched = image_filter("MultiLightIlluminationVolume", ResolutionScale=0.5)
     for lights in (SWEPT, EDITED):
@@ -519,6 +529,14 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
     for run in runs:
         if run == "serial":
             continue
+        # Progress in an update over bands: reported after every slice of each sweep (the
+        # scale-1/2 head has 32 to 47 slices a sweep), rising to 1.
+        with open(os.path.join(out, run, "progress.json")) as f:
+            progress = json.load(f)
+        print("%-5s progress reported %d times, last %s" % (run, len(progress),
+                                                          progress[-1] if progress else None))
+        if len(progress) < 32 or progress != sorted(progress) or progress[-1] != 1.0:
+            failures.append("%s: progress %s" % (run, progress))
         for f in FILES:
             data = read_whole(os.path.join(out, run, f))
             if f.endswith(".pvti") and data.GetExtent() != serial[f].GetExtent():
