@@ -13,9 +13,10 @@
  * pairwise, between processes whose windows share columns); Multi-Light Illumination
  * Volume sweeps bands of rows, each process its band's classification (ExchangeExtents from
  * the blocks; for point and spot lights that of the band's cone back to the light),
- * neighbouring bands exchanging directional lights' lattice rows after every slice, the units
- * moved to the pieces' processes (ExchangeExtents); cell scalars become point scalars over each
- * block from its cells and the layer around it (BlockPointScalars). Pieces that are not the
+ * each band getting the directional lights' lattice rows it reads beyond its own from the
+ * bands that hold them after every slice, the units moved to the pieces' processes
+ * (ExchangeExtents); cell scalars become point scalars over each block from its cells and the
+ * layer around it (BlockPointScalars). Pieces that are not the
  * blocks (another decomposition) give each block its lit array (BlockOfPieces), and each
  * process outputs the illumination over its block. The image filters
  * with the distributed properties off assemble the whole input on every process from the pieces of

@@ -171,9 +171,10 @@ inline void MonotoneBicubic(const float* base, int channels, int nb, int nc, con
   const long long rowValues = 1LL * channels * nb;
   if (nb < 4 || nc < 4)
   {
+    // (clamped to the rows held as the taps below are)
     SlicePoint local = at;
-    local.V -= firstRow;
-    Bilinear(base, channels, nb > 1 ? channels : 0, nc > 1 ? rowValues : 0, local, out);
+    local.V = std::min(std::max(at.V - firstRow, 0), std::max(rows - 2, 0));
+    Bilinear(base, channels, nb > 1 ? channels : 0, nc > 1 && rows > 1 ? rowValues : 0, local, out);
     return;
   }
   float wu[4], wv[4];
