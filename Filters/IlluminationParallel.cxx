@@ -26,6 +26,7 @@
 #include <cstring>
 #include <limits>
 #include <map>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -531,6 +532,62 @@ vtkSmartPointer<vtkUnstructuredGrid> PieceWithoutGhostCells(
   }
   own->Squeeze();
   return own->GetNumberOfCells() > 0 ? own : nullptr;
+}
+
+//------------------------------------------------------------------------------
+bool PiecesCanJoin(
+  vtkMultiProcessController* controller, vtkUnstructuredGrid* piece, std::string& error)
+{
+  vtkDataArray* coordinates = piece && piece->GetPoints() ? piece->GetPoints()->GetData() : nullptr;
+  for (vtkIdType p = 0; coordinates && p < coordinates->GetNumberOfTuples() && error.empty(); ++p)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      if (!(std::abs(coordinates->GetComponent(p, a)) <= MaximumCoordinate))
+      {
+        std::ostringstream message;
+        message << "Point " << p << " of this process's piece has a coordinate that is not a "
+                << "finite number within +-" << MaximumCoordinate << ".";
+        error = message.str();
+        break;
+      }
+    }
+  }
+  if (!AllOk(controller, error.empty()))
+  {
+    return false;
+  }
+  // The arrays' layout, as a fingerprint (of the pieces only: an empty process agrees).
+  std::uint64_t layout = 0;
+  for (int association : { vtkDataObject::POINT, vtkDataObject::CELL })
+  {
+    vtkDataSetAttributes* attributes = piece ? piece->GetAttributes(association) : nullptr;
+    for (int i = 0; attributes && i < attributes->GetNumberOfArrays(); ++i)
+    {
+      vtkAbstractArray* array = attributes->GetAbstractArray(i);
+      const std::string name = array->GetName() ? array->GetName() : "";
+      const int form[4] = { association, array->GetDataType(), array->GetNumberOfComponents(),
+        attributes->IsArrayAnAttribute(i) };
+      layout = HashBytes(form, sizeof(form), HashBytes(name.data(), name.size(), layout));
+    }
+  }
+  // The pieces' fingerprints (63 bits) agree when the smallest is the largest.
+  const long long mine[2] = { piece ? static_cast<long long>(layout >> 1)
+                                    : std::numeric_limits<long long>::max(),
+    piece ? static_cast<long long>(layout >> 1) : std::numeric_limits<long long>::min() };
+  long long lowest = 0, highest = 0;
+  controller->AllReduce(mine, &lowest, 1, vtkCommunicator::MIN_OP);
+  controller->AllReduce(mine + 1, &highest, 1, vtkCommunicator::MAX_OP);
+  if (lowest != std::numeric_limits<long long>::max() && lowest != highest)
+  {
+    if (controller->GetLocalProcessId() == 0)
+    {
+      error = "The pieces' arrays to illuminate differ between processes (in name, type, "
+              "components or association); every piece must carry the same arrays.";
+    }
+    return false;
+  }
+  return true;
 }
 
 //------------------------------------------------------------------------------

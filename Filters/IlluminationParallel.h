@@ -184,6 +184,17 @@ VOLILLUMFILTERS_EXPORT vtkSmartPointer<vtkUnstructuredGrid> PieceWithoutGhostCel
   vtkAlgorithm* algorithm, vtkUnstructuredGrid* piece);
 
 /**
+ * Collective: whether the processes' pieces (PieceWithoutGhostCells; null for none) can be
+ * joined into neighbourhood grids (NeighborhoodGrid::Build): every coordinate finite and
+ * within +-MaximumCoordinate, and the same arrays, in the same order, with the same names,
+ * types, components and attribute roles, on every piece (a point or cell of one piece is
+ * copied into another's grid). Otherwise `error` says why, on the processes whose piece has
+ * a bad coordinate, or on the first process when the pieces' arrays differ.
+ */
+VOLILLUMFILTERS_EXPORT bool PiecesCanJoin(
+  vtkMultiProcessController* controller, vtkUnstructuredGrid* piece, std::string& error);
+
+/**
  * A process's neighbourhood of a distributed unstructured grid: its piece's cells followed
  * by the cells of other processes' pieces whose bounding boxes come within `depth` of the
  * piece's cells (each process sends the others what lies near them: no process holds the

@@ -206,6 +206,18 @@ bool vtkUnstructuredGridIllumination::PrepareDistributedMesh(
   {
     return false;
   }
+  // Pieces whose coordinates or arrays cannot join the others' are refused before any cell
+  // travels.
+  if (!volillum::PiecesCanJoin(controller, own, error))
+  {
+    if (!error.empty())
+    {
+      vtkErrorMacro(<< error);
+    }
+    this->Neighborhood->Reset();
+    this->MeshKey = 0;
+    return false;
+  }
   if (!this->Neighborhood->Changed(controller, own) && this->MeshKey != 0)
   {
     return true; // no piece changed: the mesh and its colours stand

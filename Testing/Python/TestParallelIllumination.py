@@ -45,12 +45,17 @@ and checks, against the serial run:
   cell scalars, with the three image filters: each process classified only its block
   (gathered from the pieces) and outputs the illumination over it, and a light edit stays
   selective;
-- no process prints an error (an empty piece is normal in parallel).
+- no process prints an error (an empty piece is normal in parallel);
+- on 2 processes, refusals: slabs that leave part of the image uncovered (every image
+  filter), and unstructured pieces that cannot join (a NaN coordinate on one process, the
+  lit array missing there or given as cell data): a clear error and an empty output, no
+  crash, and the pieces lit again once sound.
 Usage: pvpython TestParallelIllumination.py PLUGIN OUTPUT_DIR PVBATCH MPIEXEC "MPI_FLAGS"
        GRID NPROCS...
 """
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -342,7 +347,8 @@ _slab(self, %r)
 
 def gap_worker(plugin):
     """Slabs that leave x = 21 to 24 in no piece: every image filter must refuse them with
-    an error and output nothing, and the processes go on."""
+    an error and output nothing, and the processes go on. Unstructured pieces that cannot
+    join (a bad coordinate, pieces whose arrays differ) likewise, until they are sound."""
     from paraview.simple import (LoadPlugin, XMLImageDataReader, GetColorTransferFunction,
                                  GetOpacityTransferFunction)
     ns = globals()
@@ -355,6 +361,48 @@ def gap_worker(plugin):
         f.Scalars = ["POINTS", "scalars"]
         f.UpdatePipeline()
         print("%s output points: %d" % (name, f.GetDataInformation().GetNumberOfPoints()))
+    # Unstructured Grid Illumination on tetrahedralised Wavelet pieces, the last process's
+    # spoiled in turn (a NaN coordinate; the lit array removed; the array as cell data):
+    # refused with an error and an empty output, then lit again once the pieces are sound.
+    from paraview.simple import CleantoGrid, ProgrammableFilter, Wavelet
+    pieces = ProgrammableFilter(Input=CleantoGrid(Input=Wavelet(WholeExtent=[-5, 5] * 3)),
+                                OutputDataSetType="vtkUnstructuredGrid")
+    u = UnstructuredGridIllumination(Input=pieces, Level0Resolution=[12, 12, 12])
+    u.Scalars = ["POINTS", "RTData"]
+    u.Lights = [0, -30, -20, 40, 0, 0, 0, 1, 1, 1, 1, 90, 1, 1]
+    for spoil in ("nan", "missing", "cells", "none"):
+        pieces.Script = """
+def _spoil(algorithm, spoil):
+    from vtkmodules.vtkCommonCore import vtkDoubleArray, vtkPoints
+    from vtkmodules.vtkFiltersGeneral import vtkDataSetTriangleFilter
+    from vtkmodules.vtkParallelCore import vtkMultiProcessController
+    controller = vtkMultiProcessController.GetGlobalController()
+    split = vtkDataSetTriangleFilter()
+    split.SetInputData(algorithm.GetInput())
+    split.Update()
+    out = algorithm.GetOutput()
+    out.ShallowCopy(split.GetOutput())
+    if controller.GetLocalProcessId() != controller.GetNumberOfProcesses() - 1:
+        return
+    if spoil == "nan":
+        points = vtkPoints()
+        points.DeepCopy(out.GetPoints())  # (the input's own points are shared)
+        x = points.GetPoint(3)
+        points.SetPoint(3, float("nan"), x[1], x[2])
+        out.SetPoints(points)
+    elif spoil in ("missing", "cells"):
+        out.GetPointData().RemoveArray("RTData")
+    if spoil == "cells":
+        cells = vtkDoubleArray()
+        cells.SetName("RTData")
+        cells.SetNumberOfTuples(out.GetNumberOfCells())
+        cells.Fill(150.0)
+        out.GetCellData().AddArray(cells)
+_spoil(self, %r)
+""" % spoil
+        u.UpdatePipeline()
+        print("UnstructuredGridIllumination %s: output points: %d"
+              % (spoil, u.GetDataInformation().GetNumberOfPoints()))
 
 
 def read_whole(path):
@@ -515,8 +563,12 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
                                 env=environment_for_mpiexec(), timeout=600)
         print(result.stdout)
         refused = result.stdout.count("leave part of this process's block of the image uncovered")
-        if result.returncode != 0 or refused < 3 or \
-                result.stdout.count(" output points: 0\n") != 3:
+        spoiled = (result.stdout.count("has a coordinate that is not a finite number") == 1 and
+                   result.stdout.count("arrays to illuminate differ between processes") == 2)
+        relit = re.search(r"UnstructuredGridIllumination none: output points: [1-9]",
+                          result.stdout)
+        if result.returncode != 0 or refused < 3 or not spoiled or not relit or \
+                result.stdout.count(" output points: 0\n") != 6:
             failures.append("np2 gap: exit %d, output:\n%s" % (result.returncode,
                                                                  result.stdout[-3000:]))
     if failures:
