@@ -31,8 +31,8 @@ struct ClassificationSettings
   const double* Range = nullptr;
 };
 
-/// The range of a component of the scalars (NaN left out); false when it is empty or not
-/// finite.
+/// The range of the finite values of a component of the scalars (NaN and infinities left
+/// out); false when there is none.
 VOLILLUMFILTERS_EXPORT bool FiniteRange(vtkDataArray* scalars, int component, double range[2]);
 
 /**

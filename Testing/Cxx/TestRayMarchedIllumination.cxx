@@ -451,6 +451,64 @@ TEST(RayMarchedIllumination, NaNScalarsAreEmptySpace)
   }
 }
 
+// Infinite scalars take the transfer functions' ends (the range is that of the finite values,
+// as in every piece of a parallel run): the scene with +inf in one region and -inf in another
+// lights as the scene with the largest and smallest finite values there.
+TEST(RayMarchedIllumination, InfiniteScalarsTakeTheTransferFunctionsEnds)
+{
+  auto spheres = MakeScene(vtkIlluminationPhantomSource::ThreeSpheres);
+  auto inRegion = [](int i, int j, int k, int x0)
+  { return k >= 28 && k < 36 && j >= 28 && j < 36 && i >= x0 && i < x0 + 8; };
+  vtkDataArray* original = spheres->GetPointData()->GetScalars();
+  double low = VTK_DOUBLE_MAX, high = -VTK_DOUBLE_MAX; // of the points outside the regions
+  for (vtkIdType id = 0; id < spheres->GetNumberOfPoints(); ++id)
+  {
+    const int i = id % N, j = (id / N) % N, k = id / (N * N);
+    if (!inRegion(i, j, k, 16) && !inRegion(i, j, k, 40))
+    {
+      low = std::min(low, original->GetTuple1(id));
+      high = std::max(high, original->GetTuple1(id));
+    }
+  }
+  vtkNew<vtkImageData> infinite, extreme;
+  for (vtkImageData* image : { infinite.Get(), extreme.Get() })
+  {
+    image->CopyStructure(spheres);
+    vtkNew<vtkFloatArray> values;
+    values->SetName("Density");
+    values->SetNumberOfTuples(spheres->GetNumberOfPoints());
+    for (vtkIdType id = 0; id < values->GetNumberOfTuples(); ++id)
+    {
+      const int i = id % N, j = (id / N) % N, k = id / (N * N);
+      const bool inf = image == infinite.Get();
+      const double v = inRegion(i, j, k, 16)
+        ? (inf ? std::numeric_limits<double>::infinity() : high)
+        : inRegion(i, j, k, 40) ? (inf ? -std::numeric_limits<double>::infinity() : low)
+                                : original->GetTuple1(id);
+      values->SetValue(id, static_cast<float>(v));
+    }
+    image->GetPointData()->SetScalars(values);
+  }
+  auto run = [&](vtkImageData* image)
+  {
+    vtkNew<vtkRayMarchedIllumination> filter;
+    filter->AddLight(PointLight(-20, 32, 32));
+    EXPECT_EQ(RunAndCountErrors(filter, image), 0);
+    auto out = vtkSmartPointer<vtkFloatArray>::New();
+    out->DeepCopy(Illumination(filter));
+    return out;
+  };
+  auto a = run(infinite);
+  auto b = run(extreme);
+  ASSERT_EQ(a->GetNumberOfValues(), b->GetNumberOfValues());
+  ASSERT_GT(a->GetNumberOfValues(), 0);
+  for (vtkIdType t = 0; t < a->GetNumberOfValues(); ++t)
+  {
+    ASSERT_TRUE(std::isfinite(a->GetValue(t)));
+    ASSERT_EQ(a->GetValue(t), b->GetValue(t));
+  }
+}
+
 TEST(RayMarchedIllumination, ClassificationKeepsEachChannelsValues)
 {
   // Chromatic classification of scalars 0 to 99 and NaN under a light colour map (k_c =
