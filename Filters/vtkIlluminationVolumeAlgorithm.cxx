@@ -532,6 +532,16 @@ void vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessContro
   bool onCells = false;
   std::string error;
   vtkAbstractArray* chosen = piece ? volillum::ChooseScalars(this, input, onCells, error) : nullptr;
+  // A block without the array: its process says why, and all stop.
+  ok = !piece || chosen;
+  if (!ok)
+  {
+    vtkErrorMacro(<< error);
+  }
+  if (!volillum::AllOk(controller, ok))
+  {
+    return;
+  }
   if (!volillum::AllOk(controller, !onCells))
   {
     input = this->BlockScalars->Update(controller, whole, piece ? block : nullptr, input,

@@ -46,8 +46,9 @@ and checks, against the serial run:
   (gathered from the pieces) and outputs the illumination over it, and a light edit stays
   selective;
 - no process prints an error (an empty piece is normal in parallel);
-- on 2 processes, refusals: slabs that leave part of the image uncovered (every image
-  filter), and unstructured pieces that cannot join (a NaN coordinate on one process, the
+- on 2 processes, refusals: slabs that leave part of the image uncovered and a piece
+  without the lit array (every image filter; only that piece's process prints why), and
+  unstructured pieces that cannot join (a NaN coordinate on one process, the
   lit array missing there or given as cell data): a clear error and an empty output, no
   crash, and the pieces lit again once sound.
 Usage: pvpython TestParallelIllumination.py PLUGIN OUTPUT_DIR PVBATCH MPIEXEC "MPI_FLAGS"
@@ -361,10 +362,30 @@ def gap_worker(plugin):
         f.Scalars = ["POINTS", "scalars"]
         f.UpdatePipeline()
         print("%s output points: %d" % (name, f.GetDataInformation().GetNumberOfPoints()))
+    # The image filters on Wavelet pieces whose last one lacks the lit array: that process
+    # says so, the others stop silently.
+    from paraview.simple import CleantoGrid, ProgrammableFilter, Wavelet
+    lacking = ProgrammableFilter(Input=Wavelet(WholeExtent=[-8, 8] * 3),
+                                 OutputDataSetType="Same as Input", Script="""
+def _drop(algorithm):
+    from vtkmodules.vtkParallelCore import vtkMultiProcessController
+    controller = vtkMultiProcessController.GetGlobalController()
+    out = algorithm.GetOutput()
+    out.ShallowCopy(algorithm.GetInput())
+    if controller.GetLocalProcessId() == controller.GetNumberOfProcesses() - 1:
+        out.GetPointData().RemoveArray("RTData")
+_drop(self)
+""")
+    for name in ("MultiLightIlluminationVolume", "FilteredVolumetricShadows",
+                 "RayMarchedIllumination"):
+        f = ns[name](Input=lacking, ResolutionScale=0.5)
+        f.Scalars = ["POINTS", "RTData"]
+        f.UpdatePipeline()
+        print("%s without the array: output points: %d"
+              % (name, f.GetDataInformation().GetNumberOfPoints()))
     # Unstructured Grid Illumination on tetrahedralised Wavelet pieces, the last process's
     # spoiled in turn (a NaN coordinate; the lit array removed; the array as cell data):
     # refused with an error and an empty output, then lit again once the pieces are sound.
-    from paraview.simple import CleantoGrid, ProgrammableFilter, Wavelet
     pieces = ProgrammableFilter(Input=CleantoGrid(Input=Wavelet(WholeExtent=[-5, 5] * 3)),
                                 OutputDataSetType="vtkUnstructuredGrid")
     u = UnstructuredGridIllumination(Input=pieces, Level0Resolution=[12, 12, 12])
@@ -564,11 +585,13 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
         print(result.stdout)
         refused = result.stdout.count("leave part of this process's block of the image uncovered")
         spoiled = (result.stdout.count("has a coordinate that is not a finite number") == 1 and
-                   result.stdout.count("arrays to illuminate differ between processes") == 2)
+                   result.stdout.count("arrays to illuminate differ between processes") == 2 and
+                   result.stdout.count("has no point or cell array 'RTData'") == 3 and
+                   "cannot be made point scalars" not in result.stdout)
         relit = re.search(r"UnstructuredGridIllumination none: output points: [1-9]",
                           result.stdout)
         if result.returncode != 0 or refused < 3 or not spoiled or not relit or \
-                result.stdout.count(" output points: 0\n") != 6:
+                result.stdout.count(" output points: 0\n") != 9:
             failures.append("np2 gap: exit %d, output:\n%s" % (result.returncode,
                                                                  result.stdout[-3000:]))
     if failures:
