@@ -27,6 +27,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <sstream>
 
 namespace volillum
@@ -268,23 +269,31 @@ std::string CheckPoints(vtkDataSet* input, vtkDataArray* scalars)
     return message.str();
   }
   vtkPointSet* pointSet = vtkPointSet::SafeDownCast(input);
-  vtkDataArray* coordinates =
-    pointSet && pointSet->GetPoints() ? pointSet->GetPoints()->GetData() : nullptr;
-  if (coordinates)
+  const vtkIdType bad = FirstBadCoordinate(
+    pointSet && pointSet->GetPoints() ? pointSet->GetPoints()->GetData() : nullptr,
+    std::numeric_limits<double>::max());
+  if (bad >= 0)
   {
-    for (vtkIdType p = 0; p < coordinates->GetNumberOfTuples(); ++p)
+    message << "Point " << bad << " has a coordinate that is not a finite number.";
+    return message.str();
+  }
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
+vtkIdType FirstBadCoordinate(vtkDataArray* coordinates, double bound)
+{
+  for (vtkIdType p = 0; coordinates && p < coordinates->GetNumberOfTuples(); ++p)
+  {
+    for (int a = 0; a < 3; ++a)
     {
-      for (int a = 0; a < 3; ++a)
+      if (!(std::abs(coordinates->GetComponent(p, a)) <= bound))
       {
-        if (!std::isfinite(coordinates->GetComponent(p, a)))
-        {
-          message << "Point " << p << " has a coordinate that is not a finite number.";
-          return message.str();
-        }
+        return p;
       }
     }
   }
-  return std::string();
+  return -1;
 }
 
 //------------------------------------------------------------------------------

@@ -106,6 +106,10 @@ VOLILLUMFILTERS_EXPORT bool HasSolidCells(vtkUnstructuredGrid* grid);
 /// Empty when every cell's point ids lie within the grid's points; otherwise which does not.
 VOLILLUMFILTERS_EXPORT std::string CheckPointIds(vtkUnstructuredGrid* grid);
 
+/// The first point of `coordinates` (3 components a point) with a coordinate that is not a
+/// finite number within +-bound, or -1 when there is none.
+VOLILLUMFILTERS_EXPORT vtkIdType FirstBadCoordinate(vtkDataArray* coordinates, double bound);
+
 /// Empty when the scalars have one value per point and every point coordinate is finite;
 /// otherwise what is wrong.
 VOLILLUMFILTERS_EXPORT std::string CheckPoints(vtkDataSet* input, vtkDataArray* scalars);

@@ -538,20 +538,14 @@ vtkSmartPointer<vtkUnstructuredGrid> PieceWithoutGhostCells(
 bool PiecesCanJoin(
   vtkMultiProcessController* controller, vtkUnstructuredGrid* piece, std::string& error)
 {
-  vtkDataArray* coordinates = piece && piece->GetPoints() ? piece->GetPoints()->GetData() : nullptr;
-  for (vtkIdType p = 0; coordinates && p < coordinates->GetNumberOfTuples() && error.empty(); ++p)
+  const vtkIdType bad = FirstBadCoordinate(
+    piece && piece->GetPoints() ? piece->GetPoints()->GetData() : nullptr, MaximumCoordinate);
+  if (bad >= 0)
   {
-    for (int a = 0; a < 3; ++a)
-    {
-      if (!(std::abs(coordinates->GetComponent(p, a)) <= MaximumCoordinate))
-      {
-        std::ostringstream message;
-        message << "Point " << p << " of this process's piece has a coordinate that is not a "
-                << "finite number within +-" << MaximumCoordinate << ".";
-        error = message.str();
-        break;
-      }
-    }
+    std::ostringstream message;
+    message << "Point " << bad << " of this process's piece has a coordinate that is not a "
+            << "finite number within +-" << MaximumCoordinate << ".";
+    error = message.str();
   }
   if (!AllOk(controller, error.empty()))
   {

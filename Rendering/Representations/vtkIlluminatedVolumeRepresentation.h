@@ -13,13 +13,11 @@
  * with vtkIlluminatedVolumeMapper. In parallel (pvserver or pvbatch under MPI) the filter
  * lights the pieces where they are with the global controller (see IlluminationParallel.h;
  * ParaView gives a representation vtkExtentTranslator's pieces, the blocks the filter
- * reads), every process together as each
- * render starts (ParaView renders on every process then; the decisions to light or keep
- * the illumination are agreed by reductions), and each process draws its own piece with
- * the illumination over it, so the composited image is lit as a serial one. The filters
- * keep their state between renders, so a
- * light edit re-propagates that light only; a transfer-function or data change
- * recomputes everything.
+ * reads), every process together as each render starts (ParaView renders on every process
+ * then; the decisions to light or keep the illumination are agreed by reductions), and each
+ * process draws its own piece with the illumination over it, so the composited image is lit
+ * as a serial one. The filters keep their state between renders, so a light edit
+ * re-propagates that light only; a transfer-function or data change recomputes everything.
  *
  * While the user drags the camera (interactive renders) the current illumination is
  * kept; with MaximumPassesPerUpdate > 0 (propagation) each interactive render does at

@@ -22,6 +22,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
@@ -404,46 +405,65 @@ TEST(RayMarchedIllumination, ZeroLightsGiveDarkness)
   EXPECT_EQ(range[1], 0.0);
 }
 
+namespace
+{
+// Whether point id of the N^3 scene lies in the 8^3 region from (x0, 28, 28).
+bool InRegion(vtkIdType id, int x0)
+{
+  const int i = id % N, j = (id / N) % N, k = id / (N * N);
+  return k >= 28 && k < 36 && j >= 28 && j < 36 && i >= x0 && i < x0 + 8;
+}
+
+// The scene with its scalars as floats ("Density"), point id's value v made value(id, v).
+vtkSmartPointer<vtkImageData> AsFloats(
+  vtkImageData* scene, const std::function<double(vtkIdType, double)>& value)
+{
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->CopyStructure(scene);
+  vtkNew<vtkFloatArray> values;
+  values->SetName("Density");
+  values->SetNumberOfTuples(scene->GetNumberOfPoints());
+  for (vtkIdType id = 0; id < values->GetNumberOfTuples(); ++id)
+  {
+    values->SetValue(
+      id, static_cast<float>(value(id, scene->GetPointData()->GetScalars()->GetTuple1(id))));
+  }
+  image->GetPointData()->SetScalars(values);
+  return image;
+}
+
+// The illumination of a point light at (-20, 32, 32) on the image (with `opacity` when
+// given), run without errors.
+vtkSmartPointer<vtkFloatArray> LitByPointLight(
+  vtkImageData* image, vtkPiecewiseFunction* opacity = nullptr)
+{
+  vtkNew<vtkRayMarchedIllumination> filter;
+  if (opacity)
+  {
+    filter->SetOpacityFunction(opacity);
+  }
+  filter->AddLight(PointLight(-20, 32, 32));
+  EXPECT_EQ(RunAndCountErrors(filter, image), 0);
+  auto out = vtkSmartPointer<vtkFloatArray>::New();
+  out->DeepCopy(Illumination(filter));
+  return out;
+}
+}
+
 TEST(RayMarchedIllumination, NaNScalarsAreEmptySpace)
 {
   auto spheres = MakeScene(vtkIlluminationPhantomSource::ThreeSpheres);
   // The same scene as floats, once with NaN and once with 0 where the first sphere's
   // centre region is.
-  vtkNew<vtkImageData> withNaN, withZero;
-  for (vtkImageData* image : { withNaN.Get(), withZero.Get() })
-  {
-    image->CopyStructure(spheres);
-    vtkNew<vtkFloatArray> values;
-    values->SetName("Density");
-    values->SetNumberOfTuples(spheres->GetNumberOfPoints());
-    for (vtkIdType t = 0; t < values->GetNumberOfTuples(); ++t)
-      values->SetValue(t, spheres->GetPointData()->GetScalars()->GetTuple1(t));
-    image->GetPointData()->SetScalars(values);
-  }
-  for (int k = 28; k < 36; ++k)
-    for (int j = 28; j < 36; ++j)
-      for (int i = 16; i < 24; ++i)
-      {
-        const vtkIdType id = i + N * (j + N * k);
-        vtkFloatArray::SafeDownCast(withNaN->GetPointData()->GetScalars())
-          ->SetValue(id, std::nanf(""));
-        vtkFloatArray::SafeDownCast(withZero->GetPointData()->GetScalars())->SetValue(id, 0.0f);
-      }
+  auto withNaN =
+    AsFloats(spheres, [](vtkIdType id, double v) { return InRegion(id, 16) ? std::nan("") : v; });
+  auto withZero =
+    AsFloats(spheres, [](vtkIdType id, double v) { return InRegion(id, 16) ? 0.0 : v; });
   auto otf = vtkSmartPointer<vtkPiecewiseFunction>::New();
   otf->AddPoint(0, 0);
   otf->AddPoint(200, 0.3);
-  auto run = [&](vtkImageData* image)
-  {
-    vtkNew<vtkRayMarchedIllumination> filter;
-    filter->SetOpacityFunction(otf);
-    filter->AddLight(PointLight(-20, 32, 32));
-    EXPECT_EQ(RunAndCountErrors(filter, image), 0);
-    auto out = vtkSmartPointer<vtkFloatArray>::New();
-    out->DeepCopy(Illumination(filter));
-    return out;
-  };
-  auto a = run(withNaN);
-  auto b = run(withZero);
+  auto a = LitByPointLight(withNaN, otf);
+  auto b = LitByPointLight(withZero, otf);
   for (vtkIdType t = 0; t < a->GetNumberOfValues(); ++t)
   {
     ASSERT_TRUE(std::isfinite(a->GetValue(t)));
@@ -457,49 +477,25 @@ TEST(RayMarchedIllumination, NaNScalarsAreEmptySpace)
 TEST(RayMarchedIllumination, InfiniteScalarsTakeTheTransferFunctionsEnds)
 {
   auto spheres = MakeScene(vtkIlluminationPhantomSource::ThreeSpheres);
-  auto inRegion = [](int i, int j, int k, int x0)
-  { return k >= 28 && k < 36 && j >= 28 && j < 36 && i >= x0 && i < x0 + 8; };
   vtkDataArray* original = spheres->GetPointData()->GetScalars();
   double low = VTK_DOUBLE_MAX, high = -VTK_DOUBLE_MAX; // of the points outside the regions
   for (vtkIdType id = 0; id < spheres->GetNumberOfPoints(); ++id)
   {
-    const int i = id % N, j = (id / N) % N, k = id / (N * N);
-    if (!inRegion(i, j, k, 16) && !inRegion(i, j, k, 40))
+    if (!InRegion(id, 16) && !InRegion(id, 40))
     {
       low = std::min(low, original->GetTuple1(id));
       high = std::max(high, original->GetTuple1(id));
     }
   }
-  vtkNew<vtkImageData> infinite, extreme;
-  for (vtkImageData* image : { infinite.Get(), extreme.Get() })
-  {
-    image->CopyStructure(spheres);
-    vtkNew<vtkFloatArray> values;
-    values->SetName("Density");
-    values->SetNumberOfTuples(spheres->GetNumberOfPoints());
-    for (vtkIdType id = 0; id < values->GetNumberOfTuples(); ++id)
-    {
-      const int i = id % N, j = (id / N) % N, k = id / (N * N);
-      const bool inf = image == infinite.Get();
-      const double v = inRegion(i, j, k, 16)
-        ? (inf ? std::numeric_limits<double>::infinity() : high)
-        : inRegion(i, j, k, 40) ? (inf ? -std::numeric_limits<double>::infinity() : low)
-                                : original->GetTuple1(id);
-      values->SetValue(id, static_cast<float>(v));
-    }
-    image->GetPointData()->SetScalars(values);
-  }
-  auto run = [&](vtkImageData* image)
-  {
-    vtkNew<vtkRayMarchedIllumination> filter;
-    filter->AddLight(PointLight(-20, 32, 32));
-    EXPECT_EQ(RunAndCountErrors(filter, image), 0);
-    auto out = vtkSmartPointer<vtkFloatArray>::New();
-    out->DeepCopy(Illumination(filter));
-    return out;
-  };
-  auto a = run(infinite);
-  auto b = run(extreme);
+  const double infinity = std::numeric_limits<double>::infinity();
+  auto a = LitByPointLight(AsFloats(spheres,
+    [&](vtkIdType id, double v) {
+      return InRegion(id, 16) ? infinity : InRegion(id, 40) ? -infinity : v;
+    }));
+  auto b = LitByPointLight(AsFloats(spheres,
+    [&](vtkIdType id, double v) { return InRegion(id, 16) ? high
+                                    : InRegion(id, 40)    ? low
+                                                          : v; }));
   ASSERT_EQ(a->GetNumberOfValues(), b->GetNumberOfValues());
   ASSERT_GT(a->GetNumberOfValues(), 0);
   for (vtkIdType t = 0; t < a->GetNumberOfValues(); ++t)
