@@ -51,6 +51,7 @@ class vtkDataArray;
 class vtkDataSet;
 class vtkImageData;
 class vtkMultiProcessController;
+class vtkObject;
 class vtkUnstructuredGrid;
 
 namespace volillum
@@ -165,6 +166,44 @@ extern template VOLILLUMFILTERS_EXPORT long long ExchangeExtents<std::uint32_t>(
 VOLILLUMFILTERS_EXPORT bool AllOk(vtkMultiProcessController* controller, bool ok);
 
 /**
+ * The errors and warnings a filter reports during one parallel update, printed once by the
+ * first process. ParaView shows a client only the first server process's messages, so an
+ * error of another process's piece (a missing array, a bad coordinate) left the client an
+ * empty output without a word. While one of these lives, the filter's messages are collected
+ * on every process (ErrorEvent and WarningEvent observers: nothing is printed there); its
+ * destructor, collective (every process's update ends together: the filters stop at the
+ * same collective decisions), gathers them to the first process, which prints each distinct
+ * message once as the filter's, naming the processes that reported it ("Process 1 of 2:
+ * ...", "Processes 0-2 of 3: ..."). Without a controller (a serial run) it does nothing.
+ */
+class VOLILLUMFILTERS_EXPORT ParallelMessages
+{
+public:
+  ParallelMessages(vtkMultiProcessController* controller, vtkAlgorithm* filter);
+  ~ParallelMessages();
+  ParallelMessages(const ParallelMessages&) = delete;
+  ParallelMessages& operator=(const ParallelMessages&) = delete;
+
+  struct Message
+  {
+    bool Error = true; // else a warning
+    std::string Text;  // as printed, with the processes that reported it
+  };
+  /// What the first process prints, given each process's collected messages (`collected[p]`:
+  /// per message 'E' or 'W', its text and a '\0'): each distinct message once, in the order
+  /// of its first report.
+  static std::vector<Message> Report(const std::vector<std::string>& collected);
+
+private:
+  void Collect(vtkObject* caller, unsigned long event, void* text);
+
+  vtkMultiProcessController* Controller = nullptr;
+  vtkAlgorithm* Filter = nullptr;
+  unsigned long Observers[2] = { 0, 0 };
+  std::string Collected; // per message: 'E' or 'W', its text and a '\0'
+};
+
+/**
  * Collective: whether every process must update `filter`, whose output covers only this
  * process's piece (so its pipeline, asked for the whole data, would run it on some
  * processes and not on the others): when any process's output is older than `read` (what
@@ -189,7 +228,7 @@ VOLILLUMFILTERS_EXPORT vtkSmartPointer<vtkUnstructuredGrid> PieceWithoutGhostCel
  * within +-MaximumCoordinate, and the same arrays, in the same order, with the same names,
  * types, components and attribute roles, on every piece (a point or cell of one piece is
  * copied into another's grid). Otherwise `error` says why, on the processes whose piece has
- * a bad coordinate, or on the first process when the pieces' arrays differ.
+ * a bad coordinate, or on every process when the pieces' arrays differ.
  */
 VOLILLUMFILTERS_EXPORT bool PiecesCanJoin(
   vtkMultiProcessController* controller, vtkUnstructuredGrid* piece, std::string& error);

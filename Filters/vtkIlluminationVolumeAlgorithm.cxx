@@ -287,6 +287,8 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
     this->Illuminate(input, output);
     return 1;
   }
+  // Every process's errors reach the first process, which a client shows.
+  volillum::ParallelMessages messages(controller, this);
   if (this->LightsDistributedPieces())
   {
     this->IlluminateDistributed(controller, inputVector[0]->GetInformationObject(0), input, output);
@@ -587,10 +589,7 @@ void vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessContro
   controller->AllReduce(local + 1, range + 1, 1, vtkCommunicator::MAX_OP);
   if (!(range[0] <= range[1]))
   {
-    if (controller->GetLocalProcessId() == 0)
-    {
-      vtkErrorMacro("Cannot classify the input: the scalars have no finite values.");
-    }
+    vtkErrorMacro("Cannot classify the input: the scalars have no finite values.");
     return;
   }
   volillum::VolumePiece where;

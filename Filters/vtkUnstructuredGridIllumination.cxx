@@ -248,10 +248,7 @@ bool vtkUnstructuredGridIllumination::PrepareDistributedMesh(
   controller->AllReduce(edges, wholeEdges, 2, vtkCommunicator::SUM_OP);
   if (wholeEdges[1] == 0.0)
   {
-    if (controller->GetLocalProcessId() == 0)
-    {
-      vtkErrorMacro("The input has no 3D cells to light.");
-    }
+    vtkErrorMacro("The input has no 3D cells to light.");
     return false;
   }
   const auto reach = [](double meanEdge) { return 1.01 * meanEdge; };
@@ -289,10 +286,7 @@ bool vtkUnstructuredGridIllumination::PrepareDistributedMesh(
     controller->AllReduce(highs, wholeHighs, 3, vtkCommunicator::MAX_OP);
     if (sums[2] == 0.0)
     {
-      if (controller->GetLocalProcessId() == 0)
-      {
-        vtkErrorMacro("Cannot light the grid: the mesh has no tetrahedron with a non-zero volume.");
-      }
+      vtkErrorMacro("Cannot light the grid: the mesh has no tetrahedron with a non-zero volume.");
       this->Neighborhood->Reset();
       this->MeshKey = 0;
       return false;
@@ -435,6 +429,8 @@ int vtkUnstructuredGridIllumination::RequestData(
   vtkMultiProcessController* controller = volillum::ParallelRun(this->Controller);
   if (controller)
   {
+    // Every process's errors reach the first process, which a client shows.
+    volillum::ParallelMessages messages(controller, this);
     this->IlluminatePiece(controller, input, output);
   }
   else
@@ -649,10 +645,7 @@ bool vtkUnstructuredGridIllumination::UpdateLevel0Grid(
     controller->AllReduce(local + 1, this->WholeRange + 1, 1, vtkCommunicator::MAX_OP);
     if (!(this->WholeRange[0] <= this->WholeRange[1]))
     {
-      if (controller->GetLocalProcessId() == 0)
-      {
-        vtkErrorMacro("Cannot classify the input: the scalars have no finite values.");
-      }
+      vtkErrorMacro("Cannot classify the input: the scalars have no finite values.");
       return false;
     }
     range = this->WholeRange;

@@ -2,12 +2,14 @@
 // (directional) lights, never overflows; too bright lights, inconsistent scalars and
 // absurd geometry are refused with an error and an empty output; a tiny opacity unit
 // distance still gives finite illumination.
+#include "IlluminationParallel.h"
 #include "IlluminationTestUtilities.h"
 #include "vtkFilteredVolumetricShadows.h"
 #include "vtkIlluminationPhantomSource.h"
 #include "vtkMultiLightIlluminationVolume.h"
 #include "vtkRayMarchedIllumination.h"
 
+#include "vtkDummyController.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkLight.h"
@@ -238,4 +240,37 @@ TEST(BadInput, NonFiniteSettingsAreRefusedAndTheOldValueKept)
   EXPECT_EQ(reference->GetStepFraction(), 0.5);
   shadows->SetFilterWidth(1e9); // finite: clamped
   EXPECT_EQ(shadows->GetFilterWidth(), 1000.0);
+}
+
+// In a parallel run every process's errors and warnings are printed once, by the first
+// process, with the processes that reported them (ParaView shows a client only the first
+// server process's messages). The MPI test checks this on 2 processes; here the report's
+// wording, and the round trip through the observers on a one-process controller.
+TEST(BadInput, ParallelMessagesArePrintedOnceByTheFirstProcess)
+{
+  using Message = volillum::ParallelMessages::Message;
+  const std::string none;
+  const std::vector<std::string> collected = { std::string("Ea\0Wb\0", 6), std::string("Ea\0", 3),
+    std::string("Ea\0", 3), none, none, std::string("Ea\0Ec\0", 6) };
+  const std::vector<Message> report = volillum::ParallelMessages::Report(collected);
+  ASSERT_EQ(report.size(), 3u);
+  EXPECT_TRUE(report[0].Error);
+  EXPECT_EQ(report[0].Text, "Processes 0-2, 5 of 6: a");
+  EXPECT_FALSE(report[1].Error);
+  EXPECT_EQ(report[1].Text, "Process 0 of 6: b");
+  EXPECT_TRUE(report[2].Error);
+  EXPECT_EQ(report[2].Text, "Process 5 of 6: c");
+
+  vtkNew<vtkDummyController> controller;
+  vtkNew<vtkRayMarchedIllumination> filter;
+  vtkNew<ErrorCounter> errors;
+  filter->AddObserver(vtkCommand::ErrorEvent, errors);
+  {
+    volillum::ParallelMessages messages(controller, filter);
+    vtkErrorWithObjectMacro(filter, << "The same error.");
+    vtkErrorWithObjectMacro(filter, << "The same error.");
+  }
+  EXPECT_EQ(errors->Count, 3); // both, then the report
+  EXPECT_NE(errors->LastMessage.find(": Process 0 of 1: The same error.\n"), std::string::npos)
+    << errors->LastMessage;
 }

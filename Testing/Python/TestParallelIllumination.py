@@ -583,14 +583,26 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
                                 stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                                 env=environment_for_mpiexec(), timeout=600)
         print(result.stdout)
-        refused = result.stdout.count("leave part of this process's block of the image uncovered")
-        spoiled = (result.stdout.count("has a coordinate that is not a finite number") == 1 and
-                   result.stdout.count("arrays to illuminate differ between processes") == 2 and
-                   result.stdout.count("has no point or cell array 'RTData'") == 3 and
+        # Every process's errors are printed once, by the first process (the one whose
+        # messages a client shows), naming the processes that reported them.
+        errors = [line for line in result.stdout.splitlines() if "ERR|" in line]
+        firsts = all("[pvbatch.0 " in line for line in errors)
+        refused = result.stdout.count(
+            "Processes 0-1 of 2: The pieces leave part of this process's block of the image "
+            "uncovered")
+        spoiled = (result.stdout.count(
+            "Process 1 of 2: Point 3 of this process's piece has a coordinate that is not a "
+            "finite number") == 1 and
+                   result.stdout.count(
+                       "Processes 0-1 of 2: The pieces' arrays to illuminate differ between "
+                       "processes") == 2 and
+                   result.stdout.count(
+                       "Process 1 of 2: The input has no point or cell array 'RTData'") == 3 and
                    "cannot be made point scalars" not in result.stdout)
         relit = re.search(r"UnstructuredGridIllumination none: output points: [1-9]",
                           result.stdout)
-        if result.returncode != 0 or refused < 3 or not spoiled or not relit or \
+        if result.returncode != 0 or refused != 3 or not spoiled or not relit or \
+                not firsts or len(errors) != 9 or \
                 result.stdout.count(" output points: 0\n") != 9:
             failures.append("np2 gap: exit %d, output:\n%s" % (result.returncode,
                                                                  result.stdout[-3000:]))
