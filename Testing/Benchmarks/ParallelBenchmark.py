@@ -236,6 +236,29 @@ def model(compute_per_voxel_light, halo=5):
     return rows
 
 
+def model_tiles(compute_per_voxel_light, halo=5):
+    """The same sweep over tiles (the plan in Documentation/parallel.md): the slices' rows and
+    columns shared out in a grid of P = p_rows x p_columns tiles, as square as P allows, each
+    process sweeping all slices of its tile. Per slice a tile computes its n^2 / P points and
+    gets `halo` rows of the lattice either side from the tiles beside it, first across the rows
+    and then, with those rows, across the columns (corners included): D = ceil(halo / tile
+    width) tiles away per axis, 4 D messages a slice per axis as for the bands."""
+    rows = []
+    n, latency, bandwidth = 1024, 2e-6, 10e9
+    for p in (8, 64, 512, 1024, 4096):
+        p_rows = 1 << (p.bit_length() - 1) // 2  # the larger power of two below sqrt(p)
+        p_columns = p // p_rows
+        tile = (n // p_rows, n // p_columns)
+        distances = [-(-halo // width) for width in tile]
+        compute = n * n / p * compute_per_voxel_light
+        rays = 2 * halo * (tile[1] + 2 * halo) + 2 * halo * (tile[0] + 2 * halo)
+        exchange = 4 * sum(distances) * latency + rays * 4 / bandwidth
+        rows.append({"processes": p, "tiles": [p_rows, p_columns], "distances": distances,
+                     "efficiency": n * n * compute_per_voxel_light / (p * (compute + exchange)),
+                     "slice_s": compute, "exchange_s": exchange})
+    return rows
+
+
 def main():
     from paraview.simple import LoadPlugin
     plugin, data_dir, out, mpiexec, flags = sys.argv[1:6]
@@ -346,7 +369,8 @@ def main():
                "representation_lit_where_the_pieces_are": {
                    mode: runs["2"]["distributed"] for mode, runs in rendering.items()},
                "compute_s_per_voxel_light_sweep": per_voxel_light,
-               "model_1024_cubed": model(per_voxel_light)}
+               "model_1024_cubed": model(per_voxel_light),
+               "model_1024_cubed_tiles": model_tiles(per_voxel_light)}
     print("Multi-Light Illumination Volume (propagation) and Filtered Volumetric Shadows, %s, "
           "%d lights, one thread per process" % (name, LIGHTS))
     print("%-22s %10s %10s %8s" % ("", "1 process", "2", "speed-up"))
