@@ -1249,6 +1249,7 @@ void ParallelMessages::Collect(vtkObject* caller, unsigned long event, void* tex
     message.erase(0, description.size());
   }
   message.erase(message.find_last_not_of(" \n") + 1);
+  std::lock_guard<std::mutex> lock(this->Mutex);
   this->Collected += event == vtkCommand::ErrorEvent ? 'E' : 'W';
   this->Collected += message;
   this->Collected += '\0';

@@ -43,6 +43,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -200,6 +201,7 @@ private:
   vtkMultiProcessController* Controller = nullptr;
   vtkAlgorithm* Filter = nullptr;
   unsigned long Observers[2] = { 0, 0 };
+  std::mutex Mutex;      // a message may come from a worker thread
   std::string Collected; // per message: 'E' or 'W', its text and a '\0'
 };
 
