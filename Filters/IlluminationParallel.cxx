@@ -536,6 +536,32 @@ vtkSmartPointer<vtkUnstructuredGrid> PieceWithoutGhostCells(
 }
 
 //------------------------------------------------------------------------------
+std::vector<vtkIdType> FirstPointsAtTheirPlaces(vtkDataSet* grid)
+{
+  const vtkIdType n = grid ? grid->GetNumberOfPoints() : 0;
+  std::vector<vtkIdType> first(static_cast<size_t>(n));
+  const bool byId = n > 0 && grid->GetPointData()->GetGlobalIds() != nullptr;
+  std::vector<std::array<double, 3>> keys(first.size());
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    keys[i] = PointKey(grid, i, byId);
+    first[i] = i;
+  }
+  // Ordered by place, then by id: a run of one place starts with its first point.
+  std::vector<vtkIdType> order(first);
+  std::sort(order.begin(), order.end(),
+    [&](vtkIdType a, vtkIdType b) { return keys[a] != keys[b] ? keys[a] < keys[b] : a < b; });
+  for (size_t k = 1; k < order.size(); ++k)
+  {
+    if (keys[order[k]] == keys[order[k - 1]])
+    {
+      first[order[k]] = first[order[k - 1]];
+    }
+  }
+  return first;
+}
+
+//------------------------------------------------------------------------------
 bool PiecesCanJoin(
   vtkMultiProcessController* controller, vtkUnstructuredGrid* piece, std::string& error)
 {

@@ -225,6 +225,15 @@ VOLILLUMFILTERS_EXPORT vtkSmartPointer<vtkUnstructuredGrid> PieceWithoutGhostCel
   vtkAlgorithm* algorithm, vtkUnstructuredGrid* piece);
 
 /**
+ * For each point of `grid`, the first point at its place (itself when none comes before it):
+ * the same place is the same point global id when the grid has them, else the same
+ * coordinates, as NeighborhoodGrid joins the points of different pieces. A grid read from a
+ * file of several pieces (a .pvtu) holds a copy of each point on a cut per piece: cells on
+ * either side of the cut then share no face, and the cut would be lit as a boundary.
+ */
+VOLILLUMFILTERS_EXPORT std::vector<vtkIdType> FirstPointsAtTheirPlaces(vtkDataSet* grid);
+
+/**
  * Collective: whether the processes' pieces (PieceWithoutGhostCells; null for none) can be
  * joined into neighbourhood grids (NeighborhoodGrid::Build): every coordinate finite and
  * within +-MaximumCoordinate, and the same arrays, in the same order, with the same names,
@@ -242,8 +251,8 @@ VOLILLUMFILTERS_EXPORT bool PiecesCanJoin(
  * whole grid unless the depth spans it). A piece's points in none of its cells (of 2D cells,
  * say) are in the grid too. Points of the piece keep their ids; points of the
  * other pieces follow, one per place (point global ids when the pieces have them, else
- * coordinates: without global ids, coincident points of a seam near a piece's boundary are
- * taken for one point there). All the cells around a point of
+ * coordinates: without global ids, coincident points of a seam are one point, as in a serial
+ * run, FirstPointsAtTheirPlaces). All the cells around a point of
  * the piece are in the grid. Each process computes the values of its piece's points;
  * Exchange gives it those of the other points of its grid, each from a process whose piece
  * has the point. A point of several pieces is owned by the lowest of their processes

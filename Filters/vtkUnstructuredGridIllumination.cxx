@@ -155,6 +155,18 @@ bool vtkUnstructuredGridIllumination::PrepareMesh(vtkUnstructuredGrid* input, vt
   {
     input->GetPoint(p, points.data() + 3 * p);
   }
+  // Copies of a point (a file of several pieces holds one per piece on a cut) are one point,
+  // as the pieces of a parallel run are joined: the cells of every copy use the first.
+  this->FirstAtPlace = volillum::FirstPointsAtTheirPlaces(input);
+  bool copies = false;
+  for (vtkIdType p = 0; p < input->GetNumberOfPoints() && !copies; ++p)
+  {
+    copies = this->FirstAtPlace[p] != p;
+  }
+  if (!copies)
+  {
+    this->FirstAtPlace.clear();
+  }
   std::vector<long long> tets;
   tets.reserve(4 * static_cast<size_t>(tetrahedra->GetNumberOfCells()));
   auto cells = vtk::TakeSmartPointer(tetrahedra->GetCells()->NewIterator());
@@ -166,7 +178,10 @@ bool vtkUnstructuredGridIllumination::PrepareMesh(vtkUnstructuredGrid* input, vt
     cells->GetCurrentCell(n, ids);
     if (tetrahedra->GetCellType(c) == VTK_TETRA && n == 4)
     {
-      tets.insert(tets.end(), ids, ids + 4);
+      for (int k = 0; k < 4; ++k)
+      {
+        tets.push_back(copies ? this->FirstAtPlace[ids[k]] : ids[k]);
+      }
     }
   }
   if (!volillum::BuildTetrahedralMesh(std::move(points), tets, this->Mesh, error, own))
@@ -476,9 +491,9 @@ void vtkUnstructuredGridIllumination::Illuminate(
     }
     return;
   }
-  const std::vector<float> rgb = this->CombineAndScatter(lights, seconds, {});
+  std::vector<float> rgb = this->CombineAndScatter(lights, seconds, {});
   seconds.Update = SecondsSince(start);
-  this->FillOutput(input, rgb, report, seconds, output);
+  this->FillOutput(input, std::move(rgb), report, seconds, output);
   this->UpdateProgress(1.0);
 }
 
@@ -523,12 +538,12 @@ void vtkUnstructuredGridIllumination::IlluminatePiece(
     volillum::ForBounds(this->Lights.States(), this->WholeBounds);
   this->PropagateChangedLights(lights, report, seconds, this->Neighborhood.get());
   // After each colour, the new values of this process's points go to those that read them.
-  const std::vector<float> rgb = this->CombineAndScatter(lights, seconds,
+  std::vector<float> rgb = this->CombineAndScatter(lights, seconds,
     [this](std::vector<float>& values) { this->Neighborhood->Exchange(values.data(), 3); });
   seconds.Update = SecondsSince(start);
   if (lit && input->GetNumberOfPoints() == this->Neighborhood->GetNumberOfPiecePoints())
   {
-    this->FillOutput(input, rgb, report, seconds, output);
+    this->FillOutput(input, std::move(rgb), report, seconds, output);
   }
   this->UpdateProgress(1.0);
 }
@@ -747,14 +762,19 @@ bool vtkUnstructuredGridIllumination::PropagateChangedLights(
 }
 
 //------------------------------------------------------------------------------
-void vtkUnstructuredGridIllumination::FillOutput(vtkUnstructuredGrid* input,
-  const std::vector<float>& rgb, const volillum::UpdateReport& report, const PhaseSeconds& seconds,
-  vtkUnstructuredGrid* output)
+void vtkUnstructuredGridIllumination::FillOutput(vtkUnstructuredGrid* input, std::vector<float> rgb,
+  const volillum::UpdateReport& report, const PhaseSeconds& seconds, vtkUnstructuredGrid* output)
 {
   vtkNew<vtkFloatArray> illumination;
   illumination->SetName("Illumination");
   illumination->SetNumberOfComponents(3);
   illumination->SetNumberOfTuples(input->GetNumberOfPoints());
+  // A copy of a point, in no cell of the mesh, has the first copy's light.
+  for (vtkIdType p = 0;
+       p < static_cast<vtkIdType>(this->FirstAtPlace.size()) && p < input->GetNumberOfPoints(); ++p)
+  {
+    std::copy_n(rgb.begin() + 3 * this->FirstAtPlace[p], 3, rgb.begin() + 3 * p);
+  }
   std::copy_n(rgb.begin(), 3 * input->GetNumberOfPoints(), illumination->GetPointer(0));
   output->ShallowCopy(input);
   output->GetPointData()->AddArray(illumination);

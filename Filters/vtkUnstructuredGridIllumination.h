@@ -241,8 +241,8 @@ private:
   std::vector<float> CombineAndScatter(const std::vector<volillum::LightState>& lights,
     PhaseSeconds& seconds, const std::function<void(std::vector<float>&)>& afterColor);
   // The input with the illumination rgb (3 per point, the first of rgb for the input's
-  // points), the lit colours and the field data.
-  void FillOutput(vtkUnstructuredGrid* input, const std::vector<float>& rgb,
+  // points; copies of a point take the first copy's), the lit colours and the field data.
+  void FillOutput(vtkUnstructuredGrid* input, std::vector<float> rgb,
     const volillum::UpdateReport& report, const PhaseSeconds& seconds, vtkUnstructuredGrid* output);
   // The mesh of the tetrahedra of input (split from other cells); the first `own` of them
   // are its own (all when negative).
@@ -271,6 +271,9 @@ private:
   vtkMTimeType MeshKey = 0;
   volillum::PointScalars Scalars; // the last update's, reused while their source is unchanged
   volillum::TetrahedralMesh Mesh;
+  // Per point of the mesh, the first point at its place (FirstPointsAtTheirPlaces), whose
+  // cells it joins and whose values it takes; empty when every point has a place of its own.
+  std::vector<vtkIdType> FirstAtPlace;
   volillum::VertexColoring Coloring;
   std::vector<double> SolutionKey;
   int Channels = 1;

@@ -7,7 +7,8 @@ tetrahedral grid with the unstructured reader, lights them with every filter and
 .pvti/.pvtu files (one piece per process). The driver then reads every file back whole
 and checks, against the serial run:
 - Multi-Light Illumination Volume, Filtered Volumetric Shadows, Ray-Marched Illumination
-  and Unstructured Grid Illumination (pieces from RedistributeDataSet, and the reader's
+  and Unstructured Grid Illumination (pieces from RedistributeDataSet, with and without
+  point global ids telling the grid's coincident seam points apart, and the reader's
   pieces, where all but one process hold nothing), and an image of one cell (all but one
   process have an empty block): largest difference / largest value <= 1e-5 (points matched
   by their coordinates);
@@ -74,7 +75,8 @@ FILES = ["multilight.pvti", "selective.pvti", "fresh.pvti", "swept.pvti", "swept
          "cells_multilight.pvti", "slabs_multilight.pvti", "slabs_filtered.pvti",
          "slabs_raymarched.pvti", "slabs_cells.pvti", "root_multilight.pvti",
          "root_filtered.pvti",
-         "unstructured.pvtu", "unstructured_pieces.pvtu", "wavelet.pvtu", "mixed.pvtu"]
+         "unstructured.pvtu", "unstructured_ids.pvtu", "unstructured_pieces.pvtu", "wavelet.pvtu",
+         "mixed.pvtu"]
 HEAD = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Data", "headsq.vti")
 
 # Two lights (14 numbers each, see the filters' Lights property): an orange directional
@@ -234,8 +236,10 @@ def worker(plugin, out, grid_file, tiny_file, parallel):
     grid_lights = [0, centre[0] - size, centre[1] + size, centre[2] + 2 * size] + centre + \
         [1.0, 0.7, 0.4, 1.0, 90, 1, 1] + \
         [1, centre[0] + size, centre[1], centre[2]] + centre + [0.4, 0.6, 1.0, 1.0, 90, 1, 1]
-    # Redistributed pieces carry point global ids (the reader's point ids: one process reads
-    # the whole single-piece file), so that the grid's coincident seam points stay distinct.
+    # The grid has coincident copies of points (a seam): without point global ids they are
+    # one point, serially and in parallel (where RedistributeDataSet's pieces are joined by
+    # coordinates); with global ids that tell them apart (the reader's point ids, given before
+    # redistributing: one process reads the whole single-piece file) they stay distinct.
     numbered = ProgrammableFilter(Input=grid, OutputDataSetType="Same as Input", Script="""
 from vtkmodules.vtkCommonCore import vtkIdTypeArray
 grid = self.GetInput()
@@ -248,8 +252,10 @@ for i in range(grid.GetNumberOfPoints()):
     ids.SetValue(i, i)
 out.GetPointData().SetGlobalIds(ids)
 """)
-    for name, source in [("unstructured.pvtu",
-                          RedistributeDataSet(Input=numbered) if parallel else grid),
+    for name, source in [("unstructured.pvtu", RedistributeDataSet(Input=grid) if parallel
+                          else grid),
+                         ("unstructured_ids.pvtu", RedistributeDataSet(Input=numbered)
+                          if parallel else numbered),
                          ("unstructured_pieces.pvtu", grid)]:
         u = ns["UnstructuredGridIllumination"](Input=source, ColorTransferFunction=ctf,
                                                OpacityFunction=otf, Level0Resolution=[32, 32, 32],
