@@ -10,6 +10,7 @@
 #include "vtkDataSetAttributes.h"
 #include "vtkExtentTranslator.h"
 #include "vtkIdList.h"
+#include "vtkIdTypeArray.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkMatrix3x3.h"
@@ -540,20 +541,27 @@ std::vector<vtkIdType> FirstPointsAtTheirPlaces(vtkDataSet* grid)
 {
   const vtkIdType n = grid ? grid->GetNumberOfPoints() : 0;
   std::vector<vtkIdType> first(static_cast<size_t>(n));
-  const bool byId = n > 0 && grid->GetPointData()->GetGlobalIds() != nullptr;
-  std::vector<std::array<double, 3>> keys(first.size());
+  vtkDataArray* ids = n > 0 ? grid->GetPointData()->GetGlobalIds() : nullptr;
+  vtkIdTypeArray* exact = vtkIdTypeArray::SafeDownCast(ids);
+  // The place: the global id (0 without ids) and the coordinates.
+  using Place = std::pair<long long, std::array<double, 3>>;
+  std::vector<Place> places(first.size());
   for (vtkIdType i = 0; i < n; ++i)
   {
-    keys[i] = PointKey(grid, i, byId);
+    places[i].first = exact ? exact->GetValue(i)
+      : ids                 ? static_cast<long long>(ids->GetComponent(i, 0))
+                            : 0;
+    grid->GetPoint(i, places[i].second.data());
     first[i] = i;
   }
   // Ordered by place, then by id: a run of one place starts with its first point.
   std::vector<vtkIdType> order(first);
   std::sort(order.begin(), order.end(),
-    [&](vtkIdType a, vtkIdType b) { return keys[a] != keys[b] ? keys[a] < keys[b] : a < b; });
+    [&](vtkIdType a, vtkIdType b)
+    { return places[a] != places[b] ? places[a] < places[b] : a < b; });
   for (size_t k = 1; k < order.size(); ++k)
   {
-    if (keys[order[k]] == keys[order[k - 1]])
+    if (places[order[k]] == places[order[k - 1]])
     {
       first[order[k]] = first[order[k - 1]];
     }

@@ -226,10 +226,12 @@ VOLILLUMFILTERS_EXPORT vtkSmartPointer<vtkUnstructuredGrid> PieceWithoutGhostCel
 
 /**
  * For each point of `grid`, the first point at its place (itself when none comes before it):
- * the same place is the same point global id when the grid has them, else the same
- * coordinates, as NeighborhoodGrid joins the points of different pieces. A grid read from a
- * file of several pieces (a .pvtu) holds a copy of each point on a cut per piece: cells on
- * either side of the cut then share no face, and the cut would be lit as a boundary.
+ * the same coordinates and, when the grid has point global ids, the same id (ids that differ
+ * keep copies apart, a seam; an id shared by points at different places joins nothing).
+ * Coordinates must be finite. A grid read from a file of several pieces (a .pvtu) holds a
+ * copy of each point on a cut per piece: cells on either side of the cut then share no
+ * face, and the cut would be lit as a boundary. Pieces joined by NeighborhoodGrid are
+ * joined the same way wherever their global ids are sound.
  */
 VOLILLUMFILTERS_EXPORT std::vector<vtkIdType> FirstPointsAtTheirPlaces(vtkDataSet* grid);
 

@@ -119,11 +119,19 @@ vtkCxxSetObjectMacro(vtkUnstructuredGridIllumination, Controller, vtkMultiProces
 //------------------------------------------------------------------------------
 bool vtkUnstructuredGridIllumination::PrepareMesh(vtkUnstructuredGrid* input, vtkIdType own)
 {
-  const vtkMTimeType key = std::max(input->GetPoints()->GetMTime(), input->GetCells()->GetMTime());
-  if (key == this->MeshKey && this->Mesh.NumberOfPoints() == input->GetNumberOfPoints())
+  // The mesh depends on the points, the cells, the point global ids (which copies of a point
+  // are one) and the ghost cells (left out).
+  vtkDataArray* globalIds = input->GetPointData()->GetGlobalIds();
+  vtkUnsignedCharArray* ghosts = input->GetCellGhostArray();
+  const vtkMTimeType key = std::max({ input->GetPoints()->GetMTime(), input->GetCells()->GetMTime(),
+    globalIds ? globalIds->GetMTime() : 0, ghosts ? ghosts->GetMTime() : 0 });
+  if (key == this->MeshKey && this->Mesh.NumberOfPoints() == input->GetNumberOfPoints() &&
+    this->MeshArrays[0] == globalIds && this->MeshArrays[1] == ghosts)
   {
     return true;
   }
+  this->MeshArrays[0] = globalIds;
+  this->MeshArrays[1] = ghosts;
   this->MeshKey = 0;
   this->SolutionKey.clear();
   this->Cache.clear();
@@ -140,8 +148,72 @@ bool vtkUnstructuredGridIllumination::PrepareMesh(vtkUnstructuredGrid* input, vt
     vtkErrorMacro("The input has no 3D cells to light.");
     return false;
   }
+  // Copies of a point (a file of several pieces holds one per piece on a cut) are one point,
+  // as the pieces of a parallel run are joined: the cells of every copy use the first, before
+  // any cell is split (so that both sides of a cut split their faces alike). Ghost cells
+  // (another piece's) are left out, as in a parallel run.
+  this->FirstAtPlace = volillum::FirstPointsAtTheirPlaces(input);
+  bool copies = false;
+  for (vtkIdType p = 0; p < input->GetNumberOfPoints() && !copies; ++p)
+  {
+    copies = this->FirstAtPlace[p] != p;
+  }
+  if (!copies)
+  {
+    this->FirstAtPlace.clear();
+  }
   vtkNew<vtkUnstructuredGrid> structure;
-  structure->CopyStructure(input);
+  if (!copies && !ghosts)
+  {
+    structure->CopyStructure(input);
+  }
+  else
+  {
+    structure->SetPoints(input->GetPoints());
+    structure->AllocateEstimate(input->GetNumberOfCells(), 4);
+    vtkNew<vtkIdList> cell;
+    for (vtkIdType c = 0; c < input->GetNumberOfCells(); ++c)
+    {
+      if (ghosts && (ghosts->GetValue(c) & vtkDataSetAttributes::DUPLICATECELL))
+      {
+        continue;
+      }
+      const int type = input->GetCellType(c);
+      // A polyhedron as its face stream: per face its number of points, then the points.
+      const bool polyhedron = type == VTK_POLYHEDRON;
+      if (polyhedron)
+      {
+        input->GetFaceStream(c, cell);
+      }
+      else
+      {
+        input->GetCellPoints(c, cell);
+      }
+      if (copies && polyhedron)
+      {
+        for (vtkIdType face = 1; face < cell->GetNumberOfIds(); face += cell->GetId(face) + 1)
+        {
+          for (vtkIdType k = face + 1; k <= face + cell->GetId(face) && k < cell->GetNumberOfIds();
+               ++k)
+          {
+            const vtkIdType id = cell->GetId(k);
+            if (id >= 0 && id < input->GetNumberOfPoints()) // others are left as they are
+            {
+              cell->SetId(k, this->FirstAtPlace[id]);
+            }
+          }
+        }
+      }
+      else if (copies)
+      {
+        for (vtkIdType k = 0; k < cell->GetNumberOfIds(); ++k)
+        {
+          cell->SetId(k, this->FirstAtPlace[cell->GetId(k)]);
+        }
+      }
+      structure->InsertNextCell(type, cell);
+    }
+  }
   std::string error;
   vtkSmartPointer<vtkUnstructuredGrid> tetrahedra = SplitIntoTetrahedra(structure, error);
   if (!tetrahedra)
@@ -155,18 +227,6 @@ bool vtkUnstructuredGridIllumination::PrepareMesh(vtkUnstructuredGrid* input, vt
   {
     input->GetPoint(p, points.data() + 3 * p);
   }
-  // Copies of a point (a file of several pieces holds one per piece on a cut) are one point,
-  // as the pieces of a parallel run are joined: the cells of every copy use the first.
-  this->FirstAtPlace = volillum::FirstPointsAtTheirPlaces(input);
-  bool copies = false;
-  for (vtkIdType p = 0; p < input->GetNumberOfPoints() && !copies; ++p)
-  {
-    copies = this->FirstAtPlace[p] != p;
-  }
-  if (!copies)
-  {
-    this->FirstAtPlace.clear();
-  }
   std::vector<long long> tets;
   tets.reserve(4 * static_cast<size_t>(tetrahedra->GetNumberOfCells()));
   auto cells = vtk::TakeSmartPointer(tetrahedra->GetCells()->NewIterator());
@@ -178,10 +238,7 @@ bool vtkUnstructuredGridIllumination::PrepareMesh(vtkUnstructuredGrid* input, vt
     cells->GetCurrentCell(n, ids);
     if (tetrahedra->GetCellType(c) == VTK_TETRA && n == 4)
     {
-      for (int k = 0; k < 4; ++k)
-      {
-        tets.push_back(copies ? this->FirstAtPlace[ids[k]] : ids[k]);
-      }
+      tets.insert(tets.end(), ids, ids + 4);
     }
   }
   if (!volillum::BuildTetrahedralMesh(std::move(points), tets, this->Mesh, error, own))

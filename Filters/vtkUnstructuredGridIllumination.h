@@ -274,6 +274,7 @@ private:
   // Per point of the mesh, the first point at its place (FirstPointsAtTheirPlaces), whose
   // cells it joins and whose values it takes; empty when every point has a place of its own.
   std::vector<vtkIdType> FirstAtPlace;
+  const void* MeshArrays[2] = { nullptr, nullptr }; // the global ids and ghosts the mesh had
   volillum::VertexColoring Coloring;
   std::vector<double> SolutionKey;
   int Channels = 1;

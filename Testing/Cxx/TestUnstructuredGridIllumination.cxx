@@ -17,7 +17,10 @@
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
 #include "vtkRectilinearGrid.h"
+#include "vtkStaticCleanUnstructuredGrid.h"
 #include "vtkTetra.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkUnstructuredGridAlgorithm.h"
 
 #include <gtest/gtest.h>
 
@@ -44,9 +47,11 @@ std::vector<double> Uniform(double lo, double hi, int n)
   return v;
 }
 
-// Tetrahedral grid of a rectilinear box with the point array "density" = field(x).
+// Tetrahedral grid of a rectilinear box with the point array "density" = field(x)
+// (hexahedra: its cells as they are).
 vtkSmartPointer<vtkUnstructuredGrid> TetBox(const std::vector<double>& xs,
-  const std::vector<double>& ys, const std::vector<double>& zs, const Field& field)
+  const std::vector<double>& ys, const std::vector<double>& zs, const Field& field,
+  bool hexahedra = false)
 {
   vtkNew<vtkRectilinearGrid> grid;
   grid->SetDimensions(
@@ -69,9 +74,14 @@ vtkSmartPointer<vtkUnstructuredGrid> TetBox(const std::vector<double>& xs,
   grid->SetZCoordinates(z);
   vtkNew<vtkDataSetTriangleFilter> split;
   split->TetrahedraOnlyOn();
-  split->SetInputData(grid);
-  split->Update();
-  vtkSmartPointer<vtkUnstructuredGrid> mesh = split->GetOutput();
+  vtkNew<vtkAppendFilter> asIs;
+  vtkUnstructuredGridAlgorithm* cells = hexahedra
+    ? static_cast<vtkUnstructuredGridAlgorithm*>(asIs)
+    : static_cast<vtkUnstructuredGridAlgorithm*>(split);
+  cells->SetInputData(grid);
+  cells->Update();
+  auto mesh = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  mesh->DeepCopy(cells->GetOutput());
   vtkNew<vtkDoubleArray> density;
   density->SetName("density");
   density->SetNumberOfTuples(mesh->GetNumberOfPoints());
@@ -443,32 +453,44 @@ TEST(UnstructuredGridIllumination, OneChangedLightEqualsAFullRecompute)
 // A file of several pieces (a .pvtu written in parallel) read as one grid holds a copy of
 // each point on a cut per piece. The copies are one point: the pieces light as the whole
 // grid (before, the cuts were lit as boundaries: 8.6e-3 of the largest value apart in a
-// user's trial). With point global ids that tell the copies apart they stay two (a seam).
-TEST(UnstructuredGridIllumination, PiecesOfAFileLightAsTheWholeGrid)
+// user's trial), also when the pieces carry ghost cells (left out, as in parallel) and when
+// they are hexahedra (split after the copies are joined, so both sides of a cut split a face
+// alike). With point global
+// ids that tell the copies apart they stay two (a seam), and the same filter notices when the ids
+// come or go.
+namespace
 {
-  auto mesh = TetBox(Uniform(0, 1, 13), Uniform(0, 2, 17), Uniform(0, 1, 13),
-    [](const double* x) { return 0.5 + 2.0 * x[1] * x[2]; });
-  // Three pieces cut obliquely, each with its own copies of its points.
+// The cells of mesh in three pieces cut obliquely, each with its own copies of its points
+// and, with `ghosts`, the previous piece's cells as ghost cells (DUPLICATECELL), appended.
+vtkSmartPointer<vtkUnstructuredGrid> PiecesOf(vtkUnstructuredGrid* mesh, bool ghosts)
+{
+  auto pieceOf = [&](vtkIdType c)
+  {
+    double centre[2] = { 0.0, 0.0 };
+    vtkIdType n;
+    const vtkIdType* ids;
+    mesh->GetCellPoints(c, n, ids);
+    for (vtkIdType k = 0; k < n; ++k)
+    {
+      const double* x = mesh->GetPoint(ids[k]);
+      centre[0] += x[0] / n;
+      centre[1] += x[1] / n;
+    }
+    const double key = centre[0] + 0.3 * centre[1];
+    return key < 0.45 ? 0 : key < 0.9 ? 1 : 2;
+  };
   vtkNew<vtkAppendFilter> pieces;
   for (int piece = 0; piece < 3; ++piece)
   {
     vtkNew<vtkIdList> cells;
+    std::vector<unsigned char> flags;
     for (vtkIdType c = 0; c < mesh->GetNumberOfCells(); ++c)
     {
-      double centre[3] = { 0.0, 0.0, 0.0 };
-      vtkIdType n;
-      const vtkIdType* ids;
-      mesh->GetCellPoints(c, n, ids);
-      for (vtkIdType k = 0; k < n; ++k)
-      {
-        const double* x = mesh->GetPoint(ids[k]);
-        centre[0] += x[0] / n;
-        centre[1] += x[1] / n;
-      }
-      const double key = centre[0] + 0.3 * centre[1];
-      if ((key < 0.45 ? 0 : key < 0.9 ? 1 : 2) == piece)
+      const int of = pieceOf(c);
+      if (of == piece || (ghosts && of == piece - 1))
       {
         cells->InsertNextId(c);
+        flags.push_back(of == piece ? 0 : vtkDataSetAttributes::DUPLICATECELL);
       }
     }
     vtkNew<vtkExtractCells> extract;
@@ -477,13 +499,55 @@ TEST(UnstructuredGridIllumination, PiecesOfAFileLightAsTheWholeGrid)
     extract->Update();
     auto copy = vtkSmartPointer<vtkUnstructuredGrid>::New();
     copy->DeepCopy(extract->GetOutput());
+    if (ghosts)
+    {
+      vtkNew<vtkUnsignedCharArray> ghost;
+      ghost->SetName(vtkDataSetAttributes::GhostArrayName());
+      ghost->SetNumberOfTuples(copy->GetNumberOfCells());
+      std::copy(flags.begin(), flags.end(), ghost->GetPointer(0));
+      copy->GetCellData()->AddArray(ghost);
+    }
     pieces->AddInputData(copy);
   }
   pieces->Update();
-  vtkUnstructuredGrid* file = pieces->GetOutput();
-  ASSERT_GT(file->GetNumberOfPoints(), mesh->GetNumberOfPoints());
+  auto file = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  file->ShallowCopy(pieces->GetOutput());
+  return file;
+}
 
-  auto light = [](vtkUnstructuredGrid* grid)
+// The largest difference of the illumination of grid's points (`got`) from that of mesh's
+// point at their place (`want`), over the largest of want.
+double DifferenceAtPlaces(
+  vtkUnstructuredGrid* mesh, vtkFloatArray* want, vtkUnstructuredGrid* grid, vtkFloatArray* got)
+{
+  std::map<std::array<double, 3>, vtkIdType> at;
+  for (vtkIdType p = 0; p < mesh->GetNumberOfPoints(); ++p)
+  {
+    const double* x = mesh->GetPoint(p);
+    at[{ x[0], x[1], x[2] }] = p;
+  }
+  double worst = 0.0, largest = 0.0;
+  for (vtkIdType p = 0; p < grid->GetNumberOfPoints(); ++p)
+  {
+    const double* x = grid->GetPoint(p);
+    const vtkIdType q = at.at({ x[0], x[1], x[2] });
+    for (int c = 0; c < 3; ++c)
+    {
+      worst = std::max<double>(worst, std::abs(got->GetComponent(p, c) - want->GetComponent(q, c)));
+      largest = std::max<double>(largest, std::abs(want->GetComponent(q, c)));
+    }
+  }
+  return worst / largest;
+}
+}
+
+TEST(UnstructuredGridIllumination, PiecesOfAFileLightAsTheWholeGrid)
+{
+  const Field density = [](const double* x) { return 0.5 + 2.0 * x[1] * x[2]; };
+  auto tetrahedra = TetBox(Uniform(0, 1, 13), Uniform(0, 2, 17), Uniform(0, 1, 13), density);
+  auto hexahedra = TetBox(Uniform(0, 1, 13), Uniform(0, 2, 17), Uniform(0, 1, 13), density, true);
+
+  auto lit = [](vtkUnstructuredGrid* grid)
   {
     auto filter = MakeFilter(grid, 3.0, 32);
     filter->SetScatteringStrength(0.3, 0.3, 0.3);
@@ -492,39 +556,44 @@ TEST(UnstructuredGridIllumination, PiecesOfAFileLightAsTheWholeGrid)
     filter->Update();
     return filter;
   };
-  // The largest difference of the pieces' points from the whole grid's point at their place.
-  auto difference = [&](vtkUnstructuredGrid* grid)
+  for (vtkUnstructuredGrid* mesh : { tetrahedra.Get(), hexahedra.Get() })
   {
-    auto whole = light(mesh);
-    auto lit = light(grid);
-    vtkFloatArray* want = Illumination(whole);
-    vtkFloatArray* got = Illumination(lit);
-    std::map<std::array<double, 3>, vtkIdType> at;
-    for (vtkIdType p = 0; p < mesh->GetNumberOfPoints(); ++p)
+    for (bool ghosts : { false, true })
     {
-      const double* x = mesh->GetPoint(p);
-      at[{ x[0], x[1], x[2] }] = p;
-    }
-    double worst = 0.0, largest = 0.0;
-    for (vtkIdType p = 0; p < grid->GetNumberOfPoints(); ++p)
-    {
-      const double* x = grid->GetPoint(p);
-      const vtkIdType q = at.at({ x[0], x[1], x[2] });
-      for (int c = 0; c < 3; ++c)
+      if (ghosts && mesh == hexahedra)
       {
-        worst =
-          std::max<double>(worst, std::abs(got->GetComponent(p, c) - want->GetComponent(q, c)));
-        largest = std::max<double>(largest, std::abs(want->GetComponent(q, c)));
+        continue; // (the extra copies would number the hexahedra's points otherwise again)
       }
+      auto file = PiecesOf(mesh, ghosts);
+      ASSERT_GT(file->GetNumberOfPoints(), mesh->GetNumberOfPoints());
+      auto pieces = lit(file);
+      // Hexahedra split into tetrahedra by the order of their points' ids, which the file
+      // numbers otherwise: the reference is the file with its copies merged
+      // (vtkStaticCleanUnstructuredGrid keeps the first copies in their order).
+      vtkSmartPointer<vtkUnstructuredGrid> reference = mesh;
+      if (mesh == hexahedra)
+      {
+        vtkNew<vtkStaticCleanUnstructuredGrid> merge;
+        merge->SetInputData(file);
+        merge->Update();
+        reference = merge->GetOutput();
+        ASSERT_EQ(reference->GetNumberOfPoints(), mesh->GetNumberOfPoints());
+      }
+      auto whole = lit(reference);
+      const double difference =
+        DifferenceAtPlaces(reference, Illumination(whole), file, Illumination(pieces));
+      std::cout << (mesh == tetrahedra ? "tetrahedra" : "hexahedra") << " in pieces"
+                << (ghosts ? " with ghost cells" : "") << " against the whole grid: " << difference
+                << "\n";
+      EXPECT_LE(difference, 1e-6);
     }
-    return worst / largest;
-  };
-  const double copies = difference(file);
-  std::cout << "pieces of a file against the whole grid: " << copies << "\n";
-  EXPECT_LE(copies, 1e-6);
+  }
 
+  // Copies told apart by point global ids stay a seam; the same filter, given the same points
+  // and cells with ids and then without, lights each as a fresh filter does.
+  auto file = PiecesOf(tetrahedra, false);
   vtkNew<vtkUnstructuredGrid> seams;
-  seams->DeepCopy(file);
+  seams->ShallowCopy(file);
   vtkNew<vtkIdTypeArray> ids;
   ids->SetNumberOfTuples(seams->GetNumberOfPoints());
   for (vtkIdType p = 0; p < seams->GetNumberOfPoints(); ++p)
@@ -532,9 +601,15 @@ TEST(UnstructuredGridIllumination, PiecesOfAFileLightAsTheWholeGrid)
     ids->SetValue(p, p); // every copy its own id
   }
   seams->GetPointData()->SetGlobalIds(ids);
-  const double seam = difference(seams);
+  auto whole = lit(tetrahedra);
+  auto filter = lit(seams);
+  const double seam =
+    DifferenceAtPlaces(tetrahedra, Illumination(whole), seams, Illumination(filter));
   std::cout << "with the copies told apart (seams): " << seam << "\n";
   EXPECT_GT(seam, 1e-3);
+  filter->SetInputData(file);
+  filter->Update();
+  EXPECT_LE(DifferenceAtPlaces(tetrahedra, Illumination(whole), file, Illumination(filter)), 1e-6);
 }
 
 TEST(UnstructuredGridIllumination, AbortKeepsThePreviousOutput)
