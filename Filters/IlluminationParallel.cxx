@@ -210,7 +210,7 @@ void CopyPiece(vtkDataSetAttributes* from, const int e[6], vtkDataSetAttributes*
 namespace
 {
 // Message tags of NeighborhoodGrid.
-constexpr int CellsTag = 8270, CountTag = 8271, KeysTag = 8272, ValuesTag = 8273;
+constexpr int CellsTag = 8270, CountTag = 8271, KeysTag = 8272, ValuesTag = 8273, MaskTag = 8275;
 
 // Where the cells of the pieces lie: bins over the bounds of all pieces, about `depth`
 // wide (at most 64 a side), a bit per bin.
@@ -258,8 +258,7 @@ public:
       {
         for (int i = lo[0]; i <= hi[0]; ++i)
         {
-          if (visit(i +
-                static_cast<size_t>(this->Bins[0]) * (j + static_cast<size_t>(this->Bins[1]) * k)))
+          if (visit(this->Index(i, j, k)))
           {
             return true;
           }
@@ -285,52 +284,113 @@ public:
   {
     const double grown[6] = { box[0] - depth, box[1] + depth, box[2] - depth, box[3] + depth,
       box[4] - depth, box[5] + depth };
-    return this->AnyBin(
-      grown, [bits](size_t bin) { return ((bits[bin / 8] >> (bin % 8)) & 1) != 0; });
+    return this->AnyBin(grown, [bits](size_t bin) { return Marked(bits, bin); });
   }
 
-  // Whether a bin marked in `a` lies within depth (in whole bins) of one marked in `b`: the
-  // same answer for (a, b) as for (b, a).
-  bool Near(const unsigned char* a, const unsigned char* b, double depth) const
+  // The whole bins within depth along each axis.
+  std::array<int, 3> Reach(double depth) const
   {
-    int reach[3];
+    std::array<int, 3> reach;
     for (int d = 0; d < 3; ++d)
     {
       reach[d] = static_cast<int>(std::ceil(depth / this->Size[d]));
     }
-    const auto marked = [](const unsigned char* bits, size_t bin)
-    { return ((bits[bin / 8] >> (bin % 8)) & 1) != 0; };
-    const size_t nx = this->Bins[0], ny = this->Bins[1];
+    return reach;
+  }
+
+  // The bin indices (lowest, highest along each axis) of the marked bins; lowest above
+  // highest when none is marked.
+  std::array<int, 6> MarkedBox() const
+  {
+    std::array<int, 6> box = { this->Bins[0], -1, this->Bins[1], -1, this->Bins[2], -1 };
     for (int k = 0; k < this->Bins[2]; ++k)
     {
       for (int j = 0; j < this->Bins[1]; ++j)
       {
         for (int i = 0; i < this->Bins[0]; ++i)
         {
-          if (!marked(a, i + nx * (j + ny * k)))
+          if (this->Marked(this->Bits.data(), this->Index(i, j, k)))
           {
-            continue;
-          }
-          for (int kk = std::max(0, k - reach[2]); kk <= std::min(this->Bins[2] - 1, k + reach[2]);
-               ++kk)
-          {
-            for (int jj = std::max(0, j - reach[1]);
-                 jj <= std::min(this->Bins[1] - 1, j + reach[1]); ++jj)
+            const int at[3] = { i, j, k };
+            for (int d = 0; d < 3; ++d)
             {
-              for (int ii = std::max(0, i - reach[0]);
-                   ii <= std::min(this->Bins[0] - 1, i + reach[0]); ++ii)
-              {
-                if (marked(b, ii + nx * (jj + ny * kk)))
-                {
-                  return true;
-                }
-              }
+              box[2 * d] = std::min(box[2 * d], at[d]);
+              box[2 * d + 1] = std::max(box[2 * d + 1], at[d]);
             }
           }
         }
       }
     }
+    return box;
+  }
+
+  // The marked bins grown by `reach` bins along each axis (a box around each, one axis at a
+  // time): a bin of another mask lies within reach of a marked one exactly where the
+  // grown bits and the other's share a bit, the same answer seen from either mask.
+  std::vector<unsigned char> Grown(const std::array<int, 3>& reach) const
+  {
+    std::vector<unsigned char> bins(this->Count());
+    for (size_t b = 0; b < bins.size(); ++b)
+    {
+      bins[b] = this->Marked(this->Bits.data(), b);
+    }
+    std::vector<unsigned char> line;
+    for (int d = 0; d < 3; ++d)
+    {
+      // Lines along d: `stride` apart from bin to bin, starting at every bin of the other
+      // two axes.
+      const size_t stride = d == 0 ? 1 : d == 1 ? this->Bins[0] : this->Count() / this->Bins[2];
+      const int n = this->Bins[d];
+      line.resize(n);
+      for (size_t outer = 0; outer < this->Count(); outer += stride * n)
+      {
+        for (size_t first = outer; first < outer + stride; ++first)
+        {
+          for (int i = 0; i < n; ++i)
+          {
+            line[i] = bins[first + i * stride];
+          }
+          for (int i = 0; i < n; ++i)
+          {
+            unsigned char any = 0;
+            for (int m = std::max(0, i - reach[d]); m <= std::min(n - 1, i + reach[d]); ++m)
+            {
+              any |= line[m];
+            }
+            bins[first + i * stride] = any;
+          }
+        }
+      }
+    }
+    std::vector<unsigned char> bits(this->Bits.size(), 0);
+    for (size_t b = 0; b < bins.size(); ++b)
+    {
+      bits[b / 8] |= static_cast<unsigned char>(bins[b] << (b % 8));
+    }
+    return bits;
+  }
+
+  // Whether two bit masks share a marked bin.
+  static bool Share(const std::vector<unsigned char>& a, const unsigned char* b)
+  {
+    for (size_t i = 0; i < a.size(); ++i)
+    {
+      if (a[i] & b[i])
+      {
+        return true;
+      }
+    }
     return false;
+  }
+
+  static bool Marked(const unsigned char* bits, size_t bin)
+  {
+    return ((bits[bin / 8] >> (bin % 8)) & 1) != 0;
+  }
+
+  size_t Index(int i, int j, int k) const
+  {
+    return i + static_cast<size_t>(this->Bins[0]) * (j + static_cast<size_t>(this->Bins[1]) * k);
   }
 
   double Origin[3];
@@ -649,17 +709,54 @@ vtkUnstructuredGrid* NeighborhoodGrid::Build(
     piece->GetCellBounds(c, bounds);
     mask.Mark(bounds);
   }
-  const size_t bytes = mask.Bits.size();
-  std::vector<unsigned char> masks(bytes * processes);
-  controller->AllGather(mask.Bits.data(), masks.data(), static_cast<vtkIdType>(bytes));
-  // Peers: the processes with cells in bins within depth of this piece's (the same relation
-  // seen from both: no process waits for a peer that does not count it as one).
-  this->Peers.clear();
-  for (int q = 0; q < processes && has; ++q)
+  // Candidates: the processes whose marked bins' box comes within reach of this piece's
+  // (one box of 6 bin indices a process travels to all). Only candidates exchange masks,
+  // and peers are the candidates with cells in bins within reach of this piece's: the
+  // same relation seen from both, so no process waits for a peer that does not count it
+  // as one.
+  const std::array<int, 3> reach = mask.Reach(depth);
+  const std::array<int, 6> box = mask.MarkedBox();
+  std::vector<int> boxes(6 * static_cast<size_t>(processes));
+  controller->AllGather(box.data(), boxes.data(), 6);
+  const auto marked = [](const int* b) { return b[0] <= b[1]; };
+  std::vector<int> candidates;
+  for (int q = 0; q < processes && has && marked(box.data()); ++q)
   {
-    if (q != local && mask.Near(mask.Bits.data(), masks.data() + bytes * q, depth))
+    const int* other = boxes.data() + 6 * static_cast<size_t>(q);
+    bool near = q != local && marked(other);
+    for (int d = 0; d < 3 && near; ++d)
     {
-      this->Peers.push_back(q);
+      near = other[2 * d] <= box[2 * d + 1] + reach[d] && box[2 * d] <= other[2 * d + 1] + reach[d];
+    }
+    if (near)
+    {
+      candidates.push_back(q);
+    }
+  }
+  const size_t bytes = mask.Bits.size();
+  std::vector<unsigned char> masks(bytes * candidates.size());
+  WithEachPeer(local, candidates,
+    [&](size_t k, bool send)
+    {
+      if (send)
+      {
+        controller->Send(mask.Bits.data(), static_cast<vtkIdType>(bytes), candidates[k], MaskTag);
+      }
+      else
+      {
+        controller->Receive(
+          masks.data() + bytes * k, static_cast<vtkIdType>(bytes), candidates[k], MaskTag);
+      }
+    });
+  const std::vector<unsigned char> grown = mask.Grown(reach);
+  this->Peers.clear();
+  std::vector<const unsigned char*> peerMasks;
+  for (size_t k = 0; k < candidates.size(); ++k)
+  {
+    if (BinMask::Share(grown, masks.data() + bytes * k))
+    {
+      this->Peers.push_back(candidates[k]);
+      peerMasks.push_back(masks.data() + bytes * k);
     }
   }
 
@@ -671,7 +768,7 @@ vtkUnstructuredGrid* NeighborhoodGrid::Build(
       const int q = this->Peers[k];
       if (send)
       {
-        controller->Send(CellsNear(piece, mask, masks.data() + bytes * q, depth), q, CellsTag);
+        controller->Send(CellsNear(piece, mask, peerMasks[k], depth), q, CellsTag);
       }
       else
       {
