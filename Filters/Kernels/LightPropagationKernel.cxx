@@ -295,7 +295,48 @@ struct SweepContext
   // reaches, rows along y contiguous (SweepSlices::SlabFor and CopySlab), read by the grey
   // row kernel; none (Low > High) otherwise.
   ExtinctionSlab Slab;
+  // A sweep over a wedge (PropagateSweepWedge): the material it holds (Volume then gives only
+  // the grid and the classification's channels and scales), and per slice k the first row of
+  // its units (UnitSliceFirst) and where they start (UnitSliceBase, in points). Null and
+  // empty otherwise.
+  const WedgeVolume* Wedge = nullptr;
+  std::vector<int> UnitSliceFirst;
+  std::vector<long long> UnitSliceBase;
 };
+
+// The first value of the cell whose first point has the given indices in the material a
+// sweep reads, the offsets from it to the cell's next corners along x, y and z (corner) and
+// from a point to the next along the sweep's axis B (strideB): the volume's, or a wedge's,
+// whose slices along the sweep's axis hold rows from their own first one on (so the offset
+// to the next slice depends on the slice and the row).
+inline const PackedValue* CellValues(
+  const SweepContext& s, const int index[3], long long corner[3], long long* strideB = nullptr)
+{
+  const ClassifiedVolume& v = s.Volume;
+  if (!s.Wedge)
+  {
+    const FieldLayout layout(v.Geometry, v.Channels);
+    std::copy_n(layout.Corner, 3, corner);
+    if (strideB)
+    {
+      *strideB = layout.Stride[s.B];
+    }
+    return v.Properties.data() + layout.Offset(index);
+  }
+  if (strideB)
+  {
+    *strideB = v.Channels;
+  }
+  const WedgeVolume& w = *s.Wedge;
+  const auto& n = v.Geometry.Dimensions;
+  const long long channels = v.Channels, nb = n[s.B];
+  const int a = index[s.Axis], c = index[s.C];
+  corner[s.B] = n[s.B] > 1 ? channels : 0;
+  corner[s.C] = n[s.C] > 1 ? channels * nb : 0;
+  corner[s.Axis] =
+    n[s.Axis] > 1 ? channels * (w.Base[a + 1] - w.Base[a] - nb * (w.First[a + 1] - w.First[a])) : 0;
+  return w.Volume.Properties.data() + channels * (w.Base[a] + nb * (c - w.First[a]) + index[s.B]);
+}
 
 // A ray source as one sweep uses it; for a directional light everything that does not
 // depend on the point is worked out once.
@@ -440,8 +481,15 @@ inline void AttenuateBySample(
     return;
   }
   const ClassifiedVolume& v = s.Volume;
-  const PackedValue* field = v.Properties.data();
-  const float sigma = Interpolate(v.Geometry, field, v.Channels, cell, 0);
+  long long d[3];
+  const PackedValue* q = CellValues(s, cell.Index, d);
+  const float* f = cell.Fraction;
+  auto channel = [&](int c)
+  {
+    return d[0] == 1 ? TrilinearInPackedCell(q + c, d[1], d[2], f[0], f[1], f[2])
+                     : TrilinearInCell(q + c, d[0], d[1], d[2], f[0], f[1], f[2]);
+  };
+  const float sigma = channel(0);
   if (!(sigma > 0.0f))
   {
     return;
@@ -454,7 +502,7 @@ inline void AttenuateBySample(
   const float a = 1.0f - std::exp(-sigma * h);
   for (int ch = 0; ch < 3; ++ch)
   {
-    out[ch] *= 1.0f - a * Interpolate(v.Geometry, field, 4, cell, 1 + ch) * v.Scale[1 + ch];
+    out[ch] *= 1.0f - a * channel(1 + ch) * v.Scale[1 + ch];
   }
 }
 
@@ -836,8 +884,6 @@ void DivergingRowSegments(const SweepContext& s, const double* p, const double* 
     }
     steps[i] = inside[i] ? SegmentSteps(s, length[i]) : 0;
   }
-  const ExtinctionSlab entire = ExtinctionSlab::Entire(s.Volume);
-  const FieldLayout& layout = entire.Layout;
   // Grid coordinates of ray i's samples: start + m step for sample m.
   auto samples = [&](int i, double start[3], double step[3])
   {
@@ -881,10 +927,10 @@ void DivergingRowSegments(const SweepContext& s, const double* p, const double* 
         v[a] = lastStart[a] + m * lastStep[a];
       }
       const TrilinearCell cell = CellAt(g, u);
-      const PackedValue* q = entire.Cell(cell.Index) - cell.Index[s.B] * layout.Stride[s.B];
-      AddFractionalRowDepthsOutsideEmpty(s, q, layout.Stride[s.B], layout.Corner[0],
-        layout.Corner[1], layout.Corner[2], cell, u[s.B], (v[s.B] - u[s.B]) / (size - 1), 1.0f,
-        size, depth);
+      long long corner[3], strideB;
+      const PackedValue* q = CellValues(s, cell.Index, corner, &strideB);
+      AddFractionalRowDepthsOutsideEmpty(s, q - cell.Index[s.B] * strideB, strideB, corner[0],
+        corner[1], corner[2], cell, u[s.B], (v[s.B] - u[s.B]) / (size - 1), 1.0f, size, depth);
     }
     for (int i = 0; i < size; ++i)
     {
@@ -1415,6 +1461,69 @@ void ConeOfBand(const GridGeometry& g, const SweepAxes& axes, const double light
   }
 }
 
+// Distance along the sweep (axes) from the light to slice k of grid g: positive in front of
+// it.
+inline double FromLight(const GridGeometry& g, const SweepAxes& axes, const double light[3], int k)
+{
+  return axes.Sign * (g.Origin[axes.Axis] + k * g.Spacing[axes.Axis] - light[axes.Axis]);
+}
+
+// The rows first[k] to last[k] along C of slice k of grid g that a wedge of the rays of a
+// light at `light` holds in a sweep (axes): in front of the light, the rows whose ratio
+// (row - light) / (distance from the light) lies in [Low, High), so that wedges sharing a
+// bound split the rows; elsewhere the Index-th of Count equal parts.
+void WedgeRowsOf(const GridGeometry& g, const SweepAxes& axes, const double light[3],
+  const SweepWedge& wedge, std::vector<int>& first, std::vector<int>& last)
+{
+  const int c = axes.C, n = g.Dimensions[c], na = g.Dimensions[axes.Axis];
+  first.resize(na);
+  last.resize(na);
+  for (int k = 0; k < na; ++k)
+  {
+    const double from = FromLight(g, axes, light, k);
+    if (!AnchoredStep::IsInFront(from, g.Spacing[axes.Axis]))
+    {
+      first[k] = static_cast<int>(static_cast<long long>(n) * wedge.Index / wedge.Count);
+      last[k] = static_cast<int>(static_cast<long long>(n) * (wedge.Index + 1) / wedge.Count) - 1;
+      continue;
+    }
+    // The first row whose ratio is at least u.
+    auto row = [&](double u)
+    {
+      if (std::isinf(u))
+      {
+        return u < 0.0 ? 0 : n;
+      }
+      const double x = std::ceil((light[c] + u * from - g.Origin[c]) / g.Spacing[c]);
+      return static_cast<int>(std::min<double>(n, std::max(0.0, x)));
+    };
+    first[k] = row(wedge.Low);
+    last[k] = row(wedge.High) - 1;
+  }
+}
+
+// The rays of a point or spot source at `light` that a wedge needs in a sweep (axes) of the
+// grid g, as ConeOfBand gives a band's: per slice in front of the light the wedge there,
+// widened by the margin. A ray keeps its ratio, so the wedge's points cross any earlier slice
+// within the wedge there.
+void ConeOfWedge(const GridGeometry& g, const SweepAxes& axes, const double light[3],
+  const SweepWedge& wedge, std::vector<double>& low, std::vector<double>& high)
+{
+  const int c = axes.C, n = g.Dimensions[axes.Axis];
+  low.assign(n, 1.0);
+  high.assign(n, 0.0);
+  const double margin = ConeMargin * g.Spacing[c];
+  for (int k = 0; k < n; ++k)
+  {
+    const double from = FromLight(g, axes, light, k);
+    if (AnchoredStep::IsInFront(from, g.Spacing[axes.Axis]))
+    {
+      low[k] = light[c] + wedge.Low * from - margin;
+      high[k] = light[c] + wedge.High * from + margin;
+    }
+  }
+}
+
 // The geometry of a sweep of the grid g in a group (SweepAxes), and whether row kernels
 // apply.
 SweepContext MakeSweepContext(const ClassifiedVolume& volume, const EmptyBlocks* empty,
@@ -1633,6 +1742,10 @@ struct SweepSpan
   bool Banded = false;
   SweepBand Band;
   LatticeExchange Exchange;
+  // Or a wedge's (PropagateSweepWedge): per slice its own rows (WedgeRows), reading the
+  // material it holds (WedgeMaterial).
+  const SweepWedge* Wedge = nullptr;
+  const WedgeVolume* WedgeMaterial = nullptr;
 };
 
 // The work of one sweep's slices, shared by the threads of the sweep. Slice t (index k
@@ -1651,6 +1764,8 @@ struct SweepSlices
   // more than the grid). The lattices hold the rows from LatticeFirst on, those the sweep's
   // rows read (a band's and the halo the exchange fills either side).
   int FirstRow = 0, Rows = 0, DepositRows = 0, LatticeFirst = 0;
+  // A wedge's rows per slice k (it has no lattices): SliceFirst[k] to SliceLast[k].
+  std::vector<int> SliceFirst, SliceLast;
   int ChunkFirst = 0; // the first slice t of the chunk being swept
   std::uint32_t* Values = nullptr;
   std::uint32_t* Recorded = nullptr; // when a task is recorded
@@ -1701,6 +1816,16 @@ struct SweepSlices
           ConeOfBand(
             g, SweepAxes(group), sweep.Source.Position, span.Band, sweep.ConeLow, sweep.ConeHigh);
         }
+      }
+    }
+    if (span.Wedge)
+    {
+      WedgeRowsOf(g, SweepAxes(group), this->Prepared[0].Source.Position, *span.Wedge,
+        this->SliceFirst, this->SliceLast);
+      for (SweepSource& sweep : this->Prepared)
+      {
+        ConeOfWedge(
+          g, SweepAxes(group), sweep.Source.Position, *span.Wedge, sweep.ConeLow, sweep.ConeHigh);
       }
     }
     size_t bytes = AllocateSliceBuffers(
@@ -1801,12 +1926,34 @@ struct SweepSlices
 
   int StepsPerSlice() const { return static_cast<int>(this->Anchored.size()) + 2; }
 
+  // The rows slice t computes: FirstRowAt(t) on, RowsAt(t) of them.
+  int FirstRowAt(int t) const
+  {
+    return this->SliceFirst.empty() ? this->FirstRow : this->SliceFirst[this->Slice(t)];
+  }
+  int RowsAt(int t) const
+  {
+    const int k = this->Slice(t);
+    return this->SliceFirst.empty() ? this->Rows : this->SliceLast[k] - this->SliceFirst[k] + 1;
+  }
+
   int Slice(int t) const { return this->S.Sign > 0 ? t : this->S.N[this->S.Axis] - 1 - t; }
 
   // The units of point (0, 0, k) (3 a point).
   long long SliceStart(int k) const
   {
     return 3 * (k - this->S.UnitFirst[this->S.Axis]) * this->S.UnitStride[this->S.Axis];
+  }
+
+  // The units of the first point of row ic of slice k.
+  long long RowStart(int k, int ic) const
+  {
+    const SweepContext& s = this->S;
+    if (!s.UnitSliceBase.empty())
+    {
+      return 3 * (s.UnitSliceBase[k] + (ic - s.UnitSliceFirst[k]) * s.UnitStride[s.C]);
+    }
+    return this->SliceStart(k) + 3 * (ic - s.UnitFirst[s.C]) * s.UnitStride[s.C];
   }
 
   // Directions and group factors are kept only with a point or spot source (a directional
@@ -1859,7 +2006,7 @@ struct SweepSlices
     }
     // The row's units: contiguous in the illumination when rows run along x, else in the
     // deposit buffers.
-    long long start = this->SliceStart(k) + 3 * (ic - s.UnitFirst[s.C]) * s.UnitStride[s.C];
+    long long start = this->RowStart(k, ic);
     std::uint32_t* values = this->Values;
     std::uint32_t* recorded = this->Recorded;
     if (this->BufferSlices > 0)
@@ -1963,6 +2110,23 @@ bool Sweep(const ClassifiedVolume& volume, const EmptyBlocks* empty, bool rowKer
     s.UnitStride[2] = rows[0] * rows[1];
     s.UnitFirst[s.C] = firstRow;
   }
+  if (span.Wedge)
+  {
+    // Per slice its rows, one after the other, each row's points in the grid's order.
+    std::vector<int> first, last;
+    WedgeRowsOf(g, SweepAxes(group), SourceOf(tasks[0]).Position, *span.Wedge, first, last);
+    s.Wedge = span.WedgeMaterial;
+    s.UnitStride[s.B] = 1;
+    s.UnitStride[s.C] = s.N[s.B];
+    s.UnitSliceFirst = first;
+    s.UnitSliceBase.resize(first.size());
+    long long base = 0;
+    for (size_t k = 0; k < first.size(); ++k)
+    {
+      s.UnitSliceBase[k] = base;
+      base += static_cast<long long>(s.N[s.B]) * (last[k] - first[k] + 1);
+    }
+  }
   SweepSlices slices(s, g, group, tasks, illumination, statistics, span);
   std::vector<float*> lattices; // a band's, for the exchange
   for (size_t j = 0; j < slices.Prepared.size(); ++j)
@@ -2000,7 +2164,7 @@ bool Sweep(const ClassifiedVolume& volume, const EmptyBlocks* empty, bool rowKer
           return slices.DepositRows;
         }
         const int part = step % perSlice;
-        return part == 0         ? slices.Rows
+        return part == 0         ? slices.RowsAt(first + step / perSlice)
           : part == perSlice - 1 ? 1
                                  : slices.Prepared[slices.Anchored[part - 1]].RaysC;
       },
@@ -2030,7 +2194,7 @@ bool Sweep(const ClassifiedVolume& volume, const EmptyBlocks* empty, bool rowKer
           {
             for (long long ic = begin; ic < end; ++ic)
             {
-              slices.Row(t, slices.FirstRow + static_cast<int>(ic), scratch);
+              slices.Row(t, slices.FirstRowAt(t) + static_cast<int>(ic), scratch);
             }
           }
           else if (part == perSlice - 1)
@@ -2368,6 +2532,141 @@ void PropagateSweepBand(const ClassifiedVolume& volume, const GridGeometry& targ
         progress(f);
       }
       return true; // the other bands wait on this one
+    },
+    span);
+}
+
+std::vector<std::vector<PropagationTask>> TasksByLight(
+  const std::vector<PropagationTask>& sweep, std::vector<PropagationTask>& directional)
+{
+  directional.clear();
+  std::vector<std::vector<PropagationTask>> byLight;
+  std::vector<RaySource> sources;
+  for (const auto& task : sweep)
+  {
+    const RaySource source = SourceOf(task);
+    if (source.Directional)
+    {
+      directional.push_back(task);
+      continue;
+    }
+    const size_t at = std::find(sources.begin(), sources.end(), source) - sources.begin();
+    if (at == sources.size())
+    {
+      sources.push_back(source);
+      byLight.emplace_back();
+    }
+    byLight[at].push_back(task);
+  }
+  return byLight;
+}
+
+std::vector<SweepWedge> SplitIntoWedges(
+  const GridGeometry& target, const std::vector<PropagationTask>& tasks, int count)
+{
+  std::vector<SweepWedge> wedges(std::max(1, count));
+  for (size_t m = 0; m < wedges.size(); ++m)
+  {
+    wedges[m].Index = static_cast<int>(m);
+    wedges[m].Count = static_cast<int>(wedges.size());
+  }
+  if (tasks.empty())
+  {
+    return wedges;
+  }
+  // The ratios of the points in front of the light, split into equal parts.
+  const SweepAxes axes(tasks[0].Group);
+  const RaySource source = SourceOf(tasks[0]);
+  const int c = axes.C;
+  std::vector<double> ratios;
+  for (int k = 0; k < target.Dimensions[axes.Axis]; ++k)
+  {
+    const double from = FromLight(target, axes, source.Position, k);
+    if (AnchoredStep::IsInFront(from, target.Spacing[axes.Axis]))
+    {
+      for (int i = 0; i < target.Dimensions[c]; ++i)
+      {
+        ratios.push_back((target.Origin[c] + i * target.Spacing[c] - source.Position[c]) / from);
+      }
+    }
+  }
+  std::sort(ratios.begin(), ratios.end());
+  for (size_t m = 1; m < wedges.size() && !ratios.empty(); ++m)
+  {
+    wedges[m - 1].High = wedges[m].Low = ratios[ratios.size() * m / wedges.size()];
+  }
+  return wedges;
+}
+
+void WedgeRows(const GridGeometry& target, const std::vector<PropagationTask>& tasks,
+  const SweepWedge& wedge, std::vector<int>& first, std::vector<int>& last)
+{
+  first.clear();
+  last.clear();
+  if (!tasks.empty())
+  {
+    WedgeRowsOf(target, SweepAxes(tasks[0].Group), SourceOf(tasks[0]).Position, wedge, first, last);
+  }
+}
+
+void WedgeOfData(const GridGeometry& data, const GridGeometry& target,
+  const std::vector<PropagationTask>& tasks, const SweepWedge& wedge, std::vector<int>& first,
+  std::vector<int>& last)
+{
+  first.clear();
+  last.clear();
+  if (tasks.empty())
+  {
+    return;
+  }
+  const SweepAxes axes(tasks[0].Group);
+  const RaySource source = SourceOf(tasks[0]);
+  const double* light = source.Position;
+  const int a = axes.Axis, c = axes.C, na = data.Dimensions[a], n = data.Dimensions[c];
+  first.resize(na);
+  last.resize(na);
+  // The wedge's rays lie within the cone margin of it, and a sample between two slices reads
+  // a cell's corners on both and a point beyond along C: the wedge at a slice and at its
+  // neighbours (a ray's coordinate along C is linear between slices), widened by the margin,
+  // a cell and one more point for rounding. At or behind the light the wedge is the light's
+  // coordinate.
+  const double margin = ConeMargin * target.Spacing[c] + data.Spacing[c];
+  for (int k = 0; k < na; ++k)
+  {
+    double low = std::numeric_limits<double>::infinity(), high = -low;
+    for (int j = std::max(0, k - 1); j <= std::min(na - 1, k + 1); ++j)
+    {
+      const double from = std::max(0.0, FromLight(data, axes, light, j));
+      low = std::min(low, from > 0.0 ? light[c] + wedge.Low * from : light[c]);
+      high = std::max(high, from > 0.0 ? light[c] + wedge.High * from : light[c]);
+    }
+    const double lo = std::floor((low - margin - data.Origin[c]) / data.Spacing[c]) - 1.0;
+    const double hi = std::ceil((high + margin - data.Origin[c]) / data.Spacing[c]) + 1.0;
+    first[k] = static_cast<int>(std::min<double>(n - 1, std::max(0.0, lo)));
+    last[k] = static_cast<int>(std::min<double>(n - 1, std::max(0.0, hi)));
+  }
+}
+
+void PropagateSweepWedge(const WedgeVolume& volume, const GridGeometry& target,
+  const std::vector<PropagationTask>& tasks, const SweepWedge& wedge, FixedPointIllumination& units,
+  PropagationStatistics& statistics, const std::function<void(double)>& progress)
+{
+  if (tasks.empty())
+  {
+    return;
+  }
+  SweepSpan span;
+  span.Wedge = &wedge;
+  span.WedgeMaterial = &volume;
+  Sweep(
+    volume.Volume, nullptr, true, target, tasks[0].Group, tasks, units, statistics,
+    [&progress](double f)
+    {
+      if (progress)
+      {
+        progress(f);
+      }
+      return true; // the other wedges' processes wait on this one
     },
     span);
 }

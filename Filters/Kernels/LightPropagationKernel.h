@@ -57,6 +57,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <vector>
 
 namespace volillum
@@ -274,6 +275,75 @@ VOLILLUMKERNELS_EXPORT void PropagateSweepBand(const ClassifiedVolume& volume,
   FixedPointIllumination& units, const LatticeExchange& exchange, PropagationStatistics& statistics,
   const EmptyBlocks* empty = nullptr, const std::function<void(double)>& progress = nullptr);
 
+/**
+ * A wedge of a point or spot light's rays in a sweep (PropagateSweepWedge). A ray from the
+ * light keeps its ratio u = (its coordinate along the row axis C - the light's) / (its
+ * distance from the light along the sweep) along its whole way, and everything the sweep
+ * computes for a point lies along the point's own ray back to the light, within the cone
+ * margin of the rays around it. So the points of the slices in front of the light whose u
+ * lies in [Low, High), with the rays and material within that margin, need nothing from
+ * the rest of the sweep. The rows of the slices not in front of the light (no rays reach
+ * them) are split evenly: the Index-th of Count parts.
+ */
+struct SweepWedge
+{
+  double Low = -std::numeric_limits<double>::infinity();
+  double High = std::numeric_limits<double>::infinity();
+  int Index = 0, Count = 1;
+};
+
+/**
+ * A sweep's tasks (one group) by where their light comes from: the directional tasks in
+ * `directional`, and a list of tasks per point or spot light position (the tasks of a
+ * wedge sweep share a light).
+ */
+VOLILLUMKERNELS_EXPORT std::vector<std::vector<PropagationTask>> TasksByLight(
+  const std::vector<PropagationTask>& sweep, std::vector<PropagationTask>& directional);
+
+/// `count` wedges of the tasks' point or spot light (one group, one light) over the
+/// illumination grid `target`, each with about as many of the points in front of the light.
+VOLILLUMKERNELS_EXPORT std::vector<SweepWedge> SplitIntoWedges(
+  const GridGeometry& target, const std::vector<PropagationTask>& tasks, int count);
+
+/// Per slice k of `target` along the sweep's axis, the rows [first[k], last[k]] (along the
+/// row axis, SweepRowAxis) of the wedge's points: the wedges of SplitIntoWedges split every
+/// slice's rows between them.
+VOLILLUMKERNELS_EXPORT void WedgeRows(const GridGeometry& target,
+  const std::vector<PropagationTask>& tasks, const SweepWedge& wedge, std::vector<int>& first,
+  std::vector<int>& last);
+
+/**
+ * The material of a wedge's sweep: per slice of the data grid along the sweep's axis, the
+ * rows along the row axis (SweepRowAxis) from First[a] on, Rows[a] of them (every point along
+ * the slice's other axis), held slice after slice in Volume.Properties (slice a from point
+ * Base[a] on, its points in the data grid's order). Volume.Geometry is the whole data grid's.
+ */
+struct WedgeVolume
+{
+  ClassifiedVolume Volume;
+  std::vector<int> First, Rows;
+  std::vector<long long> Base;
+};
+
+/// The rows [first[a], last[a]] along the row axis of each slice a of the data grid `data`
+/// (along the sweep's axis) that a wedge's sweep over `target` reads (WedgeVolume): the
+/// wedge at the slice and its neighbours, widened by the cone margin and a cell.
+VOLILLUMKERNELS_EXPORT void WedgeOfData(const GridGeometry& data, const GridGeometry& target,
+  const std::vector<PropagationTask>& tasks, const SweepWedge& wedge, std::vector<int>& first,
+  std::vector<int>& last);
+
+/**
+ * One sweep of the tasks (one group, one point or spot light: TasksByLight) over a wedge:
+ * `volume` holds the material WedgeOfData gives; `units` the fixed-point illumination of
+ * the wedge's points only (per slice k of `target` its rows WedgeRows gives, slice after
+ * slice, the points of a slice in the grid's order; Recorded as in PropagateTasks). Sweeping
+ * every wedge of SplitIntoWedges this way, each alone, deposits PropagateTasks's units of
+ * the sweep. `progress`, if given, is told the fraction of the slices swept.
+ */
+VOLILLUMKERNELS_EXPORT void PropagateSweepWedge(const WedgeVolume& volume,
+  const GridGeometry& target, const std::vector<PropagationTask>& tasks, const SweepWedge& wedge,
+  FixedPointIllumination& units, PropagationStatistics& statistics,
+  const std::function<void(double)>& progress = nullptr);
 }
 
 #endif

@@ -915,6 +915,29 @@ void AddBandUnits(const GridGeometry& target, int c, const SweepBand& band,
   }
 }
 
+// Point and spot lights around the volume ChromaticVolume({ { 13, 23, 25 } }) gives: far
+// beyond a face, beside it in one and two groups, inside, a spot light, just before a face.
+std::vector<LightState> PointLightScenes()
+{
+  std::vector<LightState> lights(6);
+  for (LightState& light : lights)
+  {
+    light.Kind = LightKind::Point;
+  }
+  lights[0].Position = { { 2.0, 9.7, -40.0 } }; // far beyond the face z = 0.5, centred
+  lights[1].Position = { { -4.0, 20.0, 4.0 } }; // beside: groups -y and +x
+  lights[2].Position = { { 8.0, 12.0, 7.5 } };  // groups -x and -y, y inside the volume's
+  lights[3].Position = { { 2.3, 9.1, 6.9 } };   // inside
+  lights[4].Kind = LightKind::Spot;
+  lights[4].Position = { { 9.0, 1.0, 1.0 } };
+  lights[4].FocalPoint = { { 2.0, 10.0, 7.0 } };
+  lights[4].ConeAngle = 25.0;
+  lights[4].Color = { { 0.3, 0.9, 0.6 } };
+  // Just before the face z = 0.5 (anchors a slice or two apart) at the rows between bands.
+  lights[5].Position = { { 1.3, 7.25, 0.3 } };
+  return lights;
+}
+
 // The largest difference between two fixed-point illuminations of the same scale, values and
 // records, in units of light.
 double LargestDifference(const FixedPointIllumination& a, const FixedPointIllumination& b)
@@ -1077,22 +1100,7 @@ TEST(Kernels, PointLightBandsEqualTheWholeSweep)
 {
   const ClassifiedVolume chromatic = ChromaticVolume({ { 13, 23, 25 } });
   const ClassifiedVolume grey = GreyOf(chromatic);
-  std::vector<LightState> lights(6);
-  for (LightState& light : lights)
-  {
-    light.Kind = LightKind::Point;
-  }
-  lights[0].Position = { { 2.0, 9.7, -40.0 } }; // far beyond the face z = 0.5, centred
-  lights[1].Position = { { -4.0, 20.0, 4.0 } }; // beside: groups -y and +x
-  lights[2].Position = { { 8.0, 12.0, 7.5 } };  // groups -x and -y, y inside the volume's
-  lights[3].Position = { { 2.3, 9.1, 6.9 } };   // inside
-  lights[4].Kind = LightKind::Spot;
-  lights[4].Position = { { 9.0, 1.0, 1.0 } };
-  lights[4].FocalPoint = { { 2.0, 10.0, 7.0 } };
-  lights[4].ConeAngle = 25.0;
-  lights[4].Color = { { 0.3, 0.9, 0.6 } };
-  // Just before the face z = 0.5 (anchors a slice or two apart) at the rows between bands.
-  lights[5].Position = { { 1.3, 7.25, 0.3 } };
+  const std::vector<LightState> lights = PointLightScenes();
   double largest = 0.0, narrow = 0.0;
   for (const ClassifiedVolume* volume : { &chromatic, static_cast<const ClassifiedVolume*>(&grey) })
   {
@@ -1192,6 +1200,202 @@ TEST(Kernels, PointLightBandsEqualTheWholeSweep)
   EXPECT_EQ(farDifference, 0.0);
   EXPECT_EQ(largest, 0.0);
   EXPECT_GT(narrow, 1e-2);
+}
+
+namespace
+{
+// A wedge's material (WedgeVolume) taken from the whole volume: per slice a along `axis`, the
+// rows first[a] to last[a] along c (every point along b). Outside the rows [keepFirst[a],
+// keepLast[a]] (when given) its values are zero instead.
+WedgeVolume WedgeOfVolume(const ClassifiedVolume& whole, int axis, int b, int c,
+  const std::vector<int>& first, const std::vector<int>& last,
+  const std::vector<int>* keepFirst = nullptr, const std::vector<int>* keepLast = nullptr)
+{
+  WedgeVolume wedge;
+  wedge.Volume.Geometry = whole.Geometry;
+  wedge.Volume.Channels = whole.Channels;
+  wedge.Volume.Scale = whole.Scale;
+  const auto& d = whole.Geometry.Dimensions;
+  for (int a = 0; a < d[axis]; ++a)
+  {
+    wedge.First.push_back(first[a]);
+    wedge.Rows.push_back(last[a] - first[a] + 1);
+    wedge.Base.push_back(static_cast<long long>(wedge.Volume.Properties.size()) / whole.Channels);
+    for (int r = first[a]; r <= last[a]; ++r)
+    {
+      const bool kept = !keepFirst || ((*keepFirst)[a] <= r && r <= (*keepLast)[a]);
+      for (int i = 0; i < d[b]; ++i)
+      {
+        int index[3];
+        index[axis] = a;
+        index[b] = i;
+        index[c] = r;
+        const size_t from = index[0] + d[0] * (index[1] + static_cast<size_t>(d[1]) * index[2]);
+        for (int ch = 0; ch < whole.Channels; ++ch)
+        {
+          wedge.Volume.Properties.push_back(
+            kept ? whole.Properties[whole.Channels * from + ch] : PackedValue(0));
+        }
+      }
+    }
+  }
+  return wedge;
+}
+
+// Adds the units (and the record) of a wedge (per slice k along `axis` its rows first[k] to
+// last[k] along c, slice after slice) into those of the whole grid.
+void AddWedgeUnits(const GridGeometry& target, int axis, int b, int c,
+  const std::vector<int>& first, const std::vector<int>& last, const FixedPointIllumination& units,
+  FixedPointIllumination& whole)
+{
+  const auto& d = target.Dimensions;
+  size_t from = 0;
+  for (int k = 0; k < d[axis]; ++k)
+  {
+    for (int r = first[k]; r <= last[k]; ++r)
+    {
+      for (int i = 0; i < d[b]; ++i, from += 3)
+      {
+        int index[3];
+        index[axis] = k;
+        index[b] = i;
+        index[c] = r;
+        const size_t to = 3 * (index[0] + d[0] * (index[1] + static_cast<size_t>(d[1]) * index[2]));
+        for (int ch = 0; ch < 3; ++ch)
+        {
+          whole.Values[to + ch] += units.Values[from + ch];
+          whole.Recorded[to + ch] += units.Recorded[from + ch];
+        }
+      }
+    }
+  }
+}
+}
+
+// Point and spot lights swept in wedges of their rays (PropagateSweepWedge) deposit what the
+// whole sweep does, each wedge alone, with only the material WedgeOfData gives it and no
+// rays from the others: the scenes of PointLightBandsEqualTheWholeSweep (far, beside, inside,
+// a spot light, just before a face), chromatic and grey material, the illumination grid at
+// the data's resolution and at half of it, a recorded task, three and five wedges. Every
+// slice's rows are split between the wedges (each point is deposited once). With the
+// material beyond a wedge's own rays set to zero (the cone margin left out) the units differ
+// (checked). For a light beside a grid, the largest of three wedges holds less than half the
+// grid (its share and the margins), the largest band's cone (BandOfData) most of it.
+TEST(Kernels, PointLightWedgesEqualTheWholeSweep)
+{
+  const ClassifiedVolume chromatic = ChromaticVolume({ { 13, 23, 25 } });
+  const ClassifiedVolume grey = GreyOf(chromatic);
+  const std::vector<LightState> lights = PointLightScenes();
+  double largest = 0.0, marginless = 0.0;
+  for (const ClassifiedVolume* volume : { &chromatic, static_cast<const ClassifiedVolume*>(&grey) })
+  {
+    const GridGeometry& data = volume->Geometry;
+    for (const double scale : { 1.0, 0.5 })
+    {
+      const GridGeometry target = ScaledGeometry(data, scale);
+      double bounds[6];
+      target.GetBounds(bounds);
+      const std::vector<PropagationTask> tasks = RecordedTasks(lights, bounds);
+      FixedPointIllumination whole = RecordingUnits(target.NumberOfPoints());
+      std::vector<PropagationTask> remaining;
+      PropagationStatistics statistics;
+      ASSERT_TRUE(
+        PropagateTasks(*volume, target, tasks, true, 0, whole, remaining, statistics, nullptr));
+      for (const int count : { 3, 5 })
+      {
+        for (const bool margin : { true, false })
+        {
+          FixedPointIllumination wedges = RecordingUnits(target.NumberOfPoints());
+          for (const auto& sweep : PlanSweeps(tasks, true, 0, remaining))
+          {
+            std::vector<PropagationTask> directional;
+            for (const auto& light : TasksByLight(sweep, directional))
+            {
+              const int axis = light[0].Group / 2, c = SweepRowAxis(light[0].Group);
+              const int b = 3 - axis - c;
+              for (const SweepWedge& wedge : SplitIntoWedges(target, light, count))
+              {
+                std::vector<int> first, last, rowFirst, rowLast;
+                WedgeOfData(data, target, light, wedge, first, last);
+                // Without the margin: the material of the data rows next to its own only.
+                std::vector<int> keepFirst(first.size()), keepLast(last.size());
+                for (int a = 0; a < data.Dimensions[axis]; ++a)
+                {
+                  const double x = data.Origin[axis] + a * data.Spacing[axis];
+                  const double from = light[0].Group % 2 == 0 ? x - light[0].Light.Position[axis]
+                                                              : light[0].Light.Position[axis] - x;
+                  const double l = light[0].Light.Position[c];
+                  const double lo = from > 0.0 ? l + wedge.Low * from : l;
+                  const double hi = from > 0.0 ? l + wedge.High * from : l;
+                  keepFirst[a] = static_cast<int>(
+                    std::max(-1.0, std::floor((lo - data.Origin[c]) / data.Spacing[c]) - 1.0));
+                  keepLast[a] = static_cast<int>(std::min<double>(
+                    data.Dimensions[c], std::ceil((hi - data.Origin[c]) / data.Spacing[c]) + 1.0));
+                }
+                const WedgeVolume material = margin
+                  ? WedgeOfVolume(*volume, axis, b, c, first, last)
+                  : WedgeOfVolume(*volume, axis, b, c, first, last, &keepFirst, &keepLast);
+                WedgeRows(target, light, wedge, rowFirst, rowLast);
+                long long points = 0;
+                for (size_t k = 0; k < rowFirst.size(); ++k)
+                {
+                  points +=
+                    static_cast<long long>(rowLast[k] - rowFirst[k] + 1) * target.Dimensions[b];
+                }
+                FixedPointIllumination units = RecordingUnits(points);
+                PropagateSweepWedge(material, target, light, wedge, units, statistics);
+                AddWedgeUnits(target, axis, b, c, rowFirst, rowLast, units, wedges);
+              }
+            }
+          }
+          const double difference = LargestDifference(whole, wedges);
+          (margin ? largest : marginless) = std::max(margin ? largest : marginless, difference);
+        }
+      }
+    }
+  }
+  // A light before the face z = 0.5 of a grid of 180 rows along y and beside it along y: in
+  // its sweep along z the band farthest from it reads most of the grid, a wedge about its
+  // share and the margins.
+  const ClassifiedVolume tall = GreyOf(ChromaticVolume({ { 13, 180, 25 } }));
+  const GridGeometry& g = tall.Geometry;
+  double bounds[6];
+  g.GetBounds(bounds);
+  LightState beside = lights[0];
+  beside.Position = { { 6.0, -30.0, -10.0 } };
+  std::vector<PropagationTask> along;
+  for (const auto& task : TasksForLight(beside, +1, bounds))
+  {
+    if (task.Group / 2 == 2)
+    {
+      along.push_back(task);
+    }
+  }
+  ASSERT_EQ(along.size(), 1u);
+  const int c = SweepRowAxis(along[0].Group), n = g.Dimensions[c];
+  long long tallWedge = 0, tallBand = 0;
+  for (int m = 0; m < 3; ++m)
+  {
+    std::vector<int> first, last;
+    WedgeOfData(g, g, along, SplitIntoWedges(g, along, 3)[m], first, last);
+    long long held = 0;
+    for (size_t a = 0; a < first.size(); ++a)
+    {
+      held += static_cast<long long>(last[a] - first[a] + 1) * g.Dimensions[0];
+    }
+    tallWedge = std::max(tallWedge, held);
+    int low, high;
+    BandOfData(g, g, along, { n * m / 3, n * (m + 1) / 3 - 1 }, LatticeHalo(g, along), low, high);
+    tallBand = std::max(tallBand, g.NumberOfPoints() / n * (high - low + 1));
+  }
+  std::cout << "point light wedges against whole sweeps: largest difference " << largest
+            << " (without the cone margin's material: " << marginless << "); a light beside "
+            << "a grid of " << g.NumberOfPoints() << " points: largest of three wedges holds "
+            << tallWedge << ", largest band " << tallBand << std::endl;
+  EXPECT_EQ(largest, 0.0);
+  EXPECT_GT(marginless, 1e-3);
+  EXPECT_LT(tallWedge, g.NumberOfPoints() / 2);
+  EXPECT_LT(tallWedge, tallBand);
 }
 
 namespace
