@@ -11,11 +11,11 @@
  * by a shadow's reach (ExchangeExtents from the neighbours), the tables' windows over it and,
  * per column, the sums of the cells between it and the light from the others (sent
  * pairwise, between processes whose windows share columns); Multi-Light Illumination
- * Volume sweeps bands of rows, each process its band's classification (ExchangeExtents from
- * the blocks; for point and spot lights that of the band's cone back to the light),
- * each band getting the directional lights' lattice rows it reads beyond its own from the
- * bands that hold them after every slice, the units moved to the pieces' processes
- * (ExchangeExtents); cell scalars become point scalars over each block from its cells and the
+ * Volume sweeps directional lights over bands of rows, each process its band's
+ * classification (ExchangeExtents from the blocks), each band getting the lattice rows it
+ * reads beyond its own from the bands that hold them after every slice, and each point or
+ * spot light over wedges of its rays, each process its wedge's classification slice by
+ * slice, the units moved to the pieces' processes (ExchangeExtents); cell scalars become point scalars over each block from its cells and the
  * layer around it (BlockPointScalars). Pieces that are not the
  * blocks (another decomposition) give each block its lit array (BlockOfPieces), and each
  * process outputs the illumination over its block. The image filters

@@ -652,6 +652,15 @@ long long vtkIlluminationVolumeAlgorithm::GatherClassification(
     into.Geometry.Dimensions[a] = std::max(0, wanted[2 * a + 1] - wanted[2 * a] + 1);
     into.Geometry.Origin[a] += wanted[2 * a] * piece.Whole.Spacing[a];
   }
+  into.Properties.resize(into.Channels * static_cast<size_t>(volillum::ExtentPoints(wanted)));
+  return GatherClassificationValues(controller, volume, piece, wanted, into.Properties.data());
+}
+
+//------------------------------------------------------------------------------
+long long vtkIlluminationVolumeAlgorithm::GatherClassificationValues(
+  vtkMultiProcessController* controller, const volillum::ClassifiedVolume& volume,
+  const volillum::VolumePiece& piece, const int wanted[6], volillum::PackedValue* into)
+{
   // This process's classification covers `held` (indices in the whole data grid); it sends the
   // points of its block, less the boundary planes it shares with the blocks before it.
   int held[6] = { 0, -1, 0, -1, 0, -1 }, owned[6] = { 0, -1, 0, -1, 0, -1 };
@@ -665,9 +674,8 @@ long long vtkIlluminationVolumeAlgorithm::GatherClassification(
       owned[2 * a + 1] = piece.LastCell[a] + 1;
     }
   }
-  into.Properties.resize(into.Channels * static_cast<size_t>(volillum::ExtentPoints(wanted)));
-  return volillum::ExchangeExtents<volillum::PackedValue>(controller, held, owned,
-    volume.Properties.data(), wanted, into.Properties.data(), volume.Channels, false);
+  return volillum::ExchangeExtents<volillum::PackedValue>(
+    controller, held, owned, volume.Properties.data(), wanted, into, volume.Channels, false);
 }
 
 //------------------------------------------------------------------------------

@@ -243,6 +243,11 @@ protected:
   static long long GatherClassification(vtkMultiProcessController* controller,
     const volillum::ClassifiedVolume& volume, const volillum::VolumePiece& piece,
     const int wanted[6], volillum::ClassifiedVolume& into);
+  /// GatherClassification's values only: `into` holds the points of `wanted`, x fastest,
+  /// `volume`'s channels a point.
+  static long long GatherClassificationValues(vtkMultiProcessController* controller,
+    const volillum::ClassifiedVolume& volume, const volillum::VolumePiece& piece,
+    const int wanted[6], volillum::PackedValue* into);
 
   /**
    * The sweeps this process runs: in a parallel run of a filter that does not light points

@@ -112,11 +112,14 @@ public:
    * lattice rows either side of its own that a directional light's rays move across between
    * slices and a bicubic read takes (LatticeHalo) from the bands that hold them (bands up to
    * ceil(halo / rows a band) away when bands are thinner than the halo); the units
-   * go to the processes whose pieces hold them. A point or spot light's rays are followed in
-   * the band's cone back to the light (no exchange), whose classification the band reads: it
-   * reaches toward the light's row, up to the whole volume for a band far from a light beside
-   * or inside the volume. Memory per process follows its block and band (the lattices hold the
-   * band's rows and halo; a point or spot light's ray buffers the rows of the band's cone).
+   * go to the processes whose pieces hold them. A point or spot light sweeps apart from the
+   * directional lights, over wedges of its rays (volillum::SplitIntoWedges: the points whose
+   * ratio of row to distance from the light, constant along a ray, lies in a range, about as
+   * many in each): a process gets the classification of its wedge and the cone margin around
+   * it slice by slice, sweeps it alone (no ray leaves a wedge, so nothing is exchanged) and
+   * sends its units, slice by slice, to the processes whose pieces hold them. Memory per
+   * process follows its block, band and wedge (the lattices hold the band's rows and halo; a
+   * point or spot light's ray buffers the rows of the wedge's cone).
    * Off, the input is assembled and the sweeps shared out (see
    * vtkIlluminationVolumeAlgorithm::SetController). The result equals the serial run's.
    */
@@ -125,8 +128,8 @@ public:
   vtkBooleanMacro(DistributedSweeps, bool);
   ///@}
 
-  /// The points of the largest band of the classification this process held in the last
-  /// parallel update with DistributedSweeps (0 otherwise; field array BandPoints).
+  /// The points of the largest band or wedge of the classification this process held in the
+  /// last parallel update with DistributedSweeps (0 otherwise; field array BandPoints).
   long long GetLastBandPoints() const { return this->BandPoints; }
 
   /// The bytes this process sent in the last parallel update with DistributedSweeps: the
@@ -213,14 +216,24 @@ private:
     std::vector<int> Participants;
     int Me = -1;
   };
-  // Collective: the planned sweeps whose rows lie along `rowAxis`, over bands of those rows
-  // (see DistributedSweeps), their units added to this process's illumination over its
-  // extent `own`. Progress: the sweeps done (`swept`, counted up) and the fraction of the
-  // current one's slices, over all the planned sweeps.
+  // Collective: the sweeps (of directional tasks) whose rows lie along `rowAxis`, over bands
+  // of those rows (see DistributedSweeps), their units added to this process's illumination
+  // over its extent `own`. Progress: the sweeps done (`swept`, counted up) and the fraction of
+  // the current one's slices, over `total` sweeps.
   void SweepBands(const Bands& bands, int rowAxis, const volillum::ClassifiedVolume& volume,
     const volillum::VolumePiece& piece, const volillum::GridGeometry& target,
     const std::vector<std::vector<volillum::PropagationTask>>& sweeps, bool record,
-    const int own[6], size_t& swept);
+    const int own[6], size_t& swept, size_t total);
+  // Collective: the sweeps of one point or spot light each (TasksByLight; `groups`: their
+  // groups, agreed by all, as a process without a piece has no sweeps), each over wedges of
+  // the light's rays, one a process with a piece (SplitIntoWedges): a process gets the
+  // classification of its wedge slice by slice from the others' blocks, sweeps it alone, and
+  // its units go to the processes whose pieces hold them, slice by slice. Progress as
+  // SweepBands.
+  void SweepWedges(const Bands& bands, const volillum::ClassifiedVolume& volume,
+    const volillum::VolumePiece& piece, const volillum::GridGeometry& target,
+    const std::vector<std::vector<volillum::PropagationTask>>& sweeps,
+    const std::vector<int>& groups, bool record, const int own[6], size_t& swept, size_t total);
 
   // The accumulated illumination and the states it holds (with Pending still to do).
   volillum::FixedPointIllumination Illumination;

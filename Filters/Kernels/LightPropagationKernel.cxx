@@ -396,8 +396,8 @@ struct SweepSource
   /// holds those of anchor RowAnchor[j] (-1: none yet).
   std::vector<double> Norms;
   std::vector<int> RowAnchor;
-  /// Point and spot sources swept over a band of rows (SweepBand): per slice k, the
-  /// interval [ConeLow[k], ConeHigh[k]] along C of the rays the band needs there (ConeOfBand);
+  /// Point and spot sources swept over a wedge (SweepWedge): per slice k, the interval
+  /// [ConeLow[k], ConeHigh[k]] along C of the rays the wedge needs there (ConeOfWedge);
   /// empty: every ray.
   std::vector<double> ConeLow, ConeHigh;
 };
@@ -1419,47 +1419,15 @@ struct SweepAxes
   }
 };
 
-// Margin of a band's cone of rays (ConeOfBand), in spacings along C. Measured at an anchor
+// Margin of a wedge's cone of rays (ConeOfWedge), in spacings along C. Measured at an anchor
 // slice, whose rays lie 1 / AnchorSpread spacings apart: a point reads the rays within two
 // of where its own ray crosses the slice (4/3 spacings), and so does each ray of the next
 // anchor, whose own crossing lies nearer the light's row than the ray by the ratio
-// r <= 1 / AnchorSpread of the two anchors' distances from the light. So the rays a band
-// needs at an anchor lie within u of its cone, u <= r u + 4/3, u <= 4 spacings. Followed to
+// r <= 1 / AnchorSpread of the two anchors' distances from the light. So the rays a wedge
+// needs at an anchor lie within u of it, u <= r u + 4/3, u <= 4 spacings. Followed to
 // the next anchor they spread from the light by less than AnchorSpread (6 spacings), and
 // the material along them is read there: 6 spacings, and one more for rounding.
 constexpr double ConeMargin = 7.0;
-
-// The rays of a point or spot source at `light` that a band of rows of grid g needs in a
-// sweep (axes), as an interval [low[k], high[k]] along C per slice k (low > high where the
-// slice is not in front of the light). The light reaching a point of slice m comes along its
-// ray from the light, which crosses slice k (between the light and m) at the point's
-// position moved toward the light's by the ratio of their distances from the light along
-// the axis; so the band's points of slices m >= k cross slice k within the interval of its
-// rows and of its rows moved toward the light by the ratio for the last slice, widened by
-// the margin. The rays of an anchor are chosen at the anchor (ConeRows) and followed to the
-// next; the interval only narrows between anchors.
-void ConeOfBand(const GridGeometry& g, const SweepAxes& axes, const double light[3],
-  const SweepBand& band, std::vector<double>& low, std::vector<double>& high)
-{
-  const int a = axes.Axis, c = axes.C, n = g.Dimensions[a];
-  low.assign(n, 1.0);
-  high.assign(n, 0.0);
-  auto from = [&](int k) { return axes.Sign * (g.Origin[a] + k * g.Spacing[a] - light[a]); };
-  const double last = from(axes.Sign > 0 ? n - 1 : 0);
-  const double c0 = g.Origin[c] + band.First * g.Spacing[c];
-  const double c1 = g.Origin[c] + band.Last * g.Spacing[c];
-  const double margin = ConeMargin * g.Spacing[c];
-  for (int k = 0; k < n; ++k)
-  {
-    const double f = from(k);
-    if (AnchoredStep::IsInFront(f, g.Spacing[a]))
-    {
-      const double r = f / last;
-      low[k] = std::min(c0, light[c] + r * (c0 - light[c])) - margin;
-      high[k] = std::max(c1, light[c] + r * (c1 - light[c])) + margin;
-    }
-  }
-}
 
 // Distance along the sweep (axes) from the light to slice k of grid g: positive in front of
 // it.
@@ -1503,9 +1471,10 @@ void WedgeRowsOf(const GridGeometry& g, const SweepAxes& axes, const double ligh
 }
 
 // The rays of a point or spot source at `light` that a wedge needs in a sweep (axes) of the
-// grid g, as ConeOfBand gives a band's: per slice in front of the light the wedge there,
-// widened by the margin. A ray keeps its ratio, so the wedge's points cross any earlier slice
-// within the wedge there.
+// grid g, as an interval [low[k], high[k]] along C per slice k (low > high where the slice is
+// not in front of the light): the wedge there, widened by the margin. A ray keeps its ratio,
+// so the wedge's points cross any earlier slice within the wedge there. The rays of an
+// anchor are chosen at the anchor (ConeRows) and followed to the next.
 void ConeOfWedge(const GridGeometry& g, const SweepAxes& axes, const double light[3],
   const SweepWedge& wedge, std::vector<double>& low, std::vector<double>& high)
 {
@@ -1618,7 +1587,7 @@ size_t AllocateSliceBuffers(const SweepContext& s, std::vector<SweepSource>& pre
       int first = 0, last = sweep.RaysC - 1;
       if (!sweep.ConeLow.empty())
       {
-        // A band's: the rows of its cone at any anchor, which hold the taps of its reads
+        // A wedge's: the rows of its cone at any anchor, which hold the taps of its reads
         // (ConeMargin).
         int low = sweep.RaysC - 1, high = -1;
         for (int k = 0; k < s.N[s.Axis]; ++k)
@@ -1809,14 +1778,6 @@ struct SweepSlices
       const int halo = span.Band.Halo <= 0 ? LatticeHalo(g, tasks) : span.Band.Halo;
       this->LatticeFirst = std::max(0, firstRow - halo);
       latticeLast = std::min(nc, lastRow + halo); // (the last band's: up to the extra row nc)
-      for (SweepSource& sweep : this->Prepared)
-      {
-        if (!sweep.Source.Directional)
-        {
-          ConeOfBand(
-            g, SweepAxes(group), sweep.Source.Position, span.Band, sweep.ConeLow, sweep.ConeHigh);
-        }
-      }
     }
     if (span.Wedge)
     {
@@ -2470,39 +2431,6 @@ void BandOfData(const GridGeometry& data, const GridGeometry& target,
   const int reach = halo - 1;
   double low = target.Origin[c] + (band.First - reach) * target.Spacing[c];
   double high = target.Origin[c] + (band.Last + reach) * target.Spacing[c];
-  double bounds[6];
-  target.GetBounds(bounds);
-  for (const auto& task : tasks)
-  {
-    const RaySource source = SourceOf(task);
-    if (source.Directional)
-    {
-      continue;
-    }
-    std::vector<double> from, to;
-    ConeOfBand(target, axes, source.Position, band, from, to);
-    for (size_t k = 0; k < from.size(); ++k)
-    {
-      if (from[k] <= to[k])
-      {
-        low = std::min(low, from[k]);
-        high = std::max(high, to[k]);
-      }
-    }
-    // Unless the light lies before the sweep's first slice, the rays from the first slice in
-    // front of it cross the box up to the light (along C, clamped to the box). So do those
-    // of a light just before the first face: ClipToBox keeps a face's tolerance of the box
-    // around it, and a path that makes progress along the axis (at least MinimumAlong) runs
-    // up to 1 / MinimumAlong times that far across it.
-    const int a = axes.Axis;
-    const double start = axes.Sign > 0 ? bounds[2 * a] : bounds[2 * a + 1];
-    if (axes.Sign * (start - source.Position[a]) <= FaceTolerance(bounds, a) / MinimumAlong)
-    {
-      const double l = std::min(std::max(source.Position[c], bounds[2 * c]), bounds[2 * c + 1]);
-      low = std::min(low, l);
-      high = std::max(high, l);
-    }
-  }
   // One point more either side for rounding.
   const int n = data.Dimensions[c];
   first = static_cast<int>(std::max(0.0, std::floor((low - data.Origin[c]) / data.Spacing[c]) - 1));
@@ -2574,7 +2502,9 @@ std::vector<SweepWedge> SplitIntoWedges(
   {
     return wedges;
   }
-  // The ratios of the points in front of the light, split into equal parts.
+  // The ratios of the points in front of the light, split into parts of as many points. (The
+  // work a point costs varies: weighing it by an estimate of its samples, entries from a side
+  // face included, balanced the work no better in a measured run and held more of the volume.)
   const SweepAxes axes(tasks[0].Group);
   const RaySource source = SourceOf(tasks[0]);
   const int c = axes.C;
@@ -2630,7 +2560,12 @@ void WedgeOfData(const GridGeometry& data, const GridGeometry& target,
   // neighbours (a ray's coordinate along C is linear between slices), widened by the margin,
   // a cell and one more point for rounding. At or behind the light the wedge is the light's
   // coordinate.
-  const double margin = ConeMargin * target.Spacing[c] + data.Spacing[c];
+  // Beyond the margin, a path that ClipToBox keeps within a face's tolerance outside the box
+  // (a light just before the first face) runs up to 1 / MinimumAlong times that across C.
+  double bounds[6];
+  target.GetBounds(bounds);
+  const double margin =
+    ConeMargin * target.Spacing[c] + data.Spacing[c] + FaceTolerance(bounds, a) / MinimumAlong;
   for (int k = 0; k < na; ++k)
   {
     double low = std::numeric_limits<double>::infinity(), high = -low;
@@ -2649,7 +2584,8 @@ void WedgeOfData(const GridGeometry& data, const GridGeometry& target,
 
 void PropagateSweepWedge(const WedgeVolume& volume, const GridGeometry& target,
   const std::vector<PropagationTask>& tasks, const SweepWedge& wedge, FixedPointIllumination& units,
-  PropagationStatistics& statistics, const std::function<void(double)>& progress)
+  PropagationStatistics& statistics, const EmptyBlocks* empty,
+  const std::function<void(double)>& progress)
 {
   if (tasks.empty())
   {
@@ -2659,7 +2595,7 @@ void PropagateSweepWedge(const WedgeVolume& volume, const GridGeometry& target,
   span.Wedge = &wedge;
   span.WedgeMaterial = &volume;
   Sweep(
-    volume.Volume, nullptr, true, target, tasks[0].Group, tasks, units, statistics,
+    volume.Volume, empty, true, target, tasks[0].Group, tasks, units, statistics,
     [&progress](double f)
     {
       if (progress)

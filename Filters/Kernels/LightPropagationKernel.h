@@ -239,13 +239,9 @@ VOLILLUMKERNELS_EXPORT int LatticeHalo(
   const GridGeometry& target, const std::vector<PropagationTask>& tasks);
 
 /// The points [first, last] along the row axis (SweepRowAxis) of the data grid `data` whose
-/// material a band of rows of `target` reads in a sweep of the tasks (one group): its rows'
-/// and lattice rows' segments back to the previous slice, which move fewer rows across than
-/// the halo (LatticeHalo), the rays of point and spot lights between its rows and the light
-/// (the band's cone: slices nearer the light take rows nearer the light's), and one more
-/// point either side. So a band whose rows lie away from a point light's along the row axis
-/// reads material toward them: up to the light's row (clamped to the grid) unless the light
-/// lies before the sweep's first slice (so for a light inside the volume or beside it).
+/// material a band of rows of `target` reads in a sweep of the tasks (one group, directional
+/// lights): its rows' and lattice rows' segments back to the previous slice, which move fewer
+/// rows across than the halo (LatticeHalo), and one more point either side.
 VOLILLUMKERNELS_EXPORT void BandOfData(const GridGeometry& data, const GridGeometry& target,
   const std::vector<PropagationTask>& tasks, const SweepBand& band, int halo, int& first,
   int& last);
@@ -258,17 +254,17 @@ using LatticeExchange =
   std::function<void(const std::vector<float*>& lattices, size_t rowValues, int firstRow)>;
 
 /**
- * One sweep of the tasks (one group) over the rows `band`: `volume` is a band of the data
- * grid holding, at full extent along the rows and the sweep's axis, the material its rows
- * read (BandOfData); `units` the fixed-point illumination of the band's points only
- * (target's points with the band's rows along the row axis, x fastest; Recorded as in
- * PropagateTasks). A band's own lattice rows are its points' rows (the last band's also the
- * lattice's extra row); its lattices hold those and band.Halo rows either side. A point or spot
- * light's rays are followed only in the band's cone (the rays its rows read, slice by slice, back
- * to the light), which needs no other band's. Sweeping every band this way, each band's
- * neighbouring lattice rows filled by `exchange` from the bands that compute them, deposits
- * PropagateTasks's units of the sweep. `progress`, if given, is told the fraction of the slices
- * swept after each slice (a band's sweep runs to its end: the other bands wait on it).
+ * One sweep of the tasks (one group, directional lights: point and spot lights sweep over
+ * wedges, PropagateSweepWedge) over the rows `band`: `volume` is a band of the data grid
+ * holding, at full extent along the rows and the sweep's axis, the material its rows read
+ * (BandOfData); `units` the fixed-point illumination of the band's points only (target's
+ * points with the band's rows along the row axis, x fastest; Recorded as in PropagateTasks).
+ * A band's own lattice rows are its points' rows (the last band's also the lattice's extra
+ * row); its lattices hold those and band.Halo rows either side. Sweeping every band this way,
+ * each band's neighbouring lattice rows filled by `exchange` from the bands that compute them,
+ * deposits PropagateTasks's units of the sweep. `progress`, if given, is told the fraction of
+ * the slices swept after each slice (a band's sweep runs to its end: the other bands wait on
+ * it).
  */
 VOLILLUMKERNELS_EXPORT void PropagateSweepBand(const ClassifiedVolume& volume,
   const GridGeometry& target, const std::vector<PropagationTask>& tasks, const SweepBand& band,
@@ -338,12 +334,13 @@ VOLILLUMKERNELS_EXPORT void WedgeOfData(const GridGeometry& data, const GridGeom
  * the wedge's points only (per slice k of `target` its rows WedgeRows gives, slice after
  * slice, the points of a slice in the grid's order; Recorded as in PropagateTasks). Sweeping
  * every wedge of SplitIntoWedges this way, each alone, deposits PropagateTasks's units of
- * the sweep. `progress`, if given, is told the fraction of the slices swept.
+ * the sweep. `empty`: the whole data grid's empty blocks, when given (as PropagateTasks).
+ * `progress`, if given, is told the fraction of the slices swept.
  */
 VOLILLUMKERNELS_EXPORT void PropagateSweepWedge(const WedgeVolume& volume,
   const GridGeometry& target, const std::vector<PropagationTask>& tasks, const SweepWedge& wedge,
   FixedPointIllumination& units, PropagationStatistics& statistics,
-  const std::function<void(double)>& progress = nullptr);
+  const EmptyBlocks* empty = nullptr, const std::function<void(double)>& progress = nullptr);
 }
 
 #endif

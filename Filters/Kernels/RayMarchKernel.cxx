@@ -10,38 +10,62 @@ namespace volillum
 {
 
 EmptyBlocks::EmptyBlocks(const ClassifiedVolume& volume)
+  : EmptyBlocks(volume.Geometry, volume, { { 0, 0, 0 } })
 {
-  const auto& g = volume.Geometry;
+}
+
+EmptyBlocks::EmptyBlocks(
+  const GridGeometry& whole, const ClassifiedVolume& volume, const std::array<int, 3>& offset)
+{
   for (int a = 0; a < 3; ++a)
   {
-    this->Last[a] = g.Dimensions[a] - 1;
+    this->Last[a] = whole.Dimensions[a] - 1;
     this->Blocks[a] = std::max(1, (this->Last[a] + Cells - 1) / Cells);
   }
   const long long bx = this->Blocks[0], by = this->Blocks[1], bz = this->Blocks[2];
   this->Empty.assign(static_cast<size_t>(bx * by * bz), 1);
-  const long long nx = g.Dimensions[0], ny = g.Dimensions[1];
+  const auto& n = volume.Geometry.Dimensions;
+  const long long nx = n[0], ny = n[1];
   // A block's points run from Cells x b to Cells x (b + 1), the next block's first ones
-  // included: a sample in any of its cells reads only those.
+  // included: a sample in any of its cells reads only those. Those of the piece, in its
+  // indices: from the block's first point less the offset, within the piece.
+  auto range = [&](int a, long long b, long long& first, long long& last)
+  {
+    first = std::max<long long>(b * Cells - offset[a], 0);
+    last = std::min<long long>(
+      std::min<long long>((b + 1) * Cells, this->Last[a]) - offset[a], n[a] - 1);
+  };
   vtkSMPTools::For(0, bz,
     [&](long long k0, long long k1)
     {
+      long long i0, i1, j0, j1, kk0, kk1;
       for (long long kb = k0; kb < k1; ++kb)
+      {
+        range(2, kb, kk0, kk1);
         for (long long jb = 0; jb < by; ++jb)
+        {
+          range(1, jb, j0, j1);
           for (long long ib = 0; ib < bx; ++ib)
           {
+            range(0, ib, i0, i1);
             bool empty = true;
-            for (long long k = kb * Cells;
-                 empty && k <= std::min<long long>((kb + 1) * Cells, this->Last[2]); ++k)
-              for (long long j = jb * Cells;
-                   empty && j <= std::min<long long>((jb + 1) * Cells, this->Last[1]); ++j)
-                for (long long i = ib * Cells;
-                     empty && i <= std::min<long long>((ib + 1) * Cells, this->Last[0]); ++i)
+            for (long long k = kk0; empty && k <= kk1; ++k)
+              for (long long j = j0; empty && j <= j1; ++j)
+                for (long long i = i0; empty && i <= i1; ++i)
                 {
                   empty = volume.Extinction(i + nx * (j + ny * k)) <= 0.0f;
                 }
             this->Empty[static_cast<size_t>(ib + bx * (jb + by * kb))] = empty ? 1 : 0;
           }
+        }
+      }
     });
+  this->Update();
+}
+
+void EmptyBlocks::Update()
+{
+  const long long bx = this->Blocks[0], by = this->Blocks[1], bz = this->Blocks[2];
   const long long stride[2] = { 1, bx };
   for (int a = 0; a < 2; ++a)
   {

@@ -56,6 +56,18 @@ public:
   /// Cells of a block along each axis.
   static constexpr int Cells = 4;
   explicit EmptyBlocks(const ClassifiedVolume& volume);
+  /// The blocks of the grid `whole` as a piece of it shows them (`volume`: its points from
+  /// `offset` on, in whole's indices): a block is marked empty unless a point of it in the
+  /// piece holds extinction, so blocks the piece does not reach are marked empty. A block of a
+  /// grid cut into pieces that share their boundary points is empty where every piece marks it
+  /// so: combine the pieces' Marks (the smallest) and call Update.
+  EmptyBlocks(
+    const GridGeometry& whole, const ClassifiedVolume& volume, const std::array<int, 3>& offset);
+  /// One mark a block (1: empty), x fastest.
+  std::vector<char>& Marks() { return this->Empty; }
+  const std::vector<char>& Marks() const { return this->Empty; }
+  /// Takes changed Marks into account.
+  void Update();
   /// Whether samples in a grid cell (TrilinearCell::Index) are certainly 0.
   bool ContainsCell(const int cell[3]) const
   {

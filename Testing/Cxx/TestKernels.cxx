@@ -1086,122 +1086,6 @@ TEST(Kernels, SweepBandsEqualTheWholeSweep)
   EXPECT_LT(bandPoints, chromatic.Geometry.NumberOfPoints());
 }
 
-// Point and spot lights swept in bands of rows (PropagateSweepBand) deposit what the whole
-// sweep does, each band alone, with only the material BandOfData gives it and no rows from
-// the others (their rays are followed in the band's cone back to the light): lights far
-// beyond a face and just before one (at rows between bands, anchors a slice or two apart
-// near it), beside the volume in one or two groups (one with the light's coordinate
-// along the sweep axis inside the volume), inside it (six groups), a spot light; chromatic
-// and grey material; the illumination grid at the data's resolution and at half of it; a
-// recorded task. With only the material of its own rows (and two points either side) a band
-// differs (checked). Every band of a far light reads less than the whole volume and its ray
-// buffers hold only its cone's rows (fewer buffer bytes than the whole sweep's).
-TEST(Kernels, PointLightBandsEqualTheWholeSweep)
-{
-  const ClassifiedVolume chromatic = ChromaticVolume({ { 13, 23, 25 } });
-  const ClassifiedVolume grey = GreyOf(chromatic);
-  const std::vector<LightState> lights = PointLightScenes();
-  double largest = 0.0, narrow = 0.0;
-  for (const ClassifiedVolume* volume : { &chromatic, static_cast<const ClassifiedVolume*>(&grey) })
-  {
-    for (const double scale : { 1.0, 0.5 })
-    {
-      const GridGeometry target = ScaledGeometry(volume->Geometry, scale);
-      double bounds[6];
-      target.GetBounds(bounds);
-      const std::vector<PropagationTask> tasks = RecordedTasks(lights, bounds);
-      FixedPointIllumination whole = RecordingUnits(target.NumberOfPoints());
-      std::vector<PropagationTask> remaining;
-      PropagationStatistics statistics;
-      ASSERT_TRUE(
-        PropagateTasks(*volume, target, tasks, true, 0, whole, remaining, statistics, nullptr));
-      for (const bool cone : { true, false })
-      {
-        FixedPointIllumination bands = RecordingUnits(target.NumberOfPoints());
-        for (const auto& sweep : PlanSweeps(tasks, true, 0, remaining))
-        {
-          const int c = SweepRowAxis(sweep[0].Group);
-          const int n = target.Dimensions[c];
-          const int h = LatticeHalo(target, sweep);
-          for (const SweepBand& band :
-            { SweepBand{ 0, n / 3 - 1 }, SweepBand{ n / 3, n / 3 }, SweepBand{ n / 3 + 1, n - 1 } })
-          {
-            int low, high;
-            BandOfData(volume->Geometry, target, sweep, band, h, low, high);
-            if (!cone)
-            {
-              // The data points of the band's own rows and two more either side.
-              auto point = [&](int row)
-              {
-                return (target.Origin[c] + row * target.Spacing[c] - volume->Geometry.Origin[c]) /
-                  volume->Geometry.Spacing[c];
-              };
-              low = std::max(0, static_cast<int>(std::floor(point(band.First))) - 2);
-              high = std::min(volume->Geometry.Dimensions[c] - 1,
-                static_cast<int>(std::ceil(point(band.Last))) + 2);
-            }
-            const ClassifiedVolume part = BandOfVolume(*volume, c, low, high);
-            GridGeometry layout = target;
-            layout.Dimensions[c] = band.Last - band.First + 1;
-            FixedPointIllumination units = RecordingUnits(layout.NumberOfPoints());
-            PropagateSweepBand(
-              part, target, sweep, band, units, [](const std::vector<float*>&, size_t, int) {},
-              statistics);
-            AddBandUnits(target, c, band, units, bands);
-          }
-        }
-        const double difference = LargestDifference(whole, bands);
-        (cone ? largest : narrow) = std::max(cone ? largest : narrow, difference);
-      }
-    }
-  }
-  // A far light alone (one group) on a grid of 90 rows: each of three bands reads less than
-  // the whole, holds fewer rays (its cone's rows) and deposits what the whole sweep does.
-  const ClassifiedVolume tall = GreyOf(ChromaticVolume({ { 13, 90, 25 } }));
-  const GridGeometry& g = tall.Geometry;
-  double bounds[6];
-  g.GetBounds(bounds);
-  LightState distant = lights[0];
-  distant.Position[1] = 0.5 * (bounds[2] + bounds[3]);
-  const auto far = TasksForLight(distant, +1, bounds);
-  ASSERT_EQ(far.size(), 1u);
-  std::vector<PropagationTask> remaining;
-  PropagationStatistics wholeSweep;
-  FixedPointIllumination whole = RecordingUnits(g.NumberOfPoints());
-  ASSERT_TRUE(PropagateTasks(tall, g, far, true, 0, whole, remaining, wholeSweep, nullptr));
-  FixedPointIllumination bands = RecordingUnits(g.NumberOfPoints());
-  long long farBand = 0;
-  size_t farBuffers = 0;
-  const int c = SweepRowAxis(far[0].Group), n = g.Dimensions[c];
-  for (const SweepBand& band :
-    { SweepBand{ 0, n / 3 - 1 }, SweepBand{ n / 3, n / 3 }, SweepBand{ n / 3 + 1, n - 1 } })
-  {
-    int low, high;
-    BandOfData(g, g, far, band, LatticeHalo(g, far), low, high);
-    farBand = std::max(farBand, g.NumberOfPoints() / n * (high - low + 1));
-    GridGeometry layout = g;
-    layout.Dimensions[c] = band.Last - band.First + 1;
-    FixedPointIllumination units = RecordingUnits(layout.NumberOfPoints());
-    PropagationStatistics statistics;
-    PropagateSweepBand(
-      BandOfVolume(tall, c, low, high), g, far, band, units,
-      [](const std::vector<float*>&, size_t, int) {}, statistics);
-    farBuffers = std::max(farBuffers, statistics.PeakBufferBytes);
-    AddBandUnits(g, c, band, units, bands);
-  }
-  const double farDifference = LargestDifference(whole, bands);
-  std::cout << "point light bands against whole sweeps: largest difference " << largest
-            << " (bands with their own rows' material only: " << narrow
-            << "); a far light's largest band " << farBand << " of " << g.NumberOfPoints()
-            << " points, buffers " << farBuffers << " of " << wholeSweep.PeakBufferBytes
-            << " bytes, difference " << farDifference << std::endl;
-  EXPECT_LT(farBand, g.NumberOfPoints());
-  EXPECT_LT(farBuffers, wholeSweep.PeakBufferBytes);
-  EXPECT_EQ(farDifference, 0.0);
-  EXPECT_EQ(largest, 0.0);
-  EXPECT_GT(narrow, 1e-2);
-}
-
 namespace
 {
 // A wedge's material (WedgeVolume) taken from the whole volume: per slice a along `axis`, the
@@ -1273,23 +1157,44 @@ void AddWedgeUnits(const GridGeometry& target, int axis, int b, int c,
 }
 
 // Point and spot lights swept in wedges of their rays (PropagateSweepWedge) deposit what the
-// whole sweep does, each wedge alone, with only the material WedgeOfData gives it and no
-// rays from the others: the scenes of PointLightBandsEqualTheWholeSweep (far, beside, inside,
-// a spot light, just before a face), chromatic and grey material, the illumination grid at
-// the data's resolution and at half of it, a recorded task, three and five wedges. Every
-// slice's rows are split between the wedges (each point is deposited once). With the
-// material beyond a wedge's own rays set to zero (the cone margin left out) the units differ
-// (checked). For a light beside a grid, the largest of three wedges holds less than half the
-// grid (its share and the margins), the largest band's cone (BandOfData) most of it.
+// whole sweep does, each wedge alone, with only the material WedgeOfData gives it, no rays
+// from the others, and the empty blocks two pieces of the volume find together: lights far,
+// beside, inside, a spot light, just before a face (PointLightScenes); chromatic and grey
+// material; the illumination grid at the data's resolution and at half of it; a recorded
+// task; three and five wedges. Every slice's rows are split between the wedges (each point is
+// deposited once). With the material beyond a wedge's own rays set to zero (the cone margin
+// left out) the units differ (checked). For a light beside a grid, each of six wedges holds
+// less than half the grid (its share and the margins) and ray buffers for its cone's rows
+// only (fewer bytes than the whole sweep's).
 TEST(Kernels, PointLightWedgesEqualTheWholeSweep)
 {
-  const ClassifiedVolume chromatic = ChromaticVolume({ { 13, 23, 25 } });
+  // Material with a void: no extinction at the points of the first 9 along x and 13 along z.
+  ClassifiedVolume chromatic = ChromaticVolume({ { 13, 23, 25 } });
+  const auto& d = chromatic.Geometry.Dimensions;
+  for (long long p = 0; p < chromatic.Geometry.NumberOfPoints(); ++p)
+  {
+    if (p % d[0] < 9 && p / (d[0] * d[1]) < 13)
+    {
+      std::fill_n(chromatic.Properties.begin() + 4 * p, 4, PackedValue(0));
+    }
+  }
   const ClassifiedVolume grey = GreyOf(chromatic);
   const std::vector<LightState> lights = PointLightScenes();
   double largest = 0.0, marginless = 0.0;
-  for (const ClassifiedVolume* volume : { &chromatic, static_cast<const ClassifiedVolume*>(&grey) })
+  long long emptyBlocks = 0;
+  for (const ClassifiedVolume* volume : { static_cast<const ClassifiedVolume*>(&chromatic), &grey })
   {
     const GridGeometry& data = volume->Geometry;
+    // The empty blocks as two pieces sharing a plane along z find them, combined.
+    EmptyBlocks empty(data, BandOfVolume(*volume, 2, 0, 12), { { 0, 0, 0 } });
+    const EmptyBlocks upper(data, BandOfVolume(*volume, 2, 12, 24), { { 0, 0, 12 } });
+    for (size_t m = 0; m < empty.Marks().size(); ++m)
+    {
+      empty.Marks()[m] = std::min(empty.Marks()[m], upper.Marks()[m]);
+    }
+    empty.Update();
+    EXPECT_EQ(empty.Marks(), EmptyBlocks(*volume).Marks());
+    emptyBlocks += std::count(empty.Marks().begin(), empty.Marks().end(), 1);
     for (const double scale : { 1.0, 0.5 })
     {
       const GridGeometry target = ScaledGeometry(data, scale);
@@ -1343,7 +1248,7 @@ TEST(Kernels, PointLightWedgesEqualTheWholeSweep)
                     static_cast<long long>(rowLast[k] - rowFirst[k] + 1) * target.Dimensions[b];
                 }
                 FixedPointIllumination units = RecordingUnits(points);
-                PropagateSweepWedge(material, target, light, wedge, units, statistics);
+                PropagateSweepWedge(material, target, light, wedge, units, statistics, &empty);
                 AddWedgeUnits(target, axis, b, c, rowFirst, rowLast, units, wedges);
               }
             }
@@ -1354,9 +1259,8 @@ TEST(Kernels, PointLightWedgesEqualTheWholeSweep)
       }
     }
   }
-  // A light before the face z = 0.5 of a grid of 180 rows along y and beside it along y: in
-  // its sweep along z the band farthest from it reads most of the grid, a wedge about its
-  // share and the margins.
+  // A light before the face z = 0.5 of a grid of 180 rows along y and beside it along y, its
+  // sweep along z.
   const ClassifiedVolume tall = GreyOf(ChromaticVolume({ { 13, 180, 25 } }));
   const GridGeometry& g = tall.Geometry;
   double bounds[6];
@@ -1372,30 +1276,45 @@ TEST(Kernels, PointLightWedgesEqualTheWholeSweep)
     }
   }
   ASSERT_EQ(along.size(), 1u);
-  const int c = SweepRowAxis(along[0].Group), n = g.Dimensions[c];
-  long long tallWedge = 0, tallBand = 0;
-  for (int m = 0; m < 3; ++m)
+  const int axis = along[0].Group / 2, c = SweepRowAxis(along[0].Group), b = 3 - axis - c;
+  std::vector<PropagationTask> remaining;
+  PropagationStatistics wholeSweep;
+  FixedPointIllumination whole = RecordingUnits(g.NumberOfPoints());
+  ASSERT_TRUE(PropagateTasks(tall, g, along, true, 0, whole, remaining, wholeSweep, nullptr));
+  FixedPointIllumination wedges = RecordingUnits(g.NumberOfPoints());
+  long long tallWedge = 0;
+  size_t buffers = 0;
+  for (const SweepWedge& wedge : SplitIntoWedges(g, along, 6))
   {
-    std::vector<int> first, last;
-    WedgeOfData(g, g, along, SplitIntoWedges(g, along, 3)[m], first, last);
-    long long held = 0;
-    for (size_t a = 0; a < first.size(); ++a)
+    std::vector<int> first, last, rowFirst, rowLast;
+    WedgeOfData(g, g, along, wedge, first, last);
+    const WedgeVolume material = WedgeOfVolume(tall, axis, b, c, first, last);
+    tallWedge = std::max(tallWedge, static_cast<long long>(material.Volume.Properties.size()));
+    WedgeRows(g, along, wedge, rowFirst, rowLast);
+    long long points = 0;
+    for (size_t k = 0; k < rowFirst.size(); ++k)
     {
-      held += static_cast<long long>(last[a] - first[a] + 1) * g.Dimensions[0];
+      points += static_cast<long long>(rowLast[k] - rowFirst[k] + 1) * g.Dimensions[b];
     }
-    tallWedge = std::max(tallWedge, held);
-    int low, high;
-    BandOfData(g, g, along, { n * m / 3, n * (m + 1) / 3 - 1 }, LatticeHalo(g, along), low, high);
-    tallBand = std::max(tallBand, g.NumberOfPoints() / n * (high - low + 1));
+    FixedPointIllumination units = RecordingUnits(points);
+    PropagationStatistics statistics;
+    PropagateSweepWedge(material, g, along, wedge, units, statistics);
+    buffers = std::max(buffers, statistics.PeakBufferBytes);
+    AddWedgeUnits(g, axis, b, c, rowFirst, rowLast, units, wedges);
   }
+  const double tallDifference = LargestDifference(whole, wedges);
   std::cout << "point light wedges against whole sweeps: largest difference " << largest
-            << " (without the cone margin's material: " << marginless << "); a light beside "
-            << "a grid of " << g.NumberOfPoints() << " points: largest of three wedges holds "
-            << tallWedge << ", largest band " << tallBand << std::endl;
+            << " (without the cone margin's material: " << marginless << "; empty blocks "
+            << emptyBlocks << ", skipped); a light beside "
+            << "a grid of " << g.NumberOfPoints() << " points: largest of six wedges holds "
+            << tallWedge << " points, ray buffers " << buffers << " of "
+            << wholeSweep.PeakBufferBytes << " bytes, difference " << tallDifference << std::endl;
   EXPECT_EQ(largest, 0.0);
   EXPECT_GT(marginless, 1e-3);
+  EXPECT_GT(emptyBlocks, 0);
+  EXPECT_EQ(tallDifference, 0.0);
   EXPECT_LT(tallWedge, g.NumberOfPoints() / 2);
-  EXPECT_LT(tallWedge, tallBand);
+  EXPECT_LT(buffers, wholeSweep.PeakBufferBytes);
 }
 
 namespace

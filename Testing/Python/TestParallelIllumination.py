@@ -655,10 +655,10 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
                 if shadow is None or shadow > TOLERANCE:
                     failures.append("%s/%s: Transmittance0 difference %s" % (run, f, shadow))
             if f in ("swept.pvti", "swept_chromatic.pvti", "multilight.pvti",
-                     "selective.pvti"):
-                # Each process held bands of the classification, not all of it (with a light
-                # inside the volume a band reads the material up to the light's rows, which
-                # may be all of it).
+                     "selective.pvti", "switched.pvti", "swept_inside.pvti"):
+                # Each process held bands of the classification (directional lights) and
+                # wedges of the point and spot lights' rays (the light beside the volume, inside
+                # it, the spot light below), not all of it.
                 held_less(out, run, f, "BandPoints", "largest band of each process",
                           "classification", failures)
             if f in ("raymarched.pvti", "filtered_hard.pvti", "filtered_soft.pvti",
