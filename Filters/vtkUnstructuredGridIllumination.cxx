@@ -379,19 +379,34 @@ bool vtkUnstructuredGridIllumination::PrepareDistributedMesh(
     const int piecePoints = static_cast<int>(this->Neighborhood->GetNumberOfPiecePoints());
     std::vector<unsigned char> ofPiece(static_cast<size_t>(mesh.NumberOfPoints()), 0);
     std::fill_n(ofPiece.begin(), piecePoints, 1);
+    // Every round colours at least the first point of the global order still waiting (its
+    // earlier neighbours have their colours), unless a point's colour never comes from the
+    // process that holds it: a round that colours none on any process stops with an error
+    // instead of waiting for ever.
+    long long waitingBefore = -1;
+    bool stuck = false;
     this->Coloring = volillum::ColorVertices(mesh, &ofPiece,
       [&](std::vector<int>& color)
       {
         this->Neighborhood->Exchange(color.data(), 1);
-        int waiting = 0;
-        for (int p = 0; p < piecePoints && !waiting; ++p)
+        long long waiting = 0, all = 0;
+        for (int p = 0; p < piecePoints; ++p)
         {
-          waiting = color[p] < 0;
+          waiting += color[p] < 0 ? 1 : 0;
         }
-        int any = 0;
-        controller->AllReduce(&waiting, &any, 1, vtkCommunicator::LOGICAL_OR_OP);
-        return any != 0;
+        controller->AllReduce(&waiting, &all, 1, vtkCommunicator::SUM_OP);
+        stuck = all > 0 && all == waitingBefore;
+        waitingBefore = all;
+        return all > 0 && !stuck;
       });
+    if (stuck)
+    {
+      vtkErrorMacro("The pieces cannot be joined: a point a piece shares with another has "
+                    "no match there (seen with point global ids from Generate Global Ids).");
+      this->Neighborhood->Reset();
+      this->MeshKey = 0;
+      return false;
+    }
     // Every process scatters (and passes values) colour by colour: as many colours on all.
     int colors = this->Coloring.NumberOfColors(), wholeColors = 0;
     controller->AllReduce(&colors, &wholeColors, 1, vtkCommunicator::MAX_OP);

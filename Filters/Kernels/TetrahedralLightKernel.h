@@ -163,9 +163,10 @@ struct VertexColoring
  * Parallel: `owned` (1 per vertex) marks the vertices this process colours; the others are
  * other processes'. A vertex is coloured once its earlier neighbours are; between rounds
  * `exchange(color)` fills the colours (-1 when not yet coloured) of the others' vertices
- * from their owners and returns whether any process still has an uncoloured vertex. The
- * order is pseudo-random, so chains of earlier neighbours are short and few rounds run.
- * Only owned vertices are listed in the colouring.
+ * from their owners and returns whether to go on (whether any process still has an
+ * uncoloured vertex; false also stops a colouring that cannot finish, whose uncoloured
+ * vertices are then left out). The order is pseudo-random, so chains of earlier neighbours
+ * are short and few rounds run. Only owned vertices are listed in the colouring.
  */
 VOLILLUMKERNELS_EXPORT VertexColoring ColorVertices(const TetrahedralMesh& mesh,
   const std::vector<unsigned char>* owned = nullptr,

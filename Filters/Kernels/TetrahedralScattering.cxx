@@ -146,16 +146,20 @@ VertexColoring ColorVertices(const TetrahedralMesh& mesh, const std::vector<unsi
   }
   VertexColoring coloring;
   coloring.Offsets.assign(colors + 1, 0);
+  // (A vertex the exchange stopped before it was coloured is left out.)
   for (int p : mine)
   {
-    ++coloring.Offsets[color[p] + 1];
+    coloring.Offsets[color[p] + 1] += color[p] >= 0 ? 1 : 0;
   }
   std::partial_sum(coloring.Offsets.begin(), coloring.Offsets.end(), coloring.Offsets.begin());
-  coloring.Order.resize(mine.size());
+  coloring.Order.resize(coloring.Offsets.back());
   std::vector<int> fill(coloring.Offsets.begin(), coloring.Offsets.end() - 1);
   for (int p : mine)
   {
-    coloring.Order[fill[color[p]]++] = p;
+    if (color[p] >= 0)
+    {
+      coloring.Order[fill[color[p]]++] = p;
+    }
   }
   return coloring;
 }
