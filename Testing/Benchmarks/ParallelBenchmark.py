@@ -20,8 +20,8 @@ receives when the data changes (the gathered pieces; a light edit gathers nothin
 bytes of the propagation's sums each process sends per update, the propagation's peak
 memory per process (that of process 0, which runs the script), and
 the propagation's peak memory per process also on 4 processes (oversubscribed: memory only),
-the propagation with the lights made point lights (times on 1 and 2 processes, over bands
-and assembled; peak memory per process on 1, 2 and 4; the largest band process 0 held),
+the propagation with the lights made point lights (times on 1 and 2 processes, over wedges
+and assembled; peak memory per process on 1, 2 and 4; the largest wedge process 0 held),
 the Illuminated Volume representation's still render after a camera move (the light kit,
 scale 1/2; propagation and filtered shadows) on 1 and 2 processes with process 0's peak
 memory and whether the pieces were lit where they are, and the efficiency a sweep over bands
@@ -276,8 +276,8 @@ def main():
     four = {mode: run([mpiexec] + flags.split() + ["-np", "4", pvbatch], plugin, volume, mode)
             for mode in ("bands", "assembled", "filtered", "filtered_assembled", "filtered_point",
                          "filtered_point_assembled")}
-    # The propagation with the lights made point lights (their rays followed in each band's
-    # cone back to the light), on 1, 2 and 4 processes, and with the input assembled.
+    # The propagation with the lights made point lights (each swept over wedges of its rays,
+    # one a process), on 1, 2 and 4 processes, and with the input assembled.
     point_lights = {"1": run([pvbatch], plugin, volume, "point")}
     for n in ("2", "4"):
         for mode in ("point", "point_assembled"):
@@ -426,10 +426,10 @@ def main():
              four["bands"]["peak_bytes"] / two["points"],
              four["assembled"]["peak_bytes"] / two["points"]))
     print("propagation, the lights made point lights: full update %.2f s on 1 process, %.2f s "
-          "on 2 over bands (%.2fx), %.2f s on 2 assembled; one-light edit %.2f, %.2f and %.2f s; "
+          "on 2 over wedges (%.2fx), %.2f s on 2 assembled; one-light edit %.2f, %.2f and %.2f s; "
           "peak memory per process above the input, bytes a point: %.1f on 1, %.1f on 2 over "
-          "bands, %.1f on 2 assembled, %.1f on 4 over bands, %.1f on 4 assembled; largest band "
-          "of process 0: %d points on 2 processes, %d on 4"
+          "wedges, %.1f on 2 assembled, %.1f on 4 over wedges, %.1f on 4 assembled; largest "
+          "wedge of process 0: %d points on 2 processes, %d on 4"
           % (point_lights["1"]["full_s"], point_lights["2"]["full_s"], point_lights["1"]["full_s"] / point_lights["2"]["full_s"],
              point_lights["2_assembled"]["full_s"], point_lights["1"]["edit_s"], point_lights["2"]["edit_s"],
              point_lights["2_assembled"]["edit_s"],
