@@ -2555,17 +2555,18 @@ void WedgeOfData(const GridGeometry& data, const GridGeometry& target,
   const int a = axes.Axis, c = axes.C, na = data.Dimensions[a], n = data.Dimensions[c];
   first.resize(na);
   last.resize(na);
-  // The wedge's rays lie within the cone margin of it, and a sample between two slices reads
-  // a cell's corners on both and a point beyond along C: the wedge at a slice and at its
-  // neighbours (a ray's coordinate along C is linear between slices), widened by the margin,
-  // a cell and one more point for rounding. At or behind the light the wedge is the light's
-  // coordinate.
+  // The rays followed lie within the cone margin of the wedge at their anchor (ConeRows) and
+  // spread from the light by less than AnchorSpread until the next anchor; a sample between
+  // two slices reads a cell's corners on both and a point beyond along C: the wedge at a
+  // slice and at its neighbours (a ray's coordinate along C is linear between slices),
+  // widened by the margin spread, a cell and one more point for rounding. At or behind the
+  // light the wedge is the light's coordinate.
   // Beyond the margin, a path that ClipToBox keeps within a face's tolerance outside the box
   // (a light just before the first face) runs up to 1 / MinimumAlong times that across C.
   double bounds[6];
   target.GetBounds(bounds);
-  const double margin =
-    ConeMargin * target.Spacing[c] + data.Spacing[c] + FaceTolerance(bounds, a) / MinimumAlong;
+  const double margin = AnchorSpread * ConeMargin * target.Spacing[c] + data.Spacing[c] +
+    FaceTolerance(bounds, a) / MinimumAlong;
   for (int k = 0; k < na; ++k)
   {
     double low = std::numeric_limits<double>::infinity(), high = -low;

@@ -323,7 +323,8 @@ struct WedgeVolume
 
 /// The rows [first[a], last[a]] along the row axis of each slice a of the data grid `data`
 /// (along the sweep's axis) that a wedge's sweep over `target` reads (WedgeVolume): the
-/// wedge at the slice and its neighbours, widened by the cone margin and a cell.
+/// wedge at the slice and its neighbours, widened by the cone margin as its rays spread
+/// between anchors, and a cell.
 VOLILLUMKERNELS_EXPORT void WedgeOfData(const GridGeometry& data, const GridGeometry& target,
   const std::vector<PropagationTask>& tasks, const SweepWedge& wedge, std::vector<int>& first,
   std::vector<int>& last);
