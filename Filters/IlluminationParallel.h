@@ -15,16 +15,16 @@
  * classification (ExchangeExtents from the blocks), each band getting the lattice rows it
  * reads beyond its own from the bands that hold them after every slice, and each point or
  * spot light over wedges of its rays, each process its wedge's classification slice by
- * slice, the units moved to the pieces' processes (ExchangeExtents); cell scalars become point scalars over each block from its cells and the
- * layer around it (BlockPointScalars). Pieces that are not the
- * blocks (another decomposition) give each block its lit array (BlockOfPieces), and each
- * process outputs the illumination over its block. The image filters
- * with the distributed properties off assemble the whole input on every process from the pieces of
- * all processes (collective calls of the filter's vtkMultiProcessController) and output the part of
- * the illumination that belongs to their own piece; the propagation then shares its sweeps out
- * among the processes (SweepShare): each process propagates its sweeps over the whole illumination
- * grid into fixed-point units of its own, and the sums over the processes (SumOverPieces, exact in
- * any order) give each process its piece. Every process keeps the same bookkeeping of lights, so
+ * slice, the units moved to the pieces' processes (ExchangeExtents); cell scalars become point
+ * scalars over each block from its cells and the layer around it (BlockPointScalars). Pieces that
+ * are not the blocks (another decomposition) give each block its lit array (BlockOfPieces), and
+ * each process outputs the illumination over its block. The image filters with the distributed
+ * properties off assemble the whole input on every process from the pieces of all processes
+ * (collective calls of the filter's vtkMultiProcessController) and output the part of the
+ * illumination that belongs to their own piece; the propagation then shares its sweeps out among
+ * the processes (SweepShare): each process propagates its sweeps over the whole illumination grid
+ * into fixed-point units of its own, and the sums over the processes (SumOverPieces, exact in any
+ * order) give each process its piece. Every process keeps the same bookkeeping of lights, so
  * selective updates work as in a serial run. Filters that light points independently compute only
  * the points of the piece. The result equals the serial run's: bit for bit in the tests for the
  * propagation and the ray marcher, up to rounding (1e-8 of the largest value) for distributed
