@@ -792,17 +792,36 @@ vtkUnstructuredGrid* NeighborhoodGrid::Build(
     grid->AllocateEstimate(0, 4);
     return this->Grid;
   }
+  // The arrays by name: a grid that travelled may hold them in another order (the global ids
+  // first), and copying by index would mix them (the lit array taking the ids' values).
+  // Grids without points may have lost their arrays on the way: they add nothing.
+  vtkDataSetAttributes::FieldList pointFields, cellFields;
+  pointFields.IntersectFieldList(piece->GetPointData());
+  cellFields.IntersectFieldList(piece->GetCellData());
+  for (const auto& from : received)
+  {
+    if (from->GetNumberOfPoints() > 0)
+    {
+      pointFields.IntersectFieldList(from->GetPointData());
+      cellFields.IntersectFieldList(from->GetCellData());
+    }
+  }
   grid->GetPointData()->CopyGlobalIdsOn();
-  grid->GetPointData()->CopyAllocate(piece->GetPointData());
-  grid->GetCellData()->CopyAllocate(piece->GetCellData());
+  grid->GetPointData()->CopyAllocate(pointFields);
+  grid->GetCellData()->CopyAllocate(cellFields);
   const bool byId = piece->GetPointData()->GetGlobalIds() != nullptr;
   std::map<std::array<double, 3>, vtkIdType> known;
   std::vector<int> owner;
   this->Reads.assign(this->Peers.size(), {});
   vtkNew<vtkIdList> cell;
-  // `from`: the piece (peer -1) or the cells of peer k.
+  // `from`: the piece (peer -1) or the cells of peer k; `input`: its index in the field lists.
+  int input = 0;
   const auto append = [&](vtkUnstructuredGrid* from, int process, int peer)
   {
+    if (from->GetNumberOfPoints() == 0)
+    {
+      return;
+    }
     std::vector<vtkIdType> ids(static_cast<size_t>(from->GetNumberOfPoints()));
     std::vector<std::pair<std::array<double, 3>, vtkIdType>> added;
     for (vtkIdType i = 0; i < from->GetNumberOfPoints(); ++i)
@@ -815,7 +834,7 @@ vtkUnstructuredGrid* NeighborhoodGrid::Build(
         continue;
       }
       ids[i] = points->InsertNextPoint(from->GetPoint(i));
-      grid->GetPointData()->CopyData(from->GetPointData(), i, ids[i]);
+      grid->GetPointData()->CopyData(pointFields, from->GetPointData(), input, i, ids[i]);
       added.emplace_back(key, ids[i]);
       if (peer >= 0)
       {
@@ -833,10 +852,14 @@ vtkUnstructuredGrid* NeighborhoodGrid::Build(
         owner[cell->GetId(k)] = std::min(owner[cell->GetId(k)], process);
       }
       const vtkIdType id = grid->InsertNextCell(from->GetCellType(c), cell);
-      grid->GetCellData()->CopyData(from->GetCellData(), c, id);
+      grid->GetCellData()->CopyData(cellFields, from->GetCellData(), input, c, id);
     }
+    ++input;
   };
   append(piece, local, -1);
+  // Points of the piece in none of its cells (those of its ghost cells, as D3 leaves them):
+  // where another piece's cells hold them, they are that piece's points.
+  const std::vector<int> inPieceCells(owner.begin(), owner.begin() + this->PiecePoints);
   for (size_t k = 0; k < this->Peers.size(); ++k)
   {
     append(received[k], this->Peers[k], static_cast<int>(k));
@@ -844,13 +867,23 @@ vtkUnstructuredGrid* NeighborhoodGrid::Build(
   received.clear();
   grid->Squeeze();
 
-  // Owned points: of the piece, and not of a lower process's piece (all the cells around a
-  // point of the piece are here, so the lowest process whose piece has it is known).
+  // Computed here: the points of the piece's cells, and those in no cell (lit as serially);
+  // the piece's other points are read from the lowest process whose cells hold them (it
+  // computes them: all the cells around a point of a piece are here, so that process is
+  // known). Owned: computed here, and not of a lower process's piece.
   const vtkIdType np = grid->GetNumberOfPoints();
   this->Owned.assign(static_cast<size_t>(np), 0);
+  this->Computed.assign(static_cast<size_t>(np), 0);
   for (vtkIdType p = 0; p < this->PiecePoints; ++p)
   {
-    this->Owned[p] = owner[p] >= local;
+    this->Computed[p] = inPieceCells[p] == local || owner[p] == processes;
+    this->Owned[p] = this->Computed[p] && owner[p] >= local;
+    if (!this->Computed[p])
+    {
+      const size_t k =
+        std::lower_bound(this->Peers.begin(), this->Peers.end(), owner[p]) - this->Peers.begin();
+      this->Reads[k].push_back(p);
+    }
   }
   this->Sends.assign(this->Peers.size(), {});
   // Tell each peer which points of its piece are read here (by key), in the order of Reads.

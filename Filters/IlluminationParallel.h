@@ -283,7 +283,11 @@ public:
   vtkIdType GetNumberOfPiecePoints() const { return this->PiecePoints; }
   /// Cells of the piece (the first ones of the grid).
   vtkIdType GetNumberOfPieceCells() const { return this->PieceCells; }
-  /// Per point of the grid: 1 where this process owns it.
+  /// Per point of the grid: 1 where this process computes its values (points of the piece's
+  /// cells, and of the piece in no cell); Exchange gives the others theirs.
+  const std::vector<unsigned char>& GetComputed() const { return this->Computed; }
+  /// Per point of the grid: 1 where this process owns it (computes it, and no lower process
+  /// does).
   const std::vector<unsigned char>& GetOwned() const { return this->Owned; }
 
   /// Collective: the values (`components` a point) of the points of other pieces in the
@@ -299,7 +303,7 @@ private:
   vtkSmartPointer<vtkUnstructuredGrid> Grid;
   std::uint64_t Fingerprint = 0; // of the piece of the last Build
   vtkIdType PiecePoints = 0, PieceCells = 0;
-  std::vector<unsigned char> Owned;
+  std::vector<unsigned char> Owned, Computed;
   // Per peer process (one whose piece lies within the depth): the points of its piece this
   // process reads from it, and the points of this piece it sends it, in the order both
   // agreed on.

@@ -374,25 +374,23 @@ bool vtkUnstructuredGridIllumination::PrepareDistributedMesh(
       depth = 1.2 * reach(mesh.MeanEdgeLength); // the estimate fell short: gather deeper
       continue;
     }
-    // Colours as a single process gives them: this process colours its piece's points, in
-    // rounds between which the colours of the other pieces' points come from their processes.
-    const int piecePoints = static_cast<int>(this->Neighborhood->GetNumberOfPiecePoints());
-    std::vector<unsigned char> ofPiece(static_cast<size_t>(mesh.NumberOfPoints()), 0);
-    std::fill_n(ofPiece.begin(), piecePoints, 1);
+    // Colours as a single process gives them: this process colours the points it computes,
+    // in rounds between which the colours of the others come from their processes.
+    const std::vector<unsigned char>& computed = this->Neighborhood->GetComputed();
     // Every round colours at least the first point of the global order still waiting (its
     // earlier neighbours have their colours), unless a point's colour never comes from the
     // process that holds it: a round that colours none on any process stops with an error
     // instead of waiting for ever.
     long long waitingBefore = -1;
     bool stuck = false;
-    this->Coloring = volillum::ColorVertices(mesh, &ofPiece,
+    this->Coloring = volillum::ColorVertices(mesh, &computed,
       [&](std::vector<int>& color)
       {
         this->Neighborhood->Exchange(color.data(), 1);
         long long waiting = 0, all = 0;
-        for (int p = 0; p < piecePoints; ++p)
+        for (int p = 0; p < mesh.NumberOfPoints(); ++p)
         {
-          waiting += color[p] < 0 ? 1 : 0;
+          waiting += computed[p] && color[p] < 0 ? 1 : 0;
         }
         controller->AllReduce(&waiting, &all, 1, vtkCommunicator::SUM_OP);
         stuck = all > 0 && all == waitingBefore;

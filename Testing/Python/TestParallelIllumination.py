@@ -8,10 +8,11 @@ tetrahedral grid with the unstructured reader, lights them with every filter and
 and checks, against the serial run:
 - Multi-Light Illumination Volume, Filtered Volumetric Shadows, Ray-Marched Illumination
   and Unstructured Grid Illumination (pieces from RedistributeDataSet, with and without
-  point global ids telling the grid's coincident seam points apart, and the reader's
-  pieces, where all but one process hold nothing), and an image of one cell (all but one
-  process have an empty block): largest difference / largest value <= 1e-5 (points matched
-  by their coordinates);
+  point global ids telling the grid's coincident seam points apart, then Generate Global
+  Ids; D3's pieces with ghost cells and D3's point global ids; the reader's pieces, where
+  all but one process hold nothing), and an image of one cell (all but one process have an
+  empty block): largest difference / largest value <= 1e-5 (points matched by their
+  coordinates);
 - a one-light change in parallel is a selective update (UpdateMode 1) and equals a fresh
   parallel filter with the new lights;
 - Multi-Light Illumination Volume sweeps over bands of rows without assembling the input,
@@ -75,8 +76,8 @@ FILES = ["multilight.pvti", "selective.pvti", "fresh.pvti", "swept.pvti", "swept
          "cells_multilight.pvti", "slabs_multilight.pvti", "slabs_filtered.pvti",
          "slabs_raymarched.pvti", "slabs_cells.pvti", "root_multilight.pvti",
          "root_filtered.pvti",
-         "unstructured.pvtu", "unstructured_ids.pvtu", "unstructured_pieces.pvtu", "wavelet.pvtu",
-         "mixed.pvtu"]
+         "unstructured.pvtu", "unstructured_ids.pvtu", "unstructured_pieces.pvtu",
+         "unstructured_d3.pvtu", "unstructured_generated.pvtu", "wavelet.pvtu", "mixed.pvtu"]
 HEAD = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Data", "headsq.vti")
 
 # Two lights (14 numbers each, see the filters' Lights property): an orange directional
@@ -104,7 +105,9 @@ SWEPT_AGAIN = SWEPT[:14] + [0, 280, 260, 140, 100, 100, 70, 0.3, 0.8, 1.0, 0.9, 
 
 def worker(plugin, out, grid_file, tiny_file, parallel):
     from paraview.simple import (LoadPlugin, XMLImageDataReader, XMLUnstructuredGridReader,
-                                 XMLPartitionedUnstructuredGridReader, PointDatatoCellData, ProgrammableFilter, RedistributeDataSet, GetColorTransferFunction,
+                                 XMLPartitionedUnstructuredGridReader, PointDatatoCellData,
+                                 ProgrammableFilter, RedistributeDataSet, D3, GenerateGlobalIds,
+                                 GetColorTransferFunction,
                                  GetOpacityTransferFunction, SaveData)
     ns = globals()
     LoadPlugin(plugin, remote=False, ns=ns)
@@ -256,7 +259,15 @@ out.GetPointData().SetGlobalIds(ids)
                           else grid),
                          ("unstructured_ids.pvtu", RedistributeDataSet(Input=numbered)
                           if parallel else numbered),
-                         ("unstructured_pieces.pvtu", grid)]:
+                         ("unstructured_pieces.pvtu", grid),
+                         # D3's pieces: ghost cells, whose points the piece keeps (lit by the
+                         # process whose cells hold them), and D3's point global ids.
+                         ("unstructured_d3.pvtu", D3(Input=grid) if parallel else grid),
+                         # Generate Global Ids after redistributing: ids that join the pieces'
+                         # copies of a point (and the seam's, as coordinates do serially).
+                         ("unstructured_generated.pvtu",
+                          GenerateGlobalIds(Input=RedistributeDataSet(Input=grid)) if parallel
+                          else GenerateGlobalIds(Input=grid))]:
         u = ns["UnstructuredGridIllumination"](Input=source, ColorTransferFunction=ctf,
                                                OpacityFunction=otf, Level0Resolution=[32, 32, 32],
                                                ScatteringStrength=[0.2, 0.2, 0.2])
