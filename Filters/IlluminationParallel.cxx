@@ -1382,6 +1382,43 @@ bool AllOk(vtkMultiProcessController* controller, bool ok)
 }
 
 //------------------------------------------------------------------------------
+bool AgreeOnGeometry(
+  vtkMultiProcessController* controller, vtkImageData* piece, vtkImageData* shape)
+{
+  const int processes = controller->GetNumberOfProcesses();
+  const bool has = piece && piece->GetNumberOfPoints() > 0;
+  const int mine = has ? controller->GetLocalProcessId() : processes;
+  int first = processes;
+  controller->AllReduce(&mine, &first, 1, vtkCommunicator::MIN_OP);
+  if (first == processes)
+  {
+    return true;
+  }
+  // Origin, spacing, direction matrix.
+  double geometry[15] = {};
+  if (has)
+  {
+    piece->GetOrigin(geometry);
+    piece->GetSpacing(geometry + 3);
+    std::copy_n(piece->GetDirectionMatrix()->GetData(), 9, geometry + 6);
+  }
+  double agreed[15];
+  std::copy_n(geometry, 15, agreed);
+  controller->Broadcast(agreed, 15, first);
+  bool same = true;
+  const double tolerance =
+    1e-9 * std::max({ std::abs(agreed[3]), std::abs(agreed[4]), std::abs(agreed[5]) });
+  for (int i = 0; has && i < 15; ++i)
+  {
+    same = same && std::abs(geometry[i] - agreed[i]) <= (i < 6 ? tolerance : 1e-9);
+  }
+  shape->SetOrigin(agreed);
+  shape->SetSpacing(agreed + 3);
+  shape->SetDirectionMatrix(agreed + 6);
+  return AllOk(controller, same);
+}
+
+//------------------------------------------------------------------------------
 ParallelMessages::ParallelMessages(vtkMultiProcessController* controller, vtkAlgorithm* filter)
   : Controller(controller)
   , Filter(filter)

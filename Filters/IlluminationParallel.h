@@ -167,6 +167,16 @@ extern template VOLILLUMFILTERS_EXPORT long long ExchangeExtents<std::uint32_t>(
 VOLILLUMFILTERS_EXPORT bool AllOk(vtkMultiProcessController* controller, bool ok);
 
 /**
+ * Collective: the origin, spacing and orientation of the pieces (`piece` may be nullptr or
+ * empty) set on `shape`: those of the lowest process with points (a producer such as
+ * Resample To Image gives them with its data only, not in the pipeline information). Returns
+ * false where a piece with points has others (within 1e-9 of a spacing); `shape` keeps its
+ * own where no process has points.
+ */
+VOLILLUMFILTERS_EXPORT bool AgreeOnGeometry(
+  vtkMultiProcessController* controller, vtkImageData* piece, vtkImageData* shape);
+
+/**
  * The errors and warnings a filter reports during one parallel update, printed once by the
  * first process. ParaView shows a client only the first server process's messages, so an
  * error of another process's piece (a missing array, a bad coordinate) left the client an

@@ -196,24 +196,24 @@ int vtkIlluminationVolumeAlgorithm::RequestUpdateExtent(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
 {
   // Light crosses the whole volume: a serial run asks for all of the input. In a parallel
-  // run process p of N asks for block p of N of the data's extent, whatever piece its output
-  // is asked for (its output is the illumination over that block), as an explicit extent,
-  // so that an unchanged block is not read again; RequestData lights the blocks where they
-  // are (LightsDistributedPieces) or assembles them.
+  // run process p of N asks for piece p of N of the whole extent, whatever piece its output
+  // is asked for (its output is the illumination over block p of the data's extent). This is
+  // the pipeline's own request for distributed images: a producer that can read sub-extents
+  // gets block p (the executive's extent translator, block mode, as ProcessBlock), and one
+  // that cannot (a reader of a single file, vtkPResampleToImage, which splits the whole
+  // extent among the processes itself) makes its own pieces; RequestData lights the blocks
+  // where they are (LightsDistributedPieces) or assembles them, and other pieces give each
+  // block its part first (BlockOfPieces).
   vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
   int extent[6];
   inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent);
   if (vtkMultiProcessController* controller = volillum::ParallelRun(this->Controller))
   {
-    int whole[6];
-    std::copy(extent, extent + 6, whole);
-    if (!volillum::ProcessBlock(controller, whole, extent))
-    {
-      std::fill(extent, extent + 6, 0); // more processes than blocks: nothing to read
-      extent[1] = extent[3] = extent[5] = -1;
-    }
-    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
-    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
+    inInfo->Set(
+      vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), controller->GetLocalProcessId());
+    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(),
+      controller->GetNumberOfProcesses());
+    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
   }
   inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), extent, 6);
   return 1;
@@ -495,6 +495,13 @@ void vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessContro
     double direction[9];
     inInfo->Get(vtkDataObject::DIRECTION(), direction);
     shape->SetDirectionMatrix(direction);
+  }
+  // The pieces' own geometry where the pipeline information lacks it, as a serial run takes
+  // the input's.
+  if (!volillum::AgreeOnGeometry(controller, input, shape))
+  {
+    vtkErrorMacro("The pieces of the image differ in origin, spacing or orientation.");
+    return;
   }
   volillum::GridGeometry data, target;
   if (!this->ValidGeometry(shape, data, target))

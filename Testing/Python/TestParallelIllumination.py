@@ -10,9 +10,10 @@ and checks, against the serial run:
   and Unstructured Grid Illumination (pieces from RedistributeDataSet, with and without
   point global ids telling the grid's coincident seam points apart, then Generate Global
   Ids; D3's pieces with ghost cells and D3's point global ids; the reader's pieces, where
-  all but one process hold nothing), and an image of one cell (all but one process have an
-  empty block): largest difference / largest value <= 1e-5 (points matched by their
-  coordinates);
+  all but one process hold nothing), an image of one cell (all but one process have an
+  empty block), and images whose producers make their own pieces (Resample To Image of the
+  grid, with its geometry in the data only; a MetaImage file, which only process 0 reads):
+  largest difference / largest value <= 1e-5 (points matched by their coordinates);
 - a one-light change in parallel is a selective update (UpdateMode 1) and equals a fresh
   parallel filter with the new lights;
 - Multi-Light Illumination Volume sweeps over bands of rows without assembling the input,
@@ -77,7 +78,9 @@ FILES = ["multilight.pvti", "selective.pvti", "fresh.pvti", "swept.pvti", "swept
          "slabs_raymarched.pvti", "slabs_cells.pvti", "root_multilight.pvti",
          "root_filtered.pvti",
          "unstructured.pvtu", "unstructured_ids.pvtu", "unstructured_pieces.pvtu",
-         "unstructured_d3.pvtu", "unstructured_generated.pvtu", "wavelet.pvtu", "mixed.pvtu"]
+         "unstructured_d3.pvtu", "unstructured_generated.pvtu", "wavelet.pvtu", "mixed.pvtu",
+         "resampled_multilight.pvti", "resampled_filtered.pvti", "resampled_raymarched.pvti",
+         "metaimage_multilight.pvti"]
 HEAD = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Data", "headsq.vti")
 
 # Two lights (14 numbers each, see the filters' Lights property): an orange directional
@@ -107,6 +110,7 @@ def worker(plugin, out, grid_file, tiny_file, parallel):
     from paraview.simple import (LoadPlugin, XMLImageDataReader, XMLUnstructuredGridReader,
                                  XMLPartitionedUnstructuredGridReader, PointDatatoCellData,
                                  ProgrammableFilter, RedistributeDataSet, D3, GenerateGlobalIds,
+                                 ResampleToImage, OpenDataFile,
                                  GetColorTransferFunction,
                                  GetOpacityTransferFunction, SaveData)
     ns = globals()
@@ -275,6 +279,23 @@ out.GetPointData().SetGlobalIds(ids)
         u.Lights = grid_lights
         save(u, name)
 
+    # Images from producers that make their own pieces: Resample To Image of the grid (it
+    # splits the whole extent among the processes itself, and gives its origin and spacing
+    # with the data only) and a MetaImage file of the head (a reader of one file that cannot
+    # read sub-extents: process 0 reads it all). Default transfer functions (the range of all
+    # pieces).
+    resampled = ResampleToImage(Input=grid, SamplingDimensions=[41, 33, 29])
+    metaimage = OpenDataFile(os.path.join(os.path.dirname(tiny_file), "head.mhd"))
+    for name, source, array, saved in (
+            ("MultiLightIlluminationVolume", resampled, scalars, "resampled_multilight.pvti"),
+            ("FilteredVolumetricShadows", resampled, scalars, "resampled_filtered.pvti"),
+            ("RayMarchedIllumination", resampled, scalars, "resampled_raymarched.pvti"),
+            ("MultiLightIlluminationVolume", metaimage, "MetaImage", "metaimage_multilight.pvti")):
+        f = ns[name](Input=source, ResolutionScale=0.5)
+        f.Scalars = ["POINTS", array]
+        f.Lights = grid_lights if source == resampled else LIGHTS
+        save(f, saved)
+
     # A uniform tetrahedral grid (written by the driver: tetrahedralising each process's piece
     # of a source would split its cells differently): thin layers of other pieces' cells,
     # across which eight level-1 steps carry light (values exchanged after each step) and
@@ -338,6 +359,8 @@ def x_slabs(source, slabs):
 def _whole_input(algorithm):
     from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline as sddp
     request = algorithm.GetInputInformation(0, 0)
+    request.Set(sddp.UPDATE_PIECE_NUMBER(), 0)
+    request.Set(sddp.UPDATE_NUMBER_OF_PIECES(), 1)
     request.Set(sddp.UPDATE_EXTENT(), request.Get(sddp.WHOLE_EXTENT()), 6)
 _whole_input(self)
 """, Script="""
@@ -510,6 +533,19 @@ def write_tiny_image(path):
                 "vtkShortArray")
 
 
+def write_metaimage(path):
+    """The CT head as a MetaImage file (.mhd header, .raw values)."""
+    from vtkmodules.vtkIOImage import vtkMetaImageWriter
+    from vtkmodules.vtkIOXML import vtkXMLImageDataReader
+    reader = vtkXMLImageDataReader()
+    reader.SetFileName(HEAD)
+    writer = vtkMetaImageWriter()
+    writer.SetInputConnection(reader.GetOutputPort())
+    writer.SetFileName(path)
+    writer.SetCompression(False)
+    writer.Write()
+
+
 def write_wavelet_tetrahedra(path):
     """VTK's Wavelet on 25^3 points split into tetrahedra."""
     from vtkmodules.vtkImagingCore import vtkRTAnalyticSource
@@ -582,6 +618,7 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
     os.makedirs(out, exist_ok=True)
     tiny_file = os.path.join(out, "tiny.vti")
     write_tiny_image(tiny_file)
+    write_metaimage(os.path.join(out, "head.mhd"))
     write_wavelet_tetrahedra(os.path.join(out, "wavelet_tets.vtu"))
     write_mixed_pieces(out)
     for run, command in runs.items():
