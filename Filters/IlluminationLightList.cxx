@@ -165,6 +165,25 @@ std::string LightList::Validate() const
       }
     }
     const LightState state = CaptureLight(this->Lights[i]);
+    const bool aimless = state.Position == state.FocalPoint;
+    if (state.Kind == LightKind::Directional && aimless)
+    {
+      message << "Light " << i << " is directional but has no direction: its position equals "
+              << "its focal point.";
+      return message.str();
+    }
+    if (state.ConeAngle < 0.0 || (state.Kind == LightKind::Spot && state.ConeAngle == 0.0))
+    {
+      message << "Light " << i << " has a cone angle of " << state.ConeAngle
+              << " degrees; a spot light needs one above 0 (90 or more: a point light).";
+      return message.str();
+    }
+    if (state.Kind == LightKind::Spot && aimless)
+    {
+      message << "Light " << i << " is a spot light (cone angle below 90) but has no "
+              << "direction: its focal point equals its position.";
+      return message.str();
+    }
     if (state.Intensity < 0.0)
     {
       message << "Light " << i << " has a negative intensity.";

@@ -59,8 +59,10 @@ public:
   std::vector<LightState> States() const;
   /// Latest modification time of the lights (0 without lights).
   vtkMTimeType GetMTime() const;
-  /// Empty when every light is usable, otherwise what is wrong (non-finite parameter,
-  /// negative intensity or colour, colour x intensity above MaximumRadiance).
+  /// Empty when every light is usable, otherwise what is wrong (non-finite parameter, a
+  /// directional or spot light whose position is its focal point, a negative cone angle or a
+  /// spot light's of 0, negative intensity or colour, colour x intensity above
+  /// MaximumRadiance).
   std::string Validate() const;
 
 private:

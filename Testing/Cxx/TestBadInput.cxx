@@ -143,7 +143,7 @@ TEST(BadInput, VeryDistantLightsAreFarLights)
   }
 }
 
-TEST(BadInput, TooBrightLightsAndInconsistentScalarsAreRefused)
+TEST(BadInput, TooBrightOrAimlessLightsAndInconsistentScalarsAreRefused)
 {
   auto image = Spheres();
   auto bright = DirectionalLight(0, 0, -1);
@@ -172,6 +172,14 @@ TEST(BadInput, TooBrightLightsAndInconsistentScalarsAreRefused)
     { "one scalar less than points", shortScalars, DirectionalLight(0, 0, -1), "inconsistent" },
     { "NaN origin", farAway, DirectionalLight(0, 0, -1), "bounds" },
     { "spacing 1e300", overflowing, DirectionalLight(0, 0, -1), "bounds" },
+    { "directional light at its focal point", image, Light(false, { { 5, 5, 5 } }, { { 5, 5, 5 } }),
+      "no direction" },
+    { "spot light aimed at itself", image, Light(true, { { -5, 5, 5 } }, { { -5, 5, 5 } }, 30.0),
+      "no direction" },
+    { "negative cone angle", image, Light(true, { { -5, 5, 5 } }, { { 5, 5, 5 } }, -10.0),
+      "cone angle" },
+    { "spot light of cone angle 0", image, Light(true, { { -5, 5, 5 } }, { { 5, 5, 5 } }, 0.0),
+      "cone angle" },
   };
   for (const Case& k : cases)
   {

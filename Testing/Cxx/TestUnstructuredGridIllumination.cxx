@@ -823,6 +823,20 @@ TEST(UnstructuredGridIllumination, BadInputGivesAnErrorAndAnEmptyOutput)
       [](vtkUnstructuredGridIllumination* f) { f->SetScatteringStrength(0, std::nan(""), 0); } },
     { "light of intensity 1e10", good,
       [](vtkUnstructuredGridIllumination* f) { f->SetLightParameter(10, 1e10); } },
+    { "directional light at its focal point", good,
+      [](vtkUnstructuredGridIllumination* f) { f->SetLightParameter(3, 0.0); } },
+    { "spot light aimed at itself", good,
+      [](vtkUnstructuredGridIllumination* f)
+      {
+        f->SetLightParameter(0, 1.0);
+        f->SetLightParameter(3, 0.0);
+      } },
+    { "negative cone angle", good,
+      [](vtkUnstructuredGridIllumination* f)
+      {
+        f->SetLightParameter(0, 1.0);
+        f->SetLightParameter(11, -10.0);
+      } },
     { "one scalar more than points", moreScalars, [](vtkUnstructuredGridIllumination*) {} },
     { "one scalar less than points", fewerScalars, [](vtkUnstructuredGridIllumination*) {} },
     { "a NaN point coordinate", nanPoint, [](vtkUnstructuredGridIllumination*) {} },
