@@ -67,8 +67,9 @@ bool LightList::Add(vtkLight* light)
 //------------------------------------------------------------------------------
 bool LightList::Clear()
 {
-  const bool had = !this->Lights.empty();
+  const bool had = !this->Lights.empty() || this->IncompleteCount >= 0;
   this->Lights.clear();
+  this->IncompleteCount = -1;
   return had;
 }
 
@@ -82,12 +83,20 @@ vtkLight* LightList::Get(int index) const
 bool LightList::SetNumberOfParameters(int count, bool& changed)
 {
   changed = false;
-  if (count < 0 || count % LightParameterCount != 0)
+  if (count < 0)
   {
     return false;
   }
+  if (count % LightParameterCount != 0)
+  {
+    changed = this->IncompleteCount != count;
+    this->IncompleteCount = count;
+    return false;
+  }
+  changed = this->IncompleteCount >= 0;
+  this->IncompleteCount = -1;
   const size_t lights = static_cast<size_t>(count / LightParameterCount);
-  changed = lights != this->Lights.size();
+  changed = changed || lights != this->Lights.size();
   while (this->Lights.size() < lights)
   {
     this->Lights.push_back(vtkSmartPointer<vtkLight>::New());
@@ -152,6 +161,13 @@ vtkMTimeType LightList::GetMTime() const
 std::string LightList::Validate() const
 {
   std::ostringstream message;
+  if (this->IncompleteCount >= 0)
+  {
+    message << "The light list has " << this->IncompleteCount << " numbers, not a whole number "
+            << "of lights: each light takes " << LightParameterCount << " ("
+            << this->IncompleteCount % LightParameterCount << " left over).";
+    return message.str();
+  }
   for (int i = 0; i < this->Size(); ++i)
   {
     double p[LightParameterCount];

@@ -48,8 +48,9 @@ public:
   vtkLight* Get(int index) const;
 
   /// Create or remove lights so that there are count / LightParameterCount of them.
-  /// Returns false (and changes nothing) when count is not a multiple of it; changed
-  /// tells whether lights were added or removed.
+  /// Returns false when count is not a multiple of it: the lights stay, and Validate
+  /// reports the count until the next count that is (or Clear); changed tells whether
+  /// lights were added or removed.
   bool SetNumberOfParameters(int count, bool& changed);
   int GetNumberOfParameters() const { return this->Size() * LightParameterCount; }
   /// Edit one value of the flat list; returns false when the index is out of range.
@@ -59,7 +60,8 @@ public:
   std::vector<LightState> States() const;
   /// Latest modification time of the lights (0 without lights).
   vtkMTimeType GetMTime() const;
-  /// Empty when every light is usable, otherwise what is wrong (non-finite parameter, a
+  /// Empty when every light is usable, otherwise what is wrong (a count of values that is
+  /// not a multiple of LightParameterCount, non-finite parameter, a
   /// directional or spot light whose position is its focal point, a negative cone angle or a
   /// spot light's of 0, negative intensity or colour, colour x intensity above
   /// MaximumRadiance).
@@ -67,6 +69,7 @@ public:
 
 private:
   std::vector<vtkSmartPointer<vtkLight>> Lights;
+  int IncompleteCount = -1; // the last count of values that was not whole lights, or -1
 };
 
 }

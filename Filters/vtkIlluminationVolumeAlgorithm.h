@@ -93,7 +93,9 @@ public:
   ///@{
   /**
    * Flat light list, 14 numbers per light (see the class description). Setting the number
-   * of values creates or removes lights; setting a value edits the light it belongs to.
+   * of values creates or removes lights; setting a value edits the light it belongs to. A
+   * number that is not a multiple of 14 is an error, and updates give an error and an empty
+   * output until the number is one (ParaView's Lights property sets it after its values).
    */
   void SetNumberOfLightParameters(int count);
   int GetNumberOfLightParameters() const;

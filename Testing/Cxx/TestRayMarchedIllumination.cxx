@@ -391,6 +391,12 @@ TEST(RayMarchedIllumination, BadInputGivesAnErrorAndAnEmptyOutput)
     filter->SetNumberOfLightParameters(13);
     EXPECT_EQ(errors->Count, 1);
     EXPECT_EQ(filter->GetNumberOfLights(), 0);
+    // Updates refuse the list (an error, an empty output) until it is whole lights again.
+    EXPECT_EQ(RunAndCountErrors(filter, spheres), 1);
+    EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0);
+    filter->SetNumberOfLightParameters(14);
+    EXPECT_EQ(RunAndCountErrors(filter, spheres), 0);
+    EXPECT_GT(filter->GetOutput()->GetNumberOfPoints(), 0);
   }
 }
 

@@ -5,7 +5,8 @@ directional light shining down -z with grey attenuation. Below the slab the ligh
 crossed the linearly interpolated slab profile, whose integral is 32 voxels (31 between
 the first and last slab points plus two half-voxel ramps), so the illumination must be
 exp(-sigma * 32) with sigma = -ln(1 - 0.05); above
-the slab it must be 1. Usage: pvpython TestRayMarchedIlluminationSimple.py PLUGIN
+the slab it must be 1. A second light doubles it; a Lights list that is not whole lights
+(17 numbers) gives an error and an empty output. Usage: pvpython TestRayMarchedIlluminationSimple.py PLUGIN
 """
 import math
 import sys
@@ -49,6 +50,17 @@ top = servermanager.Fetch(illumination).GetPointData().GetArray("Illumination").
     5 + 32 * (7 + 32 * 63), 0)
 if abs(top - 2.0) > 1e-6:
     failures.append("two lights above the slab give %g, expected 2" % top)
+
+# A list that is not whole lights (the server manager itself would drop an incomplete last
+# row): an error and an empty output, until the list is whole again.
+illumination.Lights = [0, 16, 16, 100, 16, 16, 0, 1, 1, 1, 1, 30, 1, 1, 0, 16, 16]
+illumination.UpdatePipeline()
+if servermanager.Fetch(illumination).GetNumberOfPoints() != 0:
+    failures.append("17 numbers in Lights were accepted")
+illumination.Lights = [0, 16, 16, 100, 16, 16, 0, 1, 1, 1, 1, 30, 1, 1]
+illumination.UpdatePipeline()
+if servermanager.Fetch(illumination).GetNumberOfPoints() != 32 * 32 * 64:
+    failures.append("14 numbers in Lights after 17 were refused")
 
 print("\n".join(failures) if failures else "RayMarchedIllumination through paraview.simple: ok")
 sys.exit(1 if failures else 0)
