@@ -9,7 +9,10 @@
  * brightest light, below what an 8-bit display shows of a colour shaded with it). Each sample's
  * colour is the transfer-function colour x (Ambient + Diffuse x illumination), optionally
  * times a gradient-based Phong factor for a headlight (eq. 3 of the unstructured-grid
- * lighting paper), then composited front to back as usual.
+ * lighting paper), up to 1 per channel (as VTK's own shading), then composited front to
+ * back as usual. A composited colour then never exceeds its opacity, which parallel
+ * compositing needs: IceT blends each process's image as premultiplied 8-bit colours, and a
+ * channel brighter than its opacity wrapped around there (saturated blue turned dark).
  *
  * The shading code replaces the //VTK::Shading::Impl tag through the volume's shader
  * property; features that are off (gradient shading) are compiled out of the shader, which

@@ -1,5 +1,8 @@
     // VolumetricIllumination (vtkIlluminatedVolumeMapper): front-to-back compositing where
-    // each sample's transfer-function colour is scaled by ambient + diffuse x illumination.
+    // each sample's transfer-function colour is scaled by ambient + diffuse x illumination,
+    // up to the brightest displayable colour: a composited colour then never exceeds its
+    // opacity, as parallel compositing needs (IceT blends premultiplied 8-bit colours, which
+    // wrap around past 1: a saturated channel turned dark).
     if (!g_skip)
     {
       vec4 scalar = texture3D(in_volume[0], g_dataPos);
@@ -14,7 +17,8 @@
 #ifdef VOLILLUM_GRADIENT_SHADING
         light *= volillumPhong(g_dataPos, g_dirStep);
 #endif
-        g_srcColor.rgb *= (volillum_ambient + light) * g_srcColor.a;
+        g_srcColor.rgb =
+          min(g_srcColor.rgb * (volillum_ambient + light), vec3(1.0)) * g_srcColor.a;
         g_fragColor = (1.0 - g_fragColor.a) * g_srcColor + g_fragColor;
       }
     }

@@ -116,6 +116,25 @@ def mean_colours(path):
     return [s / max(count, 1) for s in sums]
 
 
+def pixels_apart(path_a, path_b, threshold):
+    """How many pixels of two PNGs of the same size have a channel that differs by at least
+    threshold (of 255)."""
+    from vtkmodules.vtkIOImage import vtkPNGReader
+    images = []
+    for path in (path_a, path_b):
+        reader = vtkPNGReader()
+        reader.SetFileName(path)
+        reader.Update()
+        images.append(reader.GetOutput().GetPointData().GetScalars())
+    a, b = images
+    if a.GetNumberOfTuples() != b.GetNumberOfTuples():
+        return a.GetNumberOfTuples()
+    components = a.GetNumberOfComponents()
+    return sum(1 for i in range(a.GetNumberOfTuples())
+               if any(abs(a.GetComponent(i, c) - b.GetComponent(i, c)) >= threshold
+                      for c in range(components)))
+
+
 def image_difference(path_a, path_b):
     """Mean absolute per-channel difference of two PNGs of the same size, in [0, 255]."""
     from vtkmodules.vtkIOImage import vtkPNGReader

@@ -9,13 +9,17 @@ remote rendering (ordered compositing of the pieces). A third scene lights the C
 the light kit alone (camera lights) and moves the camera just before the screenshot, so
 that the screenshot's render is the first with that camera: the servers (and, in pvbatch,
 every process but the first) get the camera only as that render starts, and must light with
-it. That scene is also rendered by `mpiexec -np 2 pvbatch` running this script. Then a small
+it. That scene is also rendered by `mpiexec -np 2 pvbatch` running this script. A fourth
+scene adds two bright lights to the light kit: lit samples brighter than the displayable
+range on rays that cross both pieces (a piece's image brighter than its opacity made the
+compositing wrap channels around: saturated blue turned dark). Then a small
 image (9 x 5 x 5, lit at resolution scale 1/4 by 3 pvbatch processes, one of which holds an
 illumination piece that is the whole grid) is rendered twice in a row, before and after a
 camera move, and so is a cube of 5 tetrahedra (processes without cells; the first process,
 which holds them, must have lit them): the processes must agree whether to light, or wait
 on each other for ever. The
-images must match (mean absolute difference below 0.5 of 255). The server's output must hold no
+images must match (mean absolute difference below 0.5 of 255, no pixel with a channel 128
+or more apart). The server's output must hold no
 error but those of the port probe.
 Usage: pvpython TestIlluminatedVolumeParallelServer.py PLUGIN OUTPUT_DIR PVSERVER MPIEXEC
        "MPI_FLAGS" GRID PVBATCH
@@ -30,7 +34,8 @@ from paraview.simple import *
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from IlluminatedVolumeTestUtilities import (environment_for_mpiexec, finish, image_difference,
-                                             info, pvserver_session, scene_light, write_image)
+                                             info, pixels_apart, pvserver_session, scene_light,
+                                             write_image)
 
 HEAD = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Data", "headsq.vti")
 
@@ -112,7 +117,23 @@ def grid_scene(path):
     return render_scene(path, grid, (association, name), setup)
 
 
-SCENES = {"Image": image_scene, "Grid": grid_scene, "LightKit": light_kit_scene}
+def bright_scene(path):
+    """The CT head lit by the light kit and two bright lights: lit samples brighter than the
+    displayable range, on rays that cross from one process's piece into the other's (each
+    piece's image must stay within its opacity, or compositing wraps its channels around)."""
+    def setup(view, rep):
+        head_colours(rep)
+        GetActiveCamera().Elevation(50)
+        GetActiveCamera().Azimuth(120)
+        scene_light(view, [100, -300, 300], [100, 100, 70], [1.0, 0.8, 0.3], intensity=2.5)
+        scene_light(view, [100, 100, 300], [100, 100, 70], [0.3, 1.0, 0.4], point=True,
+                    intensity=2.5)
+    return render_scene(path, XMLImageDataReader(FileName=[HEAD]), ("POINTS", "scalars"), setup,
+                        light_kit=True)
+
+
+SCENES = {"Image": image_scene, "Grid": grid_scene, "LightKit": light_kit_scene,
+          "Bright": bright_scene}
 
 
 def write_small_image(path):
@@ -169,11 +190,13 @@ elif __name__ == "__main__":
             return
         difference = image_difference(os.path.join(out, "ParallelServer%sBuiltin.png" % name),
                                       path)
-        print("%s, %s: mean absolute difference to the builtin image %.3f"
-              % (name, run, difference))
-        if difference > 0.5:
-            failures.append("%s: %s differs from the builtin image by %.3f"
-                            % (name, run, difference))
+        wrapped = pixels_apart(os.path.join(out, "ParallelServer%sBuiltin.png" % name), path,
+                               128)
+        print("%s, %s: mean absolute difference to the builtin image %.3f, pixels with a "
+              "channel 128 or more apart %d" % (name, run, difference, wrapped))
+        if difference > 0.5 or wrapped > 0:
+            failures.append("%s: %s differs from the builtin image by %.3f (%d pixels 128 or "
+                            "more apart)" % (name, run, difference, wrapped))
 
     def batch(processes, *arguments):
         """This script run by `mpiexec -np processes pvbatch` with arguments: its output, or
