@@ -28,6 +28,7 @@
 #include <cstring>
 #include <limits>
 #include <map>
+#include <set>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -814,6 +815,37 @@ vtkUnstructuredGrid* NeighborhoodGrid::Build(
   std::vector<int> owner;
   this->Reads.assign(this->Peers.size(), {});
   vtkNew<vtkIdList> cell;
+  // A cell that two pieces hold (D3's "Duplicate cells" boundary mode gives the cells across a
+  // boundary to both pieces, unmarked) counts once, as the lowest process's: a cell is known
+  // by its type and its points' keys in order. The lowest process holding each cell that
+  // came from a peer, and the cells of those already in the grid.
+  vtkNew<vtkIdList> keyed;
+  const auto cellKey = [&](vtkUnstructuredGrid* from, vtkIdType c)
+  {
+    from->GetCellPoints(c, keyed);
+    std::vector<std::array<double, 3>> keys(static_cast<size_t>(keyed->GetNumberOfIds()));
+    for (size_t k = 0; k < keys.size(); ++k)
+    {
+      keys[k] = PointKey(from, keyed->GetId(static_cast<vtkIdType>(k)), byId);
+    }
+    std::sort(keys.begin(), keys.end());
+    std::vector<double> key(1, static_cast<double>(from->GetCellType(c)));
+    for (const auto& k : keys)
+    {
+      key.insert(key.end(), k.begin(), k.end());
+    }
+    return key;
+  };
+  std::map<std::vector<double>, int> lowest;
+  for (size_t k = 0; k < this->Peers.size(); ++k)
+  {
+    for (vtkIdType c = 0; c < received[k]->GetNumberOfCells(); ++c)
+    {
+      const auto entry = lowest.emplace(cellKey(received[k], c), this->Peers[k]);
+      entry.first->second = std::min(entry.first->second, this->Peers[k]);
+    }
+  }
+  std::set<std::vector<double>> present;
   // `from`: the piece (peer -1) or the cells of peer k; `input`: its index in the field lists.
   int input = 0;
   const auto append = [&](vtkUnstructuredGrid* from, int process, int peer)
@@ -845,6 +877,20 @@ vtkUnstructuredGrid* NeighborhoodGrid::Build(
     owner.resize(static_cast<size_t>(points->GetNumberOfPoints()), processes);
     for (vtkIdType c = 0; c < from->GetNumberOfCells(); ++c)
     {
+      if (!lowest.empty())
+      {
+        const std::vector<double> key = cellKey(from, c);
+        const auto held = lowest.find(key);
+        if (held != lowest.end() &&
+          (process == local ? held->second < local : !present.insert(key).second))
+        {
+          continue; // a lower process's cell, or one already here
+        }
+        if (held != lowest.end() && process == local)
+        {
+          present.insert(key);
+        }
+      }
       from->GetCellPoints(c, cell);
       for (vtkIdType k = 0; k < cell->GetNumberOfIds(); ++k)
       {
@@ -857,6 +903,7 @@ vtkUnstructuredGrid* NeighborhoodGrid::Build(
     ++input;
   };
   append(piece, local, -1);
+  this->PieceCells = grid->GetNumberOfCells();
   // Points of the piece in none of its cells (those of its ghost cells, as D3 leaves them):
   // where another piece's cells hold them, they are that piece's points.
   const std::vector<int> inPieceCells(owner.begin(), owner.begin() + this->PiecePoints);

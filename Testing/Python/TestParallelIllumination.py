@@ -9,7 +9,8 @@ and checks, against the serial run:
 - Multi-Light Illumination Volume, Filtered Volumetric Shadows, Ray-Marched Illumination
   and Unstructured Grid Illumination (pieces from RedistributeDataSet, with and without
   point global ids telling the grid's coincident seam points apart, then Generate Global
-  Ids; D3's pieces with ghost cells and D3's point global ids; the reader's pieces, where
+  Ids; D3's pieces with ghost cells and D3's point global ids, and with the cells across a
+  boundary in both pieces (D3's "Duplicate cells" mode); the reader's pieces, where
   all but one process hold nothing), an image of one cell (all but one process have an
   empty block), and images whose producers make their own pieces (Resample To Image of the
   grid, with its geometry in the data only; a MetaImage file, which only process 0 reads):
@@ -78,7 +79,8 @@ FILES = ["multilight.pvti", "selective.pvti", "fresh.pvti", "swept.pvti", "swept
          "slabs_raymarched.pvti", "slabs_cells.pvti", "root_multilight.pvti",
          "root_filtered.pvti",
          "unstructured.pvtu", "unstructured_ids.pvtu", "unstructured_pieces.pvtu",
-         "unstructured_d3.pvtu", "unstructured_generated.pvtu", "wavelet.pvtu", "mixed.pvtu",
+         "unstructured_d3.pvtu", "unstructured_d3_duplicated.pvtu", "unstructured_generated.pvtu",
+         "wavelet.pvtu", "mixed.pvtu",
          "resampled_multilight.pvti", "resampled_filtered.pvti", "resampled_raymarched.pvti",
          "metaimage_multilight.pvti"]
 HEAD = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Data", "headsq.vti")
@@ -267,6 +269,11 @@ out.GetPointData().SetGlobalIds(ids)
                          # D3's pieces: ghost cells, whose points the piece keeps (lit by the
                          # process whose cells hold them), and D3's point global ids.
                          ("unstructured_d3.pvtu", D3(Input=grid) if parallel else grid),
+                         # D3's "Duplicate cells" mode: the cells across a boundary in both
+                         # pieces, unmarked (they count once).
+                         ("unstructured_d3_duplicated.pvtu",
+                          D3(Input=grid, BoundaryMode="Duplicate cells") if parallel
+                          else grid),
                          # Generate Global Ids after redistributing: ids that join the pieces'
                          # copies of a point (and the seam's, as coordinates do serially).
                          ("unstructured_generated.pvtu",
