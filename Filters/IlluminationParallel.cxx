@@ -817,8 +817,8 @@ vtkUnstructuredGrid* NeighborhoodGrid::Build(
   vtkNew<vtkIdList> cell;
   // A cell that two pieces hold (D3's "Duplicate cells" boundary mode gives the cells across a
   // boundary to both pieces, unmarked) counts once, as the lowest process's: a cell is known
-  // by its type and its points' keys in order. The lowest process holding each cell that
-  // came from a peer, and the cells of those already in the grid.
+  // by its type and its points' keys in order. Per cell that came from a peer: the lowest
+  // process that holds it, and whether the grid has it yet.
   vtkNew<vtkIdList> keyed;
   const auto cellKey = [&](vtkUnstructuredGrid* from, vtkIdType c)
   {
@@ -836,16 +836,53 @@ vtkUnstructuredGrid* NeighborhoodGrid::Build(
     }
     return key;
   };
-  std::map<std::vector<double>, int> lowest;
+  struct Holding
+  {
+    int Lowest;   // process
+    bool Present; // in the grid
+  };
+  using Held = std::map<std::vector<double>, Holding>;
+  Held held;
+  std::vector<std::vector<Held::iterator>> heldOf(this->Peers.size()); // per peer and cell
   for (size_t k = 0; k < this->Peers.size(); ++k)
   {
+    heldOf[k].reserve(static_cast<size_t>(received[k]->GetNumberOfCells()));
     for (vtkIdType c = 0; c < received[k]->GetNumberOfCells(); ++c)
     {
-      const auto entry = lowest.emplace(cellKey(received[k], c), this->Peers[k]);
-      entry.first->second = std::min(entry.first->second, this->Peers[k]);
+      const auto entry = held.emplace(cellKey(received[k], c), Holding{ this->Peers[k], false });
+      entry.first->second.Lowest = std::min(entry.first->second.Lowest, this->Peers[k]);
+      heldOf[k].push_back(entry.first);
     }
   }
-  std::set<std::vector<double>> present;
+  // Only a piece cell whose points are all among the peers' can be one of theirs.
+  std::vector<char> shared(static_cast<size_t>(piece->GetNumberOfPoints()), 0);
+  if (!held.empty())
+  {
+    std::set<std::array<double, 3>> peerPoints;
+    for (const auto& from : received)
+    {
+      for (vtkIdType i = 0; i < from->GetNumberOfPoints(); ++i)
+      {
+        peerPoints.insert(PointKey(from, i, byId));
+      }
+    }
+    for (vtkIdType i = 0; i < piece->GetNumberOfPoints(); ++i)
+    {
+      shared[i] = peerPoints.count(PointKey(piece, i, byId)) != 0;
+    }
+  }
+  const auto mayBeShared = [&](vtkIdType c)
+  {
+    piece->GetCellPoints(c, keyed);
+    for (vtkIdType k = 0; k < keyed->GetNumberOfIds(); ++k)
+    {
+      if (!shared[keyed->GetId(k)])
+      {
+        return false;
+      }
+    }
+    return true;
+  };
   // `from`: the piece (peer -1) or the cells of peer k; `input`: its index in the field lists.
   int input = 0;
   const auto append = [&](vtkUnstructuredGrid* from, int process, int peer)
@@ -877,18 +914,25 @@ vtkUnstructuredGrid* NeighborhoodGrid::Build(
     owner.resize(static_cast<size_t>(points->GetNumberOfPoints()), processes);
     for (vtkIdType c = 0; c < from->GetNumberOfCells(); ++c)
     {
-      if (!lowest.empty())
+      if (peer >= 0)
       {
-        const std::vector<double> key = cellKey(from, c);
-        const auto held = lowest.find(key);
-        if (held != lowest.end() &&
-          (process == local ? held->second < local : !present.insert(key).second))
+        Holding& holding = heldOf[peer][c]->second;
+        if (holding.Present)
         {
-          continue; // a lower process's cell, or one already here
+          continue; // already here
         }
-        if (held != lowest.end() && process == local)
+        holding.Present = true;
+      }
+      else if (!held.empty() && mayBeShared(c))
+      {
+        const auto found = held.find(cellKey(piece, c));
+        if (found != held.end() && found->second.Lowest < local)
         {
-          present.insert(key);
+          continue; // a lower process's cell
+        }
+        if (found != held.end())
+        {
+          found->second.Present = true;
         }
       }
       from->GetCellPoints(c, cell);
