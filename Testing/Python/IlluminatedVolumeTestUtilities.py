@@ -116,17 +116,22 @@ def mean_colours(path):
     return [s / max(count, 1) for s in sums]
 
 
-def pixels_apart(path_a, path_b, threshold):
-    """How many pixels of two PNGs of the same size have a channel that differs by at least
-    threshold (of 255)."""
+def png_scalars(*paths):
+    """The colour arrays of PNG files."""
     from vtkmodules.vtkIOImage import vtkPNGReader
     images = []
-    for path in (path_a, path_b):
+    for path in paths:
         reader = vtkPNGReader()
         reader.SetFileName(path)
         reader.Update()
         images.append(reader.GetOutput().GetPointData().GetScalars())
-    a, b = images
+    return images
+
+
+def pixels_apart(path_a, path_b, threshold):
+    """How many pixels of two PNGs of the same size have a channel that differs by at least
+    threshold (of 255)."""
+    a, b = png_scalars(path_a, path_b)
     if a.GetNumberOfTuples() != b.GetNumberOfTuples():
         return a.GetNumberOfTuples()
     components = a.GetNumberOfComponents()
@@ -137,14 +142,7 @@ def pixels_apart(path_a, path_b, threshold):
 
 def image_difference(path_a, path_b):
     """Mean absolute per-channel difference of two PNGs of the same size, in [0, 255]."""
-    from vtkmodules.vtkIOImage import vtkPNGReader
-    images = []
-    for path in (path_a, path_b):
-        reader = vtkPNGReader()
-        reader.SetFileName(path)
-        reader.Update()
-        images.append(reader.GetOutput().GetPointData().GetScalars())
-    a, b = images
+    a, b = png_scalars(path_a, path_b)
     if a.GetNumberOfValues() != b.GetNumberOfValues():
         return float("inf")
     n = a.GetNumberOfValues()
