@@ -181,14 +181,15 @@ std::string LightList::Validate() const
       }
     }
     const LightState state = CaptureLight(this->Lights[i]);
-    const bool aimless = state.Position == state.FocalPoint;
+    // (A light that is off lights nothing: ParaView's lights table adds a row of zeros.)
+    const bool aimless = state.On && state.Position == state.FocalPoint;
     if (state.Kind == LightKind::Directional && aimless)
     {
       message << "Light " << i << " is directional but has no direction: its position equals "
               << "its focal point.";
       return message.str();
     }
-    if (state.ConeAngle < 0.0 || (state.Kind == LightKind::Spot && state.ConeAngle == 0.0))
+    if (state.On && state.Kind == LightKind::Spot && state.ConeAngle <= 0.0)
     {
       message << "Light " << i << " has a cone angle of " << state.ConeAngle
               << " degrees; a spot light needs one above 0 (90 or more: a point light).";

@@ -62,9 +62,9 @@ public:
   vtkMTimeType GetMTime() const;
   /// Empty when every light is usable, otherwise what is wrong (a count of values that is
   /// not a multiple of LightParameterCount, non-finite parameter, a
-  /// directional or spot light whose position is its focal point, a negative cone angle or a
-  /// spot light's of 0, negative intensity or colour, colour x intensity above
-  /// MaximumRadiance).
+  /// directional or spot light that is on and whose position is its focal point, a spot
+  /// light that is on with a cone angle of 0 or less, negative intensity or colour, colour x
+  /// intensity above MaximumRadiance).
   std::string Validate() const;
 
 private:

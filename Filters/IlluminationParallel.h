@@ -264,19 +264,22 @@ VOLILLUMFILTERS_EXPORT bool PiecesCanJoin(
  * say) are in the grid too. Points of the piece keep their ids; points of the
  * other pieces follow, one per place (point global ids when the pieces have them, else
  * coordinates: without global ids, coincident points of a seam are one point, as in a serial
- * run, FirstPointsAtTheirPlaces). All the cells around a point of
- * the piece are in the grid. Each process computes the values of its piece's points;
- * Exchange gives it those of the other points of its grid, each from a process whose piece
- * has the point. A point of several pieces is owned by the lowest of their processes
- * (GetOwned: sums over points count each once).
+ * run, FirstPointsAtTheirPlaces). A cell that a lower process's piece holds too (the same
+ * type and points) is that process's only. All the cells around a point of the piece's cells
+ * are in the grid. Each process computes the values of the points of its piece's cells (and
+ * of its piece's points in no cell anywhere, GetComputed); Exchange gives it those of the
+ * other points of its grid, each from a process whose cells hold the point (the piece's
+ * points in none of its cells, as D3 leaves the points of ghost cells, among them). A point
+ * in several pieces' cells is owned by the lowest of their processes (GetOwned: sums over
+ * points count each once; a point in no cell has no edges, and is owned where it is).
  */
 class VOLILLUMFILTERS_EXPORT NeighborhoodGrid
 {
 public:
   /**
    * Collective. `piece`: this process's cells without ghost cells and its points (nullptr
-   * or no points for none), with the arrays to carry. Returns the grid: the piece's cells, then the
-   * others'.
+   * or no points for none), with the arrays to carry. Returns the grid: the piece's cells
+   * (but those a lower process's piece holds too), then the others'.
    */
   vtkUnstructuredGrid* Build(
     vtkMultiProcessController* controller, vtkUnstructuredGrid* piece, double depth);
@@ -291,13 +294,13 @@ public:
   vtkUnstructuredGrid* GetGrid() const;
   /// Points of the piece (the first ones of the grid).
   vtkIdType GetNumberOfPiecePoints() const { return this->PiecePoints; }
-  /// Cells of the piece (the first ones of the grid).
+  /// Cells of the piece that the grid holds (the first ones of the grid).
   vtkIdType GetNumberOfPieceCells() const { return this->PieceCells; }
   /// Per point of the grid: 1 where this process computes its values (points of the piece's
   /// cells, and of the piece in no cell); Exchange gives the others theirs.
   const std::vector<unsigned char>& GetComputed() const { return this->Computed; }
-  /// Per point of the grid: 1 where this process owns it (computes it, and no lower process
-  /// does).
+  /// Per point of the grid: 1 where this process owns it (computes it, and no lower
+  /// process's cells hold it).
   const std::vector<unsigned char>& GetOwned() const { return this->Owned; }
 
   /// Collective: the values (`components` a point) of the points of other pieces in the

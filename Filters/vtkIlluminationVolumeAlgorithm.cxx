@@ -164,7 +164,8 @@ int vtkIlluminationVolumeAlgorithm::RequestInformation(
   vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   int ext[6];
-  double spacing[3], origin[3];
+  // (Resample To Image gives its origin and spacing with its data only.)
+  double spacing[3] = { 1.0, 1.0, 1.0 }, origin[3] = { 0.0, 0.0, 0.0 };
   inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), ext);
   inInfo->Get(vtkDataObject::SPACING(), spacing);
   inInfo->Get(vtkDataObject::ORIGIN(), origin);
@@ -496,8 +497,8 @@ void vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessContro
     inInfo->Get(vtkDataObject::DIRECTION(), direction);
     shape->SetDirectionMatrix(direction);
   }
-  // The pieces' own geometry where the pipeline information lacks it, as a serial run takes
-  // the input's.
+  // The pieces' own geometry, as a serial run takes the input's (the pipeline information
+  // may lack it, or hold defaults).
   if (!volillum::AgreeOnGeometry(controller, input, shape))
   {
     vtkErrorMacro("The pieces of the image differ in origin, spacing or orientation.");

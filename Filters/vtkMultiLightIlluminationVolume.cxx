@@ -590,9 +590,8 @@ void vtkMultiLightIlluminationVolume::SweepWedges(const Bands& bands,
     for (int a = 0; a < data.Dimensions[axis] && sweeping; ++a)
     {
       material.First.push_back(dataFirst[a]);
-      material.Rows.push_back(dataLast[a] - dataFirst[a] + 1);
       material.Base.push_back(held);
-      held += static_cast<long long>(data.Dimensions[b]) * material.Rows.back();
+      held += static_cast<long long>(data.Dimensions[b]) * (dataLast[a] - dataFirst[a] + 1);
     }
     material.Volume.Properties.resize(static_cast<size_t>(volume.Channels * held));
     const int channels = volume.Channels, nb = data.Dimensions[b];

@@ -310,14 +310,15 @@ VOLILLUMKERNELS_EXPORT void WedgeRows(const GridGeometry& target,
 
 /**
  * The material of a wedge's sweep: per slice of the data grid along the sweep's axis, the
- * rows along the row axis (SweepRowAxis) from First[a] on, Rows[a] of them (every point along
- * the slice's other axis), held slice after slice in Volume.Properties (slice a from point
- * Base[a] on, its points in the data grid's order). Volume.Geometry is the whole data grid's.
+ * rows along the row axis (SweepRowAxis) from First[a] on (every point along the slice's
+ * other axis), held slice after slice in Volume.Properties (slice a from point Base[a] on,
+ * its points in the data grid's order, up to Base[a + 1]). Volume.Geometry is the whole data
+ * grid's.
  */
 struct WedgeVolume
 {
   ClassifiedVolume Volume;
-  std::vector<int> First, Rows;
+  std::vector<int> First;
   std::vector<long long> Base;
 };
 

@@ -196,6 +196,23 @@ TEST(BadInput, TooBrightOrAimlessLightsAndInconsistentScalarsAreRefused)
   }
 }
 
+// A light that is off is not checked: ParaView's lights table adds rows of zeros (a
+// directional light without a direction, switched off).
+TEST(BadInput, LightsThatAreOffAreNotChecked)
+{
+  auto image = Spheres();
+  auto off = Light(false, { { 0, 0, 0 } }, { { 0, 0, 0 } }, 0.0);
+  off->SwitchOff();
+  for (auto& f : Filters(image, { DirectionalLight(0, 0, -1), off }))
+  {
+    vtkNew<ErrorCounter> errors;
+    f->AddObserver(vtkCommand::ErrorEvent, errors);
+    f->Update();
+    EXPECT_EQ(errors->Count, 0) << f->GetClassName() << ": " << errors->LastMessage;
+    EXPECT_GT(f->GetOutput()->GetNumberOfPoints(), 0) << f->GetClassName();
+  }
+}
+
 TEST(BadInput, ExtremeButValidSettingsGiveFiniteIllumination)
 {
   auto image = Spheres();

@@ -1103,7 +1103,6 @@ WedgeVolume WedgeOfVolume(const ClassifiedVolume& whole, int axis, int b, int c,
   for (int a = 0; a < d[axis]; ++a)
   {
     wedge.First.push_back(first[a]);
-    wedge.Rows.push_back(last[a] - first[a] + 1);
     wedge.Base.push_back(static_cast<long long>(wedge.Volume.Properties.size()) / whole.Channels);
     for (int r = first[a]; r <= last[a]; ++r)
     {
