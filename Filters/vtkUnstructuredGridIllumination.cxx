@@ -6,6 +6,7 @@
 #include "IlluminationParallel.h"
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
+#include "vtkCellData.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkCommunicator.h"
 #include "vtkDataArray.h"
@@ -33,6 +34,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <numeric>
 
 vtkStandardNewMacro(vtkUnstructuredGridIllumination);
 volillumLightingImplementationMacro(vtkUnstructuredGridIllumination);
@@ -81,16 +83,82 @@ vtkSmartPointer<vtkUnstructuredGrid> SplitIntoTetrahedra(
   {
     return grid;
   }
+  // How a cell splits depends on the order of its points' ids (vtkOrderedTriangulator): the
+  // cells are split with the points numbered in the order of their coordinates, so that a
+  // cell splits alike whatever the numbering of the grid that holds it (the pieces of a
+  // parallel run, D3's among them, and a serial run).
+  const vtkIdType n = grid->GetNumberOfPoints();
+  std::vector<std::array<double, 3>> places(static_cast<size_t>(n));
+  for (vtkIdType p = 0; p < n; ++p)
+  {
+    grid->GetPoint(p, places[p].data());
+  }
+  std::vector<vtkIdType> order(static_cast<size_t>(n)), rank(static_cast<size_t>(n));
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+    [&places](vtkIdType a, vtkIdType b) { return places[a] < places[b]; });
+  vtkNew<vtkPoints> sorted;
+  sorted->SetDataTypeToDouble();
+  sorted->SetNumberOfPoints(n);
+  for (vtkIdType k = 0; k < n; ++k)
+  {
+    rank[order[k]] = k;
+    sorted->SetPoint(k, places[order[k]].data());
+  }
+  vtkNew<vtkUnstructuredGrid> renumbered;
+  renumbered->SetPoints(sorted);
+  renumbered->AllocateEstimate(grid->GetNumberOfCells(), 8);
+  vtkNew<vtkIdList> cell;
+  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
+  {
+    const int type = grid->GetCellType(c);
+    if (type == VTK_POLYHEDRON)
+    {
+      // Its face stream: the number of faces, then per face its number of points and ids.
+      grid->GetFaceStream(c, cell);
+      for (vtkIdType face = 1; face < cell->GetNumberOfIds(); face += cell->GetId(face) + 1)
+      {
+        for (vtkIdType k = face + 1; k <= face + cell->GetId(face); ++k)
+        {
+          cell->SetId(k, rank[cell->GetId(k)]);
+        }
+      }
+    }
+    else
+    {
+      grid->GetCellPoints(c, cell);
+      for (vtkIdType k = 0; k < cell->GetNumberOfIds(); ++k)
+      {
+        cell->SetId(k, rank[cell->GetId(k)]);
+      }
+    }
+    renumbered->InsertNextCell(type, cell);
+  }
+  renumbered->GetCellData()->ShallowCopy(grid->GetCellData());
   vtkNew<vtkDataSetTriangleFilter> split;
   split->TetrahedraOnlyOn();
-  split->SetInputData(grid);
+  split->SetInputData(renumbered);
   split->Update();
-  vtkSmartPointer<vtkUnstructuredGrid> tetrahedra = split->GetOutput();
-  if (tetrahedra->GetNumberOfPoints() != grid->GetNumberOfPoints())
+  vtkUnstructuredGrid* pieces = split->GetOutput();
+  if (pieces->GetNumberOfPoints() != n)
   {
     error = "Splitting the cells into tetrahedra changed the points; cannot light this grid.";
     return nullptr;
   }
+  // The tetrahedra over the grid's own points and numbering.
+  auto tetrahedra = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  tetrahedra->SetPoints(grid->GetPoints());
+  tetrahedra->AllocateEstimate(pieces->GetNumberOfCells(), 4);
+  for (vtkIdType c = 0; c < pieces->GetNumberOfCells(); ++c)
+  {
+    pieces->GetCellPoints(c, cell);
+    for (vtkIdType k = 0; k < cell->GetNumberOfIds(); ++k)
+    {
+      cell->SetId(k, order[cell->GetId(k)]);
+    }
+    tetrahedra->InsertNextCell(pieces->GetCellType(c), cell);
+  }
+  tetrahedra->GetCellData()->ShallowCopy(pieces->GetCellData());
   tetrahedra->GetPointData()->ShallowCopy(grid->GetPointData()); // global ids included
   return tetrahedra;
 }

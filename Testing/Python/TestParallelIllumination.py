@@ -35,6 +35,8 @@ and checks, against the serial run:
   strong scattering) on redistributed pieces equals the serial run too;
 - Unstructured Grid Illumination on redistributed pieces: no process lit the whole grid
   (its piece and the cells near it: the LitPoints field of each piece);
+- hexahedra (VTK's Wavelet on 13^3 points) in D3's pieces: each piece splits a cell into
+  tetrahedra as the serial run does, whatever its numbering of the points;
 - a grid in two pieces, tetrahedra and triangles (a process holding 2D cells only outputs
   its points, lit as serially);
 - Ray-Marched Illumination, and Filtered Volumetric Shadows with directional lights (hard
@@ -80,7 +82,7 @@ FILES = ["multilight.pvti", "selective.pvti", "fresh.pvti", "swept.pvti", "swept
          "root_filtered.pvti",
          "unstructured.pvtu", "unstructured_ids.pvtu", "unstructured_pieces.pvtu",
          "unstructured_d3.pvtu", "unstructured_d3_duplicated.pvtu", "unstructured_generated.pvtu",
-         "wavelet.pvtu", "mixed.pvtu",
+         "wavelet.pvtu", "hexahedra.pvtu", "mixed.pvtu",
          "resampled_multilight.pvti", "resampled_filtered.pvti", "resampled_raymarched.pvti",
          "metaimage_multilight.pvti"]
 HEAD = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Data", "headsq.vti")
@@ -317,6 +319,15 @@ out.GetPointData().SetGlobalIds(ids)
     w.Lights = [0, -1, -2, -3, 12, 12, 12, 1.0, 0.8, 0.6, 1.0, 90, 1, 1,
                 1, 30, 12, 12, 12, 12, 12, 0.5, 0.7, 1.0, 1.0, 90, 1, 1]
     save(w, "wavelet.pvtu")
+
+    # Hexahedra in D3's pieces (numbered by D3): each piece splits its cells as the serial run.
+    hexahedra = XMLUnstructuredGridReader(FileName=[os.path.join(os.path.dirname(tiny_file),
+                                                                 "wavelet_hexahedra.vtu")])
+    h = ns["UnstructuredGridIllumination"](Input=D3(Input=hexahedra) if parallel else hexahedra,
+                                           Level0Resolution=[12, 12, 12])
+    h.Scalars = ["POINTS", "RTData"]
+    h.Lights = [0, -1, -2, -3, 6, 6, 6, 1.0, 0.8, 0.6, 1.0, 90, 1, 1]
+    save(h, "hexahedra.pvtu")
 
     # Two pieces: tetrahedra, and triangles above them (on 2 processes one process holds
     # only 2D cells, whose points are lit as a single process lights them; on 3 one holds
@@ -584,6 +595,44 @@ def write_wavelet_tetrahedra(path):
     writer.Write()
 
 
+def write_wavelet_hexahedra(path):
+    """VTK's Wavelet on 13^3 points as hexahedra, the points numbered out of order (the
+    filter splits the cells into tetrahedra: each piece must split a cell as the serial run
+    does, whatever its numbering of the points)."""
+    from vtkmodules.vtkCommonCore import vtkPoints
+    from vtkmodules.vtkCommonDataModel import vtkUnstructuredGrid, VTK_HEXAHEDRON
+    from vtkmodules.vtkImagingCore import vtkRTAnalyticSource
+    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridWriter
+    n = 13
+    source = vtkRTAnalyticSource()
+    source.SetWholeExtent(0, n - 1, 0, n - 1, 0, n - 1)
+    source.Update()
+    image = source.GetOutput()
+    # Image point i becomes point (i x 7919) mod n^3 (7919 is prime: a permutation).
+    number = [(i * 7919) % n ** 3 for i in range(n ** 3)]
+    points = vtkPoints()
+    points.SetNumberOfPoints(n ** 3)
+    values = image.GetPointData().GetArray("RTData").NewInstance()
+    values.SetName("RTData")
+    values.SetNumberOfTuples(n ** 3)
+    for i in range(n ** 3):
+        points.SetPoint(number[i], image.GetPoint(i))
+        values.SetValue(number[i], image.GetPointData().GetArray("RTData").GetValue(i))
+    grid = vtkUnstructuredGrid()
+    grid.SetPoints(points)
+    grid.GetPointData().SetScalars(values)
+    for k in range(n - 1):
+        for j in range(n - 1):
+            for i in range(n - 1):
+                corner = [i + n * (j + n * k) + d for d in (0, 1, n + 1, n)]
+                grid.InsertNextCell(VTK_HEXAHEDRON, 8,
+                                    [number[c] for c in corner + [c + n * n for c in corner]])
+    writer = vtkXMLUnstructuredGridWriter()
+    writer.SetInputData(grid)
+    writer.SetFileName(path)
+    writer.Write()
+
+
 def write_mixed_pieces(directory):
     """mixed.pvtu: two pieces, the tetrahedra of VTK's Wavelet on 9^3 points and a plane of
     triangles half a spacing above them (points of no 3D cell)."""
@@ -643,6 +692,7 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
     write_tiny_image(tiny_file)
     write_metaimage(os.path.join(out, "head.mhd"))
     write_wavelet_tetrahedra(os.path.join(out, "wavelet_tets.vtu"))
+    write_wavelet_hexahedra(os.path.join(out, "wavelet_hexahedra.vtu"))
     write_mixed_pieces(out)
     for run, command in runs.items():
         directory = os.path.join(out, run)
@@ -662,6 +712,7 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
         print(result.stdout)
         # Every process's errors are printed once, by the first process (the one whose
         # messages a client shows), naming the processes that reported them.
+        # (stdout and stderr share the pipe: a message may land inside a printed line.)
         errors = [line for line in result.stdout.splitlines() if "ERR|" in line]
         firsts = all("[pvbatch.0 " in line for line in errors)
         refused = result.stdout.count(
@@ -680,7 +731,7 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
                           result.stdout)
         if result.returncode != 0 or refused != 3 or not spoiled or not relit or \
                 not firsts or len(errors) != 9 or \
-                result.stdout.count(" output points: 0\n") != 9:
+                len(re.findall(r" output points: 0(?![0-9])", result.stdout)) != 9:
             failures.append("np2 gap: exit %d, output:\n%s" % (result.returncode,
                                                                  result.stdout[-3000:]))
     if failures:
