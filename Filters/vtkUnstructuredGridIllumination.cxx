@@ -68,6 +68,39 @@ void AddSeconds(vtkFieldData* fieldData, const char* name, double seconds)
   fieldData->AddArray(array);
 }
 
+// The point ids of cell c of grid (a polyhedron's face stream: per face its number of
+// points, then the points), each id of a point of the grid replaced by its entry in `map`
+// when given (others are left as they are).
+void CellWithMappedPoints(
+  vtkUnstructuredGrid* grid, vtkIdType c, const std::vector<vtkIdType>* map, vtkIdList* cell)
+{
+  const auto mapped = [&](vtkIdType k)
+  {
+    const vtkIdType id = cell->GetId(k);
+    if (id >= 0 && id < grid->GetNumberOfPoints())
+    {
+      cell->SetId(k, (*map)[id]);
+    }
+  };
+  if (grid->GetCellType(c) == VTK_POLYHEDRON)
+  {
+    grid->GetFaceStream(c, cell);
+    for (vtkIdType face = 1; map && face < cell->GetNumberOfIds(); face += cell->GetId(face) + 1)
+    {
+      for (vtkIdType k = face + 1; k <= face + cell->GetId(face) && k < cell->GetNumberOfIds(); ++k)
+      {
+        mapped(k);
+      }
+    }
+    return;
+  }
+  grid->GetCellPoints(c, cell);
+  for (vtkIdType k = 0; map && k < cell->GetNumberOfIds(); ++k)
+  {
+    mapped(k);
+  }
+}
+
 // The tetrahedra of grid: grid itself when all its cells are tetrahedra, else
 // vtkDataSetTriangleFilter's split of its 3D cells (the same points, the arrays passed on);
 // nullptr with the reason in error when the split changed the points.
@@ -112,26 +145,7 @@ vtkSmartPointer<vtkUnstructuredGrid> SplitIntoTetrahedra(
   for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
   {
     const int type = grid->GetCellType(c);
-    if (type == VTK_POLYHEDRON)
-    {
-      // Its face stream: the number of faces, then per face its number of points and ids.
-      grid->GetFaceStream(c, cell);
-      for (vtkIdType face = 1; face < cell->GetNumberOfIds(); face += cell->GetId(face) + 1)
-      {
-        for (vtkIdType k = face + 1; k <= face + cell->GetId(face); ++k)
-        {
-          cell->SetId(k, rank[cell->GetId(k)]);
-        }
-      }
-    }
-    else
-    {
-      grid->GetCellPoints(c, cell);
-      for (vtkIdType k = 0; k < cell->GetNumberOfIds(); ++k)
-      {
-        cell->SetId(k, rank[cell->GetId(k)]);
-      }
-    }
+    CellWithMappedPoints(grid, c, &rank, cell);
     renumbered->InsertNextCell(type, cell);
   }
   renumbered->GetCellData()->ShallowCopy(grid->GetCellData());
@@ -247,38 +261,7 @@ bool vtkUnstructuredGridIllumination::PrepareMesh(vtkUnstructuredGrid* input, vt
         continue;
       }
       const int type = input->GetCellType(c);
-      // A polyhedron as its face stream: per face its number of points, then the points.
-      const bool polyhedron = type == VTK_POLYHEDRON;
-      if (polyhedron)
-      {
-        input->GetFaceStream(c, cell);
-      }
-      else
-      {
-        input->GetCellPoints(c, cell);
-      }
-      if (copies && polyhedron)
-      {
-        for (vtkIdType face = 1; face < cell->GetNumberOfIds(); face += cell->GetId(face) + 1)
-        {
-          for (vtkIdType k = face + 1; k <= face + cell->GetId(face) && k < cell->GetNumberOfIds();
-               ++k)
-          {
-            const vtkIdType id = cell->GetId(k);
-            if (id >= 0 && id < input->GetNumberOfPoints()) // others are left as they are
-            {
-              cell->SetId(k, this->FirstAtPlace[id]);
-            }
-          }
-        }
-      }
-      else if (copies)
-      {
-        for (vtkIdType k = 0; k < cell->GetNumberOfIds(); ++k)
-        {
-          cell->SetId(k, this->FirstAtPlace[cell->GetId(k)]);
-        }
-      }
+      CellWithMappedPoints(input, c, copies ? &this->FirstAtPlace : nullptr, cell);
       structure->InsertNextCell(type, cell);
     }
   }
