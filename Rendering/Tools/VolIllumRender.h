@@ -51,6 +51,12 @@ Options ParseArguments(int argc, char* argv[]);
 /// data (VolIllumRenderInput.cxx).
 vtkSmartPointer<vtkDataSet> LoadData(const Options& o);
 
+/// Refuses (a Failure) a NRRD (.nrrd, .nhdr) or MetaImage (.mha, .mhd) file whose header the
+/// VTK readers would crash, hang or misread on: an unknown type or encoding, sizes that are
+/// missing, misplaced, not positive or absurd, fewer than 2 spatial axes, unreadable data
+/// files (VolIllumRenderHeader.cxx). Other files pass.
+void CheckVolumeHeader(const std::string& path);
+
 /// JSON settings (VolIllumRenderSettings.cxx): a value of the expected type, fallback when the
 /// key is absent, a Failure naming the key when it has another type.
 std::vector<double> Numbers(const json& value, size_t count, const std::string& what);

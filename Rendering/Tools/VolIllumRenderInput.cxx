@@ -244,6 +244,7 @@ vtkSmartPointer<vtkAlgorithm> MakeSource(const Options& o)
     {
       if (EndsWith(name, format.Extension))
       {
+        CheckVolumeHeader(o.Input);
         reader = format.Make(o.Input);
         break;
       }

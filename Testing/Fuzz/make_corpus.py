@@ -30,7 +30,8 @@ Non-finite numbers in "properties"/"then" are written as the strings "NaN", "Inf
 and "-Infinity" so that cases.json stays strict JSON (the worker converts them back).
 
 Classes: control (valid inputs: the harness must report them ok), truncated, absurd_size,
-absurd_spacing, scalar_type, config, cli_args, grid, surface, filter_props.
+absurd_spacing, header (garbled NRRD and MetaImage header fields, issue 43), scalar_type,
+config, cli_args, grid, surface, filter_props.
 Volumes are tiny (16^3 to 24^3) and images 64x64 so that a full run takes well under two
 minutes. Run it through run_fuzz.py, which generates the corpus itself when needed.
 """
@@ -169,6 +170,44 @@ def nrrd_bytes(dims=(16, 16, 16), spacing=(1.0, 1.0, 1.0), kind="uint8", payload
               "encoding: raw\nendian: little\n\n"
               % (TYPES[kind][3], " ".join(str(d) for d in hd), nums(spacing)))
     return header.encode("ascii") + payload
+
+
+# Header fields of a valid 16^3 uchar NRRD and MetaImage, one per line, for the header cases
+# to garble (the MetaImage's ElementDataFile must stay last).
+NRRD_FIELDS = ["type: uchar", "dimension: 3", "sizes: 16 16 16", "spacings: 1 1 1",
+               "encoding: raw", "endian: little"]
+MHA_FIELDS = ["ObjectType = Image", "NDims = 3", "BinaryData = True",
+              "BinaryDataByteOrderMSB = False", "CompressedData = False",
+              "ElementSpacing = 1 1 1", "DimSize = 16 16 16", "ElementNumberOfChannels = 1",
+              "ElementType = MET_UCHAR", "ElementDataFile = LOCAL"]
+
+
+def edit_fields(fields, separator, changes):
+    """fields with changes ({name: value, or None to drop}) applied; a name not among the
+    fields is added before the last field. Values are text with any bytes (latin-1)."""
+    out, done = [], set()
+    for line in fields:
+        name = line.split(separator)[0].strip()
+        if name in changes:
+            done.add(name)
+            if changes[name] is not None:
+                out.append("%s%s %s" % (name, separator, changes[name]))
+        else:
+            out.append(line)
+    extra = ["%s%s %s" % (k, separator, v) for k, v in changes.items()
+             if k not in done and v is not None]
+    return out[:-1] + extra + out[-1:]
+
+
+def nrrd_header_bytes(lines, payload=b"", detached=False, magic="NRRD0004"):
+    """A NRRD made of the given header lines; attached (blank line, then payload) or a
+    detached header (.nhdr, no blank line)."""
+    text = magic + "\n" + "\n".join(lines) + ("\n" if detached else "\n\n")
+    return text.encode("latin-1") + payload
+
+
+def mha_header_bytes(lines, payload=b""):
+    return ("\n".join(lines) + "\n").encode("latin-1") + payload
 
 
 def legacy_vtk_bytes(dims=(8, 8, 8), kind="uint8", values=None, header_dims=None,
@@ -550,6 +589,136 @@ def build(corpus):
                    note="valid file; in memory the image's %s becomes %s" % (key, nums(value)))
     image_case(corpus, S, "nrrd_spacing_zero", "nrrd", nrrd_bytes(dims, spacing=(0.0,) * 3),
                None, "spacings 0 0 0")
+
+    # ---- garbled NRRD and MetaImage headers (issue 43) ---------------------------------
+    # volillum-render checks these headers before vtkNrrdReader / MetaIO see them (they
+    # crashed, hung or read garbage on several): every case must be one clean refusal. The
+    # CLI only: ParaView's own readers in pvpython are not the project's code.
+    H = "header"
+    ball = pack("uint8", sphere_values(dims))
+    corpus.helper("_ball16.raw", ball)
+    for k in range(4):
+        corpus.helper("_slice%02d.raw" % k, ball[256 * k:256 * (k + 1)])
+
+    def header_case(case, ext, data, note, expect_cli="error", klass=H):
+        corpus.add(klass, case, ext, data, cli_args="auto",
+                   expect={"cli": expect_cli} if expect_cli else None, note=note)
+
+    def nrrd(case, changes, note, payload=ball, **kw):
+        header_case(case, "nrrd", nrrd_header_bytes(edit_fields(NRRD_FIELDS, ":", changes),
+                                                    payload, **kw), note)
+
+    def nhdr(case, changes, note):
+        header_case(case, "nhdr", nrrd_header_bytes(edit_fields(NRRD_FIELDS, ":", changes),
+                                                    detached=True), note)
+
+    def mha(case, changes, note, payload=ball):
+        header_case(case, "mha", mha_header_bytes(edit_fields(MHA_FIELDS, " =", changes),
+                                                  payload), note)
+
+    header_case("ball16", "nrrd", nrrd_header_bytes(NRRD_FIELDS, ball), "valid NRRD",
+                expect_cli=None, klass="control")
+    header_case("ball16_detached", "nhdr",
+                nrrd_header_bytes(NRRD_FIELDS + ["data file: _ball16.raw"], detached=True),
+                "valid detached NRRD header", expect_cli=None, klass="control")
+    header_case("ball16_slices", "nhdr",
+                nrrd_header_bytes(edit_fields(NRRD_FIELDS, ":", {"sizes": "16 16 4"}) +
+                                  ["data file: _slice%02d.raw 0 3 1"], detached=True),
+                "valid detached NRRD header, one file per slice", expect_cli=None,
+                klass="control")
+    nrrd("nrrd_type_garbled", {"type": "floa\x13"}, "type: floa\\x13 (one garbled byte)",
+         payload=pack("float32", sphere_values(dims)))
+    nrrd("nrrd_type_unknown", {"type": "quad"}, "type: quad")
+    nrrd("nrrd_type_block", {"type": "block"}, "type: block (not read by vtkNrrdReader)")
+    nrrd("nrrd_type_missing", {"type": None}, "no type field")
+    nrrd("nrrd_sizes_negative", {"sizes": "16 -16 16"}, "sizes: 16 -16 16")
+    nrrd("nrrd_sizes_zero", {"sizes": "16 16 0"}, "sizes: 16 16 0")
+    nrrd("nrrd_sizes_huge", {"sizes": "2000000000 2000000000 2000000000"}, "sizes: 2e9 each")
+    nrrd("nrrd_sizes_product_huge", {"sizes": "500000 500000 500000"},
+         "sizes: 500000^3 (each sane, the product absurd)")
+    nrrd("nrrd_sizes_garbled", {"sizes": "16 1\x136 16"}, "sizes: 16 1\\x136 16")
+    nrrd("nrrd_sizes_missing", {"sizes": None}, "no sizes field")
+    header_case("nrrd_sizes_before_dimension", "nrrd",
+                nrrd_header_bytes(["type: uchar", "sizes: 16 16 16", "dimension: 3",
+                                   "encoding: raw"], ball), "sizes before dimension")
+    nrrd("nrrd_dimension_mismatch", {"dimension": "2"}, "dimension: 2 with 3 sizes")
+    nrrd("nrrd_dimension_zero", {"dimension": "0"}, "dimension: 0")
+    nrrd("nrrd_dimension_negative", {"dimension": "-3"}, "dimension: -3")
+    nrrd("nrrd_dimension_huge", {"dimension": "2000000000"}, "dimension: 2e9")
+    nrrd("nrrd_dimension_garbled", {"dimension": "3\x13"}, "dimension: 3\\x13")
+    nrrd("nrrd_one_axis", {"dimension": "1", "sizes": "32", "spacings": "1"},
+         "a 1D image (32 samples)", payload=ball[:32])
+    nrrd("nrrd_vector_only_axis", {"dimension": "2", "sizes": "3 32", "spacings": "nan 1"},
+         "a vector axis of 3 and one spatial axis", payload=ball[:96])
+    header_case("nrrd_space_then_four_sizes", "nrrd",
+                nrrd_header_bytes(["type: uchar", "dimension: 4", "space: right-anterior-superior",
+                                   "sizes: 3 16 16 16", "encoding: raw"], ball * 3),
+                "4 sizes after a 'space' field (vtkNrrdReader then reads only 3)")
+    nrrd("nrrd_encoding_unknown", {"encoding": "bzip2"}, "encoding: bzip2")
+    nrrd("nrrd_encoding_garbled", {"encoding": "r\x13w"}, "encoding: r\\x13w")
+    nrrd("nrrd_encoding_missing", {"encoding": None}, "no encoding field")
+    nrrd("nrrd_endian_garbled", {"endian": "litt\xecle"}, "endian: litt\\xecle")
+    nrrd("nrrd_field_name_garbled", {"type": None, "typ\x8be": "uchar"},
+         "field name typ\\x8be")
+    nrrd("nrrd_empty_value", {"space origin": ""}, "space origin: (no value)")
+    header_case("nrrd_line_without_colon", "nrrd",
+                nrrd_header_bytes(NRRD_FIELDS + ["sizes 16 16 16"], ball),
+                "a line that is not 'field: value'")
+    nrrd("nrrd_magic_garbled", {}, "first line NRRD00\\xcf4", magic="NRRD00\xcf4")
+    nrrd("nrrd_data_file_empty", {"data file": ""}, "data file: (no value)")
+    nrrd("nrrd_data_file_pattern_s", {"data file": "_slice%s.raw 0 3 1"},
+         "data file pattern with %s")
+    nrrd("nrrd_data_file_step_zero", {"data file": "_slice%02d.raw 0 3 0"},
+         "data file pattern with step 0 (vtkNrrdReader loops forever)")
+    nrrd("nrrd_data_file_count", {"data file": "_slice%02d.raw 0 3 1"},
+         "4 data files for 16 slices")
+    nhdr("nhdr_data_file_missing", {}, "detached header without a data file field")
+    nhdr("nhdr_data_file_absent", {"data file": "does_not_exist.raw"},
+         "detached header naming a file that does not exist")
+    header_case("nhdr_list_short", "nhdr",
+                nrrd_header_bytes(NRRD_FIELDS + ["data file: LIST", "_slice00.raw",
+                                                 "_slice01.raw"], detached=True),
+                "a LIST of 2 data files for 16 slices")
+    mha("mha_type_garbled", {"ElementType": "MET_FLOA\x13"}, "ElementType = MET_FLOA\\x13")
+    mha("mha_type_unknown", {"ElementType": "MET_QUAD"}, "ElementType = MET_QUAD")
+    mha("mha_type_missing", {"ElementType": None}, "no ElementType")
+    mha("mha_ndims_garbled", {"NDims": "3\x13"}, "NDims = 3\\x13")
+    mha("mha_ndims_zero", {"NDims": "0"}, "NDims = 0")
+    mha("mha_ndims_negative", {"NDims": "-3"}, "NDims = -3 (MetaIO loops forever)")
+    mha("mha_ndims_one", {"NDims": "1", "DimSize": "32", "ElementSpacing": "1"},
+        "a 1D image", payload=ball[:32])
+    mha("mha_dimsize_short", {"DimSize": "16 16"}, "DimSize with 2 values, NDims 3")
+    mha("mha_dimsize_long", {"DimSize": "16 16 16 16"}, "DimSize with 4 values, NDims 3")
+    mha("mha_dimsize_missing", {"DimSize": None}, "no DimSize")
+    mha("mha_dimsize_garbled", {"DimSize": "16 1\x136 16"}, "DimSize = 16 1\\x136 16")
+    mha("mha_dimsize_huge", {"DimSize": "500000 500000 500000"}, "DimSize = 500000^3")
+    header_case("mha_dimsize_before_ndims", "mha",
+                mha_header_bytes(["DimSize = 16 16 16", "NDims = 3", "ElementType = MET_UCHAR",
+                                  "ElementDataFile = LOCAL"], ball), "DimSize before NDims")
+    mha("mha_compressed_garbled", {"CompressedData": "Tr\x13e"}, "CompressedData = Tr\\x13e")
+    mha("mha_compressed_number", {"CompressedData": "2"}, "CompressedData = 2")
+    mha("mha_channels_zero", {"ElementNumberOfChannels": "0"}, "ElementNumberOfChannels = 0")
+    mha("mha_channels_negative", {"ElementNumberOfChannels": "-4"},
+        "ElementNumberOfChannels = -4")
+    mha("mha_channels_huge", {"ElementNumberOfChannels": "1000000"},
+        "ElementNumberOfChannels = 1000000")
+    mha("mha_channels_garbled", {"ElementNumberOfChannels": "1\xff"},
+        "ElementNumberOfChannels = 1\\xff")
+    mha("mha_byte_order_garbled", {"ElementByteOrderMSB": "Fa\x13se"},
+        "ElementByteOrderMSB = Fa\\x13se")
+    mha("mha_binary_byte_order_garbled", {"BinaryDataByteOrderMSB": "\x13"},
+        "BinaryDataByteOrderMSB = \\x13")
+    mha("mha_key_garbled", {"ObjectType": None, "Ob\x8bectType": "Image"},
+        "key Ob\\x8bectType")
+    mha("mha_data_file_missing", {"ElementDataFile": None}, "no ElementDataFile")
+    mha("mha_data_file_absent", {"ElementDataFile": "does_not_exist.raw"},
+        "ElementDataFile naming a file that does not exist", payload=b"")
+    mha("mha_data_file_pattern_s", {"ElementDataFile": "_slice%s.raw 0 3 1"},
+        "ElementDataFile pattern with %s (MetaIO crashes)", payload=b"")
+    mha("mha_data_file_step_zero", {"ElementDataFile": "_slice%02d.raw 0 15 0"},
+        "ElementDataFile pattern with step 0 (MetaIO divides by it)", payload=b"")
+    mha("mha_data_file_list_empty", {"ElementDataFile": "LIST"},
+        "ElementDataFile = LIST naming no file", payload=b"")
 
     # ---- odd scalar types --------------------------------------------------------------
     K = "scalar_type"
