@@ -132,7 +132,8 @@ struct Header
     return *value;
   }
 
-  // The sizes of the axes: count whole numbers from 1 to MaximumPoints, not absurd together.
+  // The sizes of the axes: count whole numbers from 1 to MaximumPoints (their product is
+  // checked against the tool's limit once the reader has read the header).
   std::vector<long long> Sizes(const std::string& field, size_t count) const
   {
     const std::string& text = this->Require(field);
@@ -143,19 +144,12 @@ struct Header
         " values for " + std::to_string(count) + " axes");
     }
     std::vector<long long> sizes(count);
-    long long product = 1;
     for (size_t a = 0; a < count; ++a)
     {
       if (!Whole(words[a], 1, MaximumPoints, sizes[a]))
       {
         this->Refuse(field + " " + Quote(text) + ": each size must be a whole number from 1 to " +
           std::to_string(MaximumPoints));
-      }
-      product *= sizes[a];
-      if (product > MaximumPoints * MaximumComponents)
-      {
-        this->Refuse(field + " " + Quote(text) + " declares more than " +
-          std::to_string(MaximumPoints * MaximumComponents) + " values");
       }
     }
     return sizes;
