@@ -548,7 +548,9 @@ vtkSmartPointer<vtkUnsignedCharArray> vtkUnstructuredGridIllumination::ShadeVert
     }
     for (int c = 0; c < 3; ++c)
     {
-      colors->SetTypedComponent(p, c, toByte(color[c] * rgb[3 * p + c]));
+      const double light = rgb[3 * p + c];
+      const double shade = this->Exposure > 0 ? 1.0 - std::exp(-this->Exposure * light) : light;
+      colors->SetTypedComponent(p, c, toByte(color[c] * shade));
     }
     colors->SetTypedComponent(p, 3, toByte(opacity));
   }
@@ -935,4 +937,5 @@ void vtkUnstructuredGridIllumination::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ScalarOpacityUnitDistance: " << this->ScalarOpacityUnitDistance << "\n";
   os << indent << "ChromaticAttenuation: " << this->ChromaticAttenuation << "\n";
   os << indent << "LitColors: " << this->LitColors << "\n";
+  os << indent << "Exposure: " << this->Exposure << "\n";
 }

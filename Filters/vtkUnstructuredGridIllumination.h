@@ -177,6 +177,17 @@ public:
 
   ///@{
   /**
+   * How LitColors turn light into brightness (as vtkIlluminatedVolumeMapper's Exposure).
+   * 0 (default): the colour x Illumination, clamped to 1. Above 0: the colour x (1 -
+   * exp(-Exposure x Illumination)), which approaches the colour itself (the brightness of
+   * local shading) where much light arrives, shadowed material darker.
+   */
+  vtkSetClampMacro(Exposure, double, 0.0, 100.0);
+  vtkGetMacro(Exposure, double);
+  ///@}
+
+  ///@{
+  /**
    * The processes of a parallel run (default: the global controller). With more than one
    * process each lights its piece (ghost cells dropped) with the cells of other pieces near
    * it, exchanging values with their processes (volillum::NeighborhoodGrid); no process
@@ -263,6 +274,7 @@ private:
   int ScalarComponent = -1;
   int ScatteringIterations = 10;
   bool LitColors = true;
+  double Exposure = 0.0;
 
   // Caches: the mesh (keyed by the input geometry), the scalars lit (derived from cell data
   // or several components), the per-vertex extinction and level-0

@@ -33,22 +33,24 @@ namespace
 const char* const ShadingDecTag = "//VTK::Shading::Dec";
 const char* const ShadingImplTag = "//VTK::Shading::Impl";
 const char* const TerminateInitTag = "//VTK::Terminate::Init";
-// Sets the per-fragment illumination transform, then moves each ray's first sample by a per-pixel
-// random fraction of a step before the termination point is computed (VTK's own start is one full
-// step in). VTK's jittering samples a Perlin-noise texture whose lattice shows as a regular dot
-// pattern on surfaces; a hash of the pixel position gives white noise instead.
+// Sets the per-fragment illumination transform, then (volillum_jitter 1) moves each ray's first
+// sample by a per-pixel random fraction of a step before the termination point is computed (VTK's
+// own start is one full step in). VTK's jittering samples a Perlin-noise texture whose lattice
+// shows as a regular dot pattern on surfaces; a hash of the pixel position gives white noise.
 const char* const JitteredTerminateInit =
   "volillumInitialize();\n"
-  "vec3 volillumJitter = g_dirStep * (volillumRandom(gl_FragCoord.xy) - 1.0);\n"
+  "vec3 volillumJitter =\n"
+  "  g_dirStep * volillum_jitter * (volillumRandom(gl_FragCoord.xy) - 1.0);\n"
   "g_rayOrigin += volillumJitter;\n"
   "g_dataPos += volillumJitter;\n"
   "//VTK::Terminate::Init";
 const char* const SamplerIntDeclaration = "uniform int volillum_illumination;";
 const char* const SamplerDeclaration = "uniform sampler3D volillum_illumination;";
 const char* const GradientShadingDefine = "#define VOLILLUM_GRADIENT_SHADING\n";
+const char* const ExposureDefine = "#define VOLILLUM_EXPOSURE\n";
 const char* const UniformNames[] = { "volillum_illumination", "volillum_toIlluminationX",
   "volillum_toIlluminationY", "volillum_toIlluminationZ", "volillum_ambient", "volillum_diffuse",
-  "volillum_phong" };
+  "volillum_phong", "volillum_exposure", "volillum_jitter" };
 
 vtkDataArray* IlluminationArray(vtkImageData* image)
 {
@@ -209,8 +211,8 @@ void vtkIlluminatedVolumeMapper::SetShaderReplacements(
   const auto present = replacements.find(spec);
   // Features that are off are compiled out rather than branched over: the declarations
   // carry the defines of the mapper's state.
-  const std::string declarations =
-    std::string(this->GradientShading ? GradientShadingDefine : "") + IlluminatedShadingDec;
+  const std::string declarations = std::string(this->GradientShading ? GradientShadingDefine : "") +
+    (this->Exposure > 0 ? ExposureDefine : "") + IlluminatedShadingDec;
   // Adding or clearing marks the property modified, which rebuilds the shader: only do it
   // when the state changes.
   if (enable && (present == replacements.end() || present->second.Replacement != declarations))
@@ -271,6 +273,8 @@ void vtkIlluminatedVolumeMapper::SetShadingUniforms(vtkOpenGLShaderProperty* pro
   // The texture holds illumination / IlluminationTextureScale.
   u->SetUniformf(
     "volillum_diffuse", static_cast<float>(this->Diffuse * this->IlluminationTextureScale));
+  u->SetUniformf("volillum_exposure", static_cast<float>(this->Exposure));
+  u->SetUniformf("volillum_jitter", this->JitteredRayStarts ? 1.0f : 0.0f);
   const float phong[4] = { static_cast<float>(this->PhongAmbient),
     static_cast<float>(this->PhongDiffuse), static_cast<float>(this->PhongSpecular),
     static_cast<float>(this->PhongSpecularPower) };
@@ -341,6 +345,8 @@ void vtkIlluminatedVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "IlluminationData: " << this->IlluminationData << "\n";
   os << indent << "Ambient: " << this->Ambient << "\n";
   os << indent << "Diffuse: " << this->Diffuse << "\n";
+  os << indent << "Exposure: " << this->Exposure << "\n";
+  os << indent << "JitteredRayStarts: " << this->JitteredRayStarts << "\n";
   os << indent << "GradientShading: " << this->GradientShading << "\n";
   os << indent << "PhongAmbient: " << this->PhongAmbient << "\n";
   os << indent << "PhongDiffuse: " << this->PhongDiffuse << "\n";

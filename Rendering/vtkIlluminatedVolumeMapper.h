@@ -7,7 +7,8 @@
  * mapper's own 3D texture at its own resolution and sampled trilinearly. Texels hold 8 bits
  * per channel of the volume's largest value (4 bytes per voxel; steps of 1/255 of the
  * brightest light, below what an 8-bit display shows of a colour shaded with it). Each sample's
- * colour is the transfer-function colour x (Ambient + Diffuse x illumination), optionally
+ * colour is the transfer-function colour x (Ambient + Diffuse x illumination) (or, with an
+ * Exposure, a curve of it that approaches the colour itself), optionally
  * times a gradient-based Phong factor for a headlight (eq. 3 of the unstructured-grid
  * lighting paper), up to 1 per channel (as VTK's own shading), then composited front to
  * back as usual. A composited colour then never exceeds its opacity, which parallel
@@ -22,7 +23,8 @@
  * on UpdateShaderEvent). Supported: one-component scalars and the composite blend mode; otherwise,
  * or without illumination data, the mapper renders as its superclass. Leave the volume property's
  * Shade off: the illumination volume replaces local lighting. Ray starts are jittered by a
- * per-pixel random fraction of a step so that samples at equal depths do not draw rings. The
+ * per-pixel random fraction of a step (JitteredRayStarts) so that samples at equal depths do
+ * not draw rings. The
  * illumination bounds are given in the data's coordinates.
  */
 #ifndef vtkIlluminatedVolumeMapper_h
@@ -66,6 +68,23 @@ public:
 
   ///@{
   /**
+   * How light becomes brightness. 0 (the default): each sample's colour is the transfer
+   * function's colour x (Ambient + Diffuse x illumination), up to 1 per channel, the
+   * illumination as computed. Above 0: the colour x (1 - exp(-Exposure x (Ambient + Diffuse x
+   * illumination))), which rises as light arrives and approaches the transfer function's
+   * colour, the brightness local shading gives, without passing it: well-lit material looks
+   * as it does under local shading whatever the number and strength of the lights, shadowed
+   * material darker, and thin material that much light crosses keeps its hue instead of
+   * bleaching. The Illuminated Volume representation uses 5: the light reaching the depth a
+   * viewer sees inside dense material has crossed about as much material as the view looks
+   * into, so it arrives at about half strength, and 1 - exp(-5 x 0.5) is 0.92.
+   */
+  vtkSetClampMacro(Exposure, double, 0.0, 100.0);
+  vtkGetMacro(Exposure, double);
+  ///@}
+
+  ///@{
+  /**
    * Multiply the illumination by a gradient-based Phong factor for a headlight,
    * PhongAmbient + PhongDiffuse |n.v| + PhongSpecular |n.v|^PhongSpecularPower, which shows
    * surface shape. Default off.
@@ -81,6 +100,18 @@ public:
   vtkGetMacro(PhongSpecular, double);
   vtkSetClampMacro(PhongSpecularPower, double, 1.0, 256.0);
   vtkGetMacro(PhongSpecularPower, double);
+  ///@}
+
+  ///@{
+  /**
+   * Start each ray a per-pixel random fraction of a step in (white noise), so that samples
+   * at equal depths draw no wood-grain rings; off: every ray starts one step in, as VTK's
+   * mapper does without jittering. Default on. The Illuminated Volume representation turns
+   * it off for interactive frames, whose coarse steps would make the noise heavy.
+   */
+  vtkSetMacro(JitteredRayStarts, bool);
+  vtkGetMacro(JitteredRayStarts, bool);
+  vtkBooleanMacro(JitteredRayStarts, bool);
   ///@}
 
   void ReleaseGraphicsResources(vtkWindow* window) override;
@@ -113,6 +144,8 @@ protected:
   vtkImageData* IlluminationData = nullptr;
   double Ambient = 0.1;
   double Diffuse = 1.0;
+  double Exposure = 0.0;
+  bool JitteredRayStarts = true;
   bool GradientShading = false;
   double PhongAmbient = 0.3;
   double PhongDiffuse = 0.7;

@@ -17,8 +17,11 @@
 #ifdef VOLILLUM_GRADIENT_SHADING
         light *= volillumPhong(g_dataPos, g_dirStep);
 #endif
-        g_srcColor.rgb =
-          min(g_srcColor.rgb * (volillum_ambient + light), vec3(1.0)) * g_srcColor.a;
+        vec3 shade = volillum_ambient + light;
+#ifdef VOLILLUM_EXPOSURE
+        shade = 1.0 - exp(-volillum_exposure * shade);
+#endif
+        g_srcColor.rgb = min(g_srcColor.rgb * shade, vec3(1.0)) * g_srcColor.a;
         g_fragColor = (1.0 - g_fragColor.a) * g_srcColor + g_fragColor;
       }
     }

@@ -80,6 +80,11 @@ void vtkIlluminatedUnstructuredGridRepresentation::SetScatteringIterations(int c
   this->Illumination->SetScatteringIterations(count);
 }
 
+void vtkIlluminatedUnstructuredGridRepresentation::SetExposure(double value)
+{
+  this->Illumination->SetExposure(value);
+}
+
 //------------------------------------------------------------------------------
 bool vtkIlluminatedUnstructuredGridRepresentation::RemoveFromView(vtkView* view)
 {

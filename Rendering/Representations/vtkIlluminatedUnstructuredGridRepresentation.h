@@ -63,6 +63,7 @@ public:
   void SetAbsorption(double value);
   void SetScatteringStrength(double r, double g, double b);
   void SetScatteringIterations(int count);
+  void SetExposure(double value);
   ///@}
 
   ///@{

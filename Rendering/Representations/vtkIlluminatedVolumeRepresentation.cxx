@@ -78,6 +78,11 @@ void vtkIlluminatedVolumeRepresentation::SetIlluminationDiffuse(double value)
   this->GetIlluminatedMapper()->SetDiffuse(value);
 }
 
+void vtkIlluminatedVolumeRepresentation::SetExposure(double value)
+{
+  this->GetIlluminatedMapper()->SetExposure(value);
+}
+
 void vtkIlluminatedVolumeRepresentation::SetGradientShading(bool enable)
 {
   this->GetIlluminatedMapper()->SetGradientShading(enable);
@@ -286,6 +291,15 @@ bool vtkIlluminatedVolumeRepresentation::UpdateFilter(vtkIlluminationVolumeAlgor
 void vtkIlluminatedVolumeRepresentation::UpdateIllumination(vtkPVRenderView* view)
 {
   vtkIlluminatedVolumeMapper* mapper = this->GetIlluminatedMapper();
+  // Sample as the Volume representation does (vtkSmartVolumeMapper): still renders every
+  // half voxel or finer (the distance locked to the data's spacing), interactive ones as the
+  // frame rate allows. Still frames jitter the ray starts within that step, which keeps them
+  // no grainier than plain Volume's and free of rings; interactive frames, whose steps are
+  // coarse, start every ray one step in, as plain Volume's do.
+  const bool interactiveFrame = volillum::IsInteractiveRender(view);
+  mapper->SetAutoAdjustSampleDistances(interactiveFrame);
+  mapper->SetLockSampleDistanceToInputSpacing(!interactiveFrame);
+  mapper->SetJitteredRayStarts(!interactiveFrame);
   vtkNew<vtkInformation> info;
   info->Set(vtkPVView::VIEW(), view);
   vtkAlgorithmOutput* port = vtkPVRenderView::GetPieceProducer(info, this, 0);

@@ -99,6 +99,7 @@ public:
   /** Shading weights, forwarded to vtkIlluminatedVolumeMapper. */
   void SetIlluminationAmbient(double value);
   void SetIlluminationDiffuse(double value);
+  void SetExposure(double value);
   void SetGradientShading(bool enable);
   void SetPhongAmbient(double value);
   void SetPhongDiffuse(double value);
