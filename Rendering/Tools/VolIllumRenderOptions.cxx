@@ -60,7 +60,8 @@ starts above the background: opacity is 0 up to Otsu's threshold of the scalar h
 that best separates air around a scan from the object) and rises above it, colours from
 warm to white. The camera frames the points whose opacity is above 0 (the object, not
 the empty box around it); "zoom" scales from there. "side_by_side" writes the same view twice
-side by side, lit with local shading only (left) and with the illumination (right).
+side by side, lit with local shading only (left) and with the illumination (right), each
+half labelled.
 )";
 }
 

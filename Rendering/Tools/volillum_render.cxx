@@ -30,6 +30,8 @@
 #include "vtkRenderer.h"
 #include "vtkSMPTools.h"
 #include "vtkSmartPointer.h"
+#include "vtkTextActor.h"
+#include "vtkTextProperty.h"
 #include "vtkTimerLog.h"
 #include "vtkUnstructuredGrid.h"
 #include "vtkVolume.h"
@@ -95,8 +97,9 @@ vtkSmartPointer<vtkImageData> Grab(vtkRenderWindow* window)
 // same lights.
 vtkSmartPointer<vtkImageData> RenderLocalShading(vtkImageData* image, vtkVolume* volume,
   vtkRenderer* renderer, vtkRenderWindow* window,
-  const std::vector<vtkSmartPointer<vtkLight>>& lights)
+  const std::vector<vtkSmartPointer<vtkLight>>& lights, vtkTextActor* label)
 {
+  label->SetInput("local shading");
   vtkNew<vtkGPUVolumeRayCastMapper> mapper;
   mapper->SetInputData(image);
   vtkNew<vtkVolumeProperty> property;
@@ -379,6 +382,17 @@ int Run(int argc, char* argv[])
   window->SetOffScreenRendering(1);
   window->SetSize(static_cast<int>(wh[0]), static_cast<int>(wh[1]));
   window->AddRenderer(renderer);
+  // Side by side, each half says what it shows (the local half's label is set as it renders).
+  vtkNew<vtkTextActor> label;
+  if (sideBySide)
+  {
+    label->SetInput("global illumination");
+    label->GetTextProperty()->SetFontSize(std::max(12, static_cast<int>(wh[1] / 22)));
+    label->GetTextProperty()->SetColor(1.0, 1.0, 1.0);
+    label->GetTextProperty()->ShadowOn();
+    label->SetDisplayPosition(static_cast<int>(wh[1] / 40), static_cast<int>(wh[1] / 40));
+    renderer->AddActor2D(label);
+  }
   // The image is taken from the very first frame: it must already be lit.
   const double firstFrameSeconds = TimeFrame(window);
   vtkSmartPointer<vtkImageData> picture = Grab(window);
@@ -387,7 +401,7 @@ int Run(int argc, char* argv[])
   {
     vtkNew<vtkImageAppend> both;
     both->SetAppendAxis(0);
-    both->AddInputData(RenderLocalShading(image, volume, renderer, window, lights));
+    both->AddInputData(RenderLocalShading(image, volume, renderer, window, lights, label));
     both->AddInputData(picture);
     both->Update();
     picture = both->GetOutput();
