@@ -38,7 +38,7 @@ JSON (every key optional; the value shown is the default):
   {"method": "propagation", "resolution_scale": 1, "image_size": [512, 512],
    "output": "volillum.png", "ambient": 0.1, "diffuse": 1.0, "background": [0,0,0],
    "gradient_shading": false, "chromatic_attenuation": false, "filter_width": 3,
-   "side_by_side": false, "component": -1,
+   "side_by_side": false, "labels": true, "component": -1,
    "lights": [{"type": "directional" | "point" | "spot",
                "position": [0.5,0.5,2], "focal_point": [0.5,0.5,0.5], "relative": false,
                "color": [1,1,1], "intensity": 1, "cone_angle": 30, "exponent": 1,
@@ -61,7 +61,7 @@ that best separates air around a scan from the object) and rises above it, colou
 warm to white. The camera frames the points whose opacity is above 0 (the object, not
 the empty box around it); "zoom" scales from there. "side_by_side" writes the same view twice
 side by side, lit with local shading only (left) and with the illumination (right), each
-half labelled.
+half labelled unless "labels" is false.
 )";
 }
 

@@ -384,7 +384,7 @@ int Run(int argc, char* argv[])
   window->AddRenderer(renderer);
   // Side by side, each half says what it shows (the local half's label is set as it renders).
   vtkNew<vtkTextActor> label;
-  if (sideBySide)
+  if (sideBySide && Flag(config, "labels", true))
   {
     label->SetInput("global illumination");
     label->GetTextProperty()->SetFontSize(std::max(12, static_cast<int>(wh[1] / 22)));

@@ -223,6 +223,23 @@ def pvserver_session(command, plugin, ns, log=subprocess.DEVNULL):
             server.kill()
 
 
+def run_gui_script(paraview, script, env, result_file):
+    """Runs a script in the real paraview GUI (paraview --script, under a display) and
+    returns the "name value" lines it wrote to result_file as a dict; exits with a failure
+    when paraview does not exit within 300 s or the script wrote nothing."""
+    if os.path.exists(result_file):
+        os.remove(result_file)
+    try:
+        subprocess.run([paraview, "--dr", "--script=" + script], env=env, timeout=300)
+    except subprocess.TimeoutExpired:
+        print("FAIL  paraview did not exit within 300 s")
+        sys.exit(1)
+    if not os.path.exists(result_file):
+        print("FAIL  the GUI script wrote no result")
+        sys.exit(1)
+    return dict(line.split(" ", 1) for line in open(result_file).read().splitlines() if line)
+
+
 def finish(failures):
     """Report and exit. The process leaves through os._exit: ParaView 5.11 tearing down
     its render views at interpreter exit under Xvfb can raise a GLXBadContext X error

@@ -6,28 +6,16 @@ gives back the first image exactly.
 Usage: python3 run_gui_test.py PARAVIEW PLUGIN OUTPUT_DIR
 """
 import os
-import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from IlluminatedVolumeTestUtilities import finish, image_difference, mean_colours
+from IlluminatedVolumeTestUtilities import finish, image_difference, mean_colours, run_gui_script
 
 paraview, plugin, out = sys.argv[1:4]
 here = os.path.dirname(os.path.abspath(__file__))
-result_file = os.path.join(out, "gui_result.txt")
-if os.path.exists(result_file):
-    os.remove(result_file)
-env = dict(os.environ, VOLILLUM_PLUGIN=plugin, VOLILLUM_OUTPUT=out)
-try:
-    subprocess.run([paraview, "--dr", "--script=" + os.path.join(here, "TestIlluminatedVolumeGUI.py")],
-                   env=env, timeout=300)
-except subprocess.TimeoutExpired:
-    print("FAIL  paraview did not exit within 300 s")
-    sys.exit(1)
-if not os.path.exists(result_file):
-    print("FAIL  the GUI script wrote no result")
-    sys.exit(1)
-results = dict(line.split(" ", 1) for line in open(result_file).read().splitlines())
+results = run_gui_script(paraview, os.path.join(here, "TestIlluminatedVolumeGUI.py"),
+                         dict(os.environ, VOLILLUM_PLUGIN=plugin, VOLILLUM_OUTPUT=out),
+                         os.path.join(out, "gui_result.txt"))
 print(results)
 failures = []
 if "error" in results:

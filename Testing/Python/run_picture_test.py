@@ -10,13 +10,12 @@ Every figure is printed on every run, with its bound.
 Usage: pvpython run_picture_test.py PARAVIEW PLUGIN DATA_DIR OUTPUT_DIR
 """
 import os
-import subprocess
 import sys
 
 import numpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from IlluminatedVolumeTestUtilities import Checks, finish
+from IlluminatedVolumeTestUtilities import Checks, finish, run_gui_script
 from PictureMeasures import erode, high_pass, luminance, rgb
 
 # Just above what the representation reaches (measured on llvmpipe, 2026-12-06).
@@ -25,20 +24,10 @@ BRIGHTNESS_RANGE = (0.85, 1.15)
 
 paraview, plugin, data, out = sys.argv[1:5]
 here = os.path.dirname(os.path.abspath(__file__))
-result_file = os.path.join(out, "picture_result.txt")
-if os.path.exists(result_file):
-    os.remove(result_file)
-env = dict(os.environ, VOLILLUM_PLUGIN=plugin, VOLILLUM_DATA=data, VOLILLUM_OUTPUT=out)
-try:
-    subprocess.run([paraview, "--dr", "--script=" + os.path.join(here, "TestIlluminatedPictureGUI.py")],
-                   env=env, timeout=300)
-except subprocess.TimeoutExpired:
-    print("FAIL  paraview did not exit within 300 s")
-    sys.exit(1)
-if not os.path.exists(result_file):
-    print("FAIL  the GUI script wrote no result")
-    sys.exit(1)
-results = dict(line.split(" ", 1) for line in open(result_file).read().splitlines() if line)
+results = run_gui_script(
+    paraview, os.path.join(here, "TestIlluminatedPictureGUI.py"),
+    dict(os.environ, VOLILLUM_PLUGIN=plugin, VOLILLUM_DATA=data, VOLILLUM_OUTPUT=out),
+    os.path.join(out, "picture_result.txt"))
 check = Checks()
 if "error" in results:
     finish(["the GUI script failed: " + results["error"]])

@@ -20,8 +20,10 @@ import subprocess
 import sys
 
 import numpy
-from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkIOImage import vtkPNGReader
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..",
+                                "Testing", "Python"))
+from PictureMeasures import rgb
 
 LIGHTS = [
     {"type": "directional", "position": [0.15, -0.1, 1.5], "focal_point": [0.5, 0.5, 0.5],
@@ -34,16 +36,6 @@ LIGHTS = [
 ]
 
 
-def read_png(path):
-    reader = vtkPNGReader()
-    reader.SetFileName(path)
-    reader.Update()
-    image = reader.GetOutput()
-    width, height, _ = image.GetDimensions()
-    pixels = vtk_to_numpy(image.GetPointData().GetScalars())
-    return pixels.reshape(height, width, -1)[:, :, :3].astype(numpy.float64)
-
-
 def render(cli, source, settings, output):
     path = output + ".json"
     with open(path, "w") as f:
@@ -53,7 +45,7 @@ def render(cli, source, settings, output):
     if run.returncode != 0:
         sys.stderr.write(run.stdout + run.stderr)
         raise SystemExit("FAILED: volillum-render exited with %d" % run.returncode)
-    return read_png(output)
+    return rgb(output)
 
 
 def rms(image, reference, mask=None):
@@ -72,7 +64,7 @@ def main():
     base = {"image_size": [256, 256], "lights": LIGHTS}
     prefix = os.path.join(out, "ImageFidelity-" + scene)
     both = render(cli, source, dict(base, method="reference", resolution_scale=1,
-                                    side_by_side=True), prefix + "-reference.png")
+                                    side_by_side=True, labels=False), prefix + "-reference.png")
     width = both.shape[1] // 2
     local, reference = both[:, :width], both[:, width:]
     covered = reference.max(axis=2) > 2.0
