@@ -36,6 +36,7 @@ struct Departure
   float Weights[4] = { 0, 0, 0, 0 };
   float Fixed[3] = { 1, 1, 1 };
   float Transmittance[3] = { 1, 1, 1 };
+  bool Inflow = false; // the light enters the mesh at the vertex itself
 };
 
 constexpr int MaximumWalk = 512;
@@ -87,6 +88,54 @@ void AddSegmentDepth(const std::vector<float>& extinction, int nc, const int* v,
   }
 }
 
+// The light arriving at q from outside the mesh (q on its boundary): the level-0 solution
+// interpolated from the blank corners of the grid cell around q alone. Corners inside the mesh
+// hold light already attenuated by up to a cell of material, which would darken the lit
+// boundary by an amount that depends on where the boundary cuts the grid: scallops along a
+// curved surface. A cell without a blank corner (the boundary on a face of the grid, or thinner
+// than a cell) is interpolated whole.
+void SampleOutside(
+  const Level0Grid& grid, const std::vector<float>& level0, const double q[3], float* out)
+{
+  const auto& g = grid.Geometry;
+  const int nc = grid.Channels;
+  const TrilinearCell cell = CellAtPosition(g, q);
+  const long long nx = g.Dimensions[0];
+  const long long nxy = nx * g.Dimensions[1];
+  double sum[3] = { 0.0, 0.0, 0.0 };
+  double weightSum = 0.0;
+  for (int corner = 0; corner < 8; ++corner)
+  {
+    int index[3];
+    double weight = 1.0;
+    for (int a = 0; a < 3; ++a)
+    {
+      const int upper = (corner >> a) & 1;
+      index[a] = std::min(cell.Index[a] + upper, g.Dimensions[a] - 1);
+      weight *= upper ? cell.Fraction[a] : 1.0 - cell.Fraction[a];
+    }
+    const long long id = index[0] + index[1] * nx + index[2] * nxy;
+    if (weight <= 0.0 || grid.Inside[id])
+    {
+      continue;
+    }
+    weightSum += weight;
+    for (int c = 0; c < nc; ++c)
+    {
+      sum[c] += weight * level0[nc * id + c];
+    }
+  }
+  if (weightSum <= 0.0)
+  {
+    TrilinearSample(g, level0.data(), nc, q, out);
+    return;
+  }
+  for (int c = 0; c < nc; ++c)
+  {
+    out[c] = static_cast<float>(sum[c] / weightSum);
+  }
+}
+
 Departure FindDeparture(const TetrahedralMesh& mesh, const std::vector<float>& extinction, int nc,
   const Level0Grid& grid, const std::vector<float>& level0, int vertex, const Vec3& toLight,
   double length, bool reachesLight)
@@ -94,10 +143,19 @@ Departure FindDeparture(const TetrahedralMesh& mesh, const std::vector<float>& e
   Departure dep;
   const Vec3 x = PointOf(mesh.Points, vertex);
   double depth[3] = { 0.0, 0.0, 0.0 };
-  const auto finishAtLevel0 = [&](double t)
+  // The level-0 light at distance t toward the light: outside the mesh where the walk left
+  // it, anywhere where the walk gave up.
+  const auto finishAtLevel0 = [&](double t, bool leftTheMesh)
   {
     const double q[3] = { x[0] + t * toLight[0], x[1] + t * toLight[1], x[2] + t * toLight[2] };
-    TrilinearSample(grid.Geometry, level0.data(), nc, q, dep.Fixed);
+    if (leftTheMesh)
+    {
+      SampleOutside(grid, level0, q, dep.Fixed);
+    }
+    else
+    {
+      TrilinearSample(grid.Geometry, level0.data(), nc, q, dep.Fixed);
+    }
   };
   const auto finish = [&]()
   {
@@ -114,7 +172,8 @@ Departure FindDeparture(const TetrahedralMesh& mesh, const std::vector<float>& e
   const double tolerance = GeometricTolerance / std::max(mesh.MeanEdgeLength, 1e-300);
   if (tet < 0 || best < -tolerance)
   {
-    finishAtLevel0(0.0); // the direction leaves the mesh right away
+    finishAtLevel0(0.0, true); // a boundary vertex the light enters the mesh at
+    dep.Inflow = true;
     return finish();
   }
 
@@ -173,12 +232,12 @@ Departure FindDeparture(const TetrahedralMesh& mesh, const std::vector<float>& e
     const int next = mesh.Neighbors[4 * tet + face];
     if (next < 0)
     {
-      finishAtLevel0(t0); // left the mesh: the level-0 solution carries the rest
+      finishAtLevel0(t0, true); // left the mesh: the level-0 solution carries the rest
       return finish();
     }
     tet = next;
   }
-  finishAtLevel0(t0);
+  finishAtLevel0(t0, false);
   return finish();
 }
 }
@@ -207,21 +266,31 @@ void PropagateLevel1(const TetrahedralMesh& mesh, const std::vector<float>& exti
     return;
   }
   const double s = stepLength > 0.0 ? stepLength : mesh.MeanEdgeLength;
+  // Interior vertices take the steps, and so do vertices on a face without a neighbour where
+  // the light enters the mesh there (their value is the light outside: the inflow boundary);
+  // the other boundary vertices (the light has crossed the mesh to them) keep the level-0
+  // light. A semi-Lagrangian step would interpolate the level-0
+  // light linearly across the tetrahedra upstream, worse than level 0 itself where they are
+  // larger than its cells (on a box of 10-unit tetrahedra under a 1.3-unit level-0 grid, 0.14
+  // RMS relative to the exact transmittance on the faces the light leaves through instead
+  // of 0.04).
+  std::vector<unsigned char> steps(np, 0);
   std::vector<Departure> departures(np);
   vtkSMPTools::For(0, np,
     [&](int begin, int end)
     {
       for (int p = begin; p < end; ++p)
       {
-        if (!mesh.Interior[p])
+        if (mesh.PointTetOffsets[p] == mesh.PointTetOffsets[p + 1])
         {
-          continue;
+          continue; // in no tetrahedron: the level-0 light
         }
         const Incidence inc =
           ComputeIncidence(light, mesh.Points.data() + 3 * static_cast<size_t>(p));
         const bool reachesLight = inc.Distance <= s;
         departures[p] = FindDeparture(mesh, extinction, nc, grid, level0, p, inc.ToLight,
           reachesLight ? inc.Distance : s, reachesLight);
+        steps[p] = mesh.Interior[p] || departures[p].Inflow;
       }
     });
   std::vector<float> next(rho.size());
@@ -233,7 +302,7 @@ void PropagateLevel1(const TetrahedralMesh& mesh, const std::vector<float>& exti
         for (int p = begin; p < end; ++p)
         {
           float* out = next.data() + nc * static_cast<size_t>(p);
-          if (!mesh.Interior[p])
+          if (!steps[p])
           {
             std::copy_n(rho.data() + nc * static_cast<size_t>(p), nc, out);
             continue;

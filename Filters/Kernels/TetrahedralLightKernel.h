@@ -21,17 +21,25 @@
  *   of its own and neighbour a's extinction (the exponential form of the upwind update,
  *   exact along an axis). Light enters through the grid faces, at the mesh bounds,
  *   unattenuated.
- * - Level 0 to level 1: the grid solution is interpolated trilinearly onto every vertex:
- *   the fixed (Dirichlet) value of boundary vertices, the initial value of the others.
+ * - Level 0 to level 1: the grid solution is interpolated trilinearly onto every vertex as
+ *   its initial value.
  * - Level 1: semi-Lagrangian steps rho_{n+1}(x) = rho_n(x_d) (1 - alpha)^{sigma_a} with
  *   x_d = x - s u. The departure point is found by walking tetrahedra through their face
  *   neighbours from x toward the light; rho_n(x_d) is the barycentric interpolation in
  *   the tetrahedron that contains it, and alpha = 1 - exp(-integral of sigma) along the
  *   walked segment, integrated exactly for the piecewise-linear extinction (trapezoid per
- *   tetrahedron crossed). Where the walk leaves the mesh the level-0 solution at the exit
- *   point is the departure value; where it reaches a point light, 1. Departure points do
- *   not change between steps, so they are found once per light and each step is a
- *   Jacobi update of all interior vertices.
+ *   tetrahedron crossed). Where the walk leaves the mesh (at once for a boundary vertex
+ *   facing the light) the departure value is the level-0 light outside the mesh at the
+ *   exit point, interpolated from the blank grid points around it: the inflow boundary
+ *   condition. Grid points inside the mesh would mix in light already attenuated by up to
+ *   a level-0 cell, by an amount that depends on where the boundary cuts the grid
+ *   (scallops along a curved surface). Where the walk reaches a point light, 1. The
+ *   vertices inside the mesh take the steps, and so do boundary vertices the light enters
+ *   the mesh at (their value is the inflow light); the other boundary vertices (the light
+ *   has crossed the mesh to them) keep the level-0 light, which one step of linear
+ *   interpolation across tetrahedra larger than the level-0 cells would only blur.
+ *   Departure points do not change between steps, so they are found once per light and
+ *   each step is a Jacobi update of the vertices.
  * - Lights combine with their radiance and spot-cone factor (eq. 9), and scattering is
  *   one implicit diffusion step solved by Gauss-Seidel iterations of eq. 12 with weights
  *   (mean edge / distance)^2 between mesh neighbours (scale-free strength per channel).
