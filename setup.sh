@@ -75,22 +75,12 @@ case "${1:-}" in
     ;;
   test)
     build
-    # One X server for the tests and the benchmark smoke runs (each xvfb-run start is a
-    # chance for a display race); -noreset keeps it from resetting whenever its last
-    # client leaves, which a program connecting at that moment sees as a bad connection.
+    # One X server for the tests (each xvfb-run start is a chance for a display race);
+    # -noreset keeps it from resetting whenever its last client leaves, which a program
+    # connecting at that moment sees as a bad connection. The benchmarks' smoke runs are
+    # the README's commands, run by the test README.CommandsRunAsWritten.
     xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" bash -c 'set -e
       (cd build && ctest --output-on-failure)
-      build/bin/volillum-benchmark --smoke --json build/benchmark-smoke.json
-      /usr/bin/python3 Testing/Benchmarks/plot_benchmark.py build/benchmark-smoke.json \
-        build/benchmark-smoke-plots
-      build/bin/volillum-unstructured-benchmark --smoke
-      pvpython Testing/Benchmarks/IlluminatedVolumeBenchmark.py \
-        build/lib/paraview-5.11/plugins/VolumetricIllumination/VolumetricIllumination.so \
-        ../shared/data --smoke --json build/representation-benchmark-smoke.json
-      pvpython Testing/Benchmarks/ParallelBenchmark.py \
-        build/lib/paraview-5.11/plugins/VolumetricIllumination/VolumetricIllumination.so \
-        ../shared/data build "$(command -v mpiexec)" "--allow-run-as-root --oversubscribe" \
-        --smoke --json build/parallel-benchmark-smoke.json
       ./setup.sh sanitize'
     ;;
   build)

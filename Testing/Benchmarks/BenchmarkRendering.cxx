@@ -46,7 +46,7 @@ double TimeFrames(vtkRenderWindow* window, int frames)
 }
 }
 
-json Rendering(const Volume& v, bool smoke)
+json Rendering(const Volume& v, bool smoke, vtkRenderWindow* window)
 {
   double bounds[6];
   v.Image->GetBounds(bounds);
@@ -74,11 +74,11 @@ json Rendering(const Volume& v, bool smoke)
     renderer->GetActiveCamera()->Azimuth(30);
     renderer->GetActiveCamera()->Elevation(20);
     renderer->ResetCamera();
-    vtkNew<vtkRenderWindow> window;
-    window->SetOffScreenRendering(1);
     window->SetSize(size, size);
     window->AddRenderer(renderer);
-    return TimeFrames(window, frames);
+    const double seconds = TimeFrames(window, frames);
+    window->RemoveRenderer(renderer);
+    return seconds;
   };
   vtkNew<vtkOpenGLGPUVolumeRayCastMapper> plain;
   const double plainFrame = frame(plain, false);
@@ -118,10 +118,14 @@ json RenderingSuite(const std::vector<Volume>& volumes, bool smoke)
             << "reference [s]" << std::setw(14) << "lit/plain" << std::setw(14) << "lit/shaded"
             << std::setw(16) << "shadows/plain" << std::setw(14) << "shadows/lit"
             << "\n";
+  // One window for every frame of the suite: under a plain `xvfb-run -a` the X server resets
+  // when its last client leaves, and a window opened just then finds no server.
+  vtkNew<vtkRenderWindow> window;
+  window->SetOffScreenRendering(1);
   json rows = json::array();
   for (const auto& v : volumes)
   {
-    rows.push_back(Rendering(v, smoke));
+    rows.push_back(Rendering(v, smoke, window));
   }
   return rows;
 }

@@ -19,6 +19,7 @@
 
 class vtkIlluminationVolumeAlgorithm;
 class vtkImageAlgorithm;
+class vtkRenderWindow;
 
 namespace volillum_benchmark
 {
@@ -70,8 +71,8 @@ json AgainstReference(const Volume& v, double scale);
 /// volume at scale 1/2, and the engine resampled to 512^3 (not with --smoke).
 json FilteredShadows(const Volume& v, double scale, bool large);
 json FilteredShadowsSuite(const Volume& v, bool smoke);
-/// Frame-time ratios of lit rendering (BenchmarkRendering.cxx), per volume.
-json Rendering(const Volume& v, bool smoke);
+/// Frame-time ratios of lit rendering (BenchmarkRendering.cxx), per volume, in window.
+json Rendering(const Volume& v, bool smoke, vtkRenderWindow* window);
 json RenderingSuite(const std::vector<Volume>& volumes, bool smoke);
 }
 

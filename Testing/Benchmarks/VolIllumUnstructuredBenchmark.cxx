@@ -167,8 +167,9 @@ void AddLights(vtkUnstructuredGridIllumination* filter, const double b[6])
   filter->AddLight(point);
 }
 
-// Renders the lit grid (LitColors on projected tetrahedra) and returns the RGB bytes.
-std::vector<unsigned char> Render(vtkUnstructuredGrid* lit, int size, double unitDistance)
+// Renders the lit grid (LitColors on projected tetrahedra) in window and returns the RGB bytes.
+std::vector<unsigned char> Render(
+  vtkRenderWindow* window, vtkUnstructuredGrid* lit, int size, double unitDistance)
 {
   vtkNew<vtkProjectedTetrahedraMapper> mapper;
   mapper->SetInputData(lit);
@@ -187,8 +188,6 @@ std::vector<unsigned char> Render(vtkUnstructuredGrid* lit, int size, double uni
   renderer->GetActiveCamera()->Elevation(25);
   renderer->GetActiveCamera()->OrthogonalizeViewUp();
   renderer->ResetCamera();
-  vtkNew<vtkRenderWindow> window;
-  window->SetOffScreenRendering(1);
   window->SetSize(size, size);
   window->AddRenderer(renderer);
   window->Render();
@@ -196,6 +195,7 @@ std::vector<unsigned char> Render(vtkUnstructuredGrid* lit, int size, double uni
   grab->SetInput(window);
   grab->SetInputBufferTypeToRGB();
   grab->Update();
+  window->RemoveRenderer(renderer);
   auto* bytes = vtkUnsignedCharArray::SafeDownCast(grab->GetOutput()->GetPointData()->GetScalars());
   return std::vector<unsigned char>(
     bytes->GetPointer(0), bytes->GetPointer(0) + bytes->GetNumberOfValues());
@@ -221,6 +221,10 @@ void Table2(vtkUnstructuredGrid* grid, bool smoke)
   grid->GetBounds(bounds);
   const double unitDistance = (bounds[1] - bounds[0]) / 128.0;
   const int size = smoke ? 64 : 512;
+  // One window for every image: under a plain `xvfb-run -a` the X server resets when its last
+  // client leaves, and a window opened just then finds no server.
+  vtkNew<vtkRenderWindow> window;
+  window->SetOffScreenRendering(1);
   const auto run = [&](int resolution, double& seconds)
   {
     vtkNew<vtkUnstructuredGridIllumination> filter;
@@ -232,7 +236,7 @@ void Table2(vtkUnstructuredGrid* grid, bool smoke)
     const double start = Now();
     filter->Update();
     seconds = Now() - start;
-    return Render(filter->GetOutput(), size, unitDistance);
+    return Render(window, filter->GetOutput(), size, unitDistance);
   };
   double seconds;
   const auto reference = run(smoke ? 32 : 384, seconds);
@@ -253,7 +257,7 @@ void Table2(vtkUnstructuredGrid* grid, bool smoke)
   AddLights(unlit, bounds);
   unlit->Update();
   std::printf("%10s %12.5f\n", "no shadow",
-    ImageRms(Render(unlit->GetOutput(), size, unitDistance), reference));
+    ImageRms(Render(window, unlit->GetOutput(), size, unitDistance), reference));
 }
 
 double VertexRms(vtkDataArray* got, const std::vector<double>& reference)
