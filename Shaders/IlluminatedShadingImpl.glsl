@@ -1,6 +1,6 @@
     // VolumetricIllumination (vtkIlluminatedVolumeMapper): front-to-back compositing where
-    // each sample's transfer-function colour is scaled by ambient + diffuse x illumination,
-    // up to the brightest displayable colour: a composited colour then never exceeds its
+    // each sample's transfer-function colour is scaled by ambient + diffuse x illumination
+    // (with an exposure, 1 - exp(-exposure x that)), up to the brightest displayable colour: a composited colour then never exceeds its
     // opacity, as parallel compositing needs (IceT blends premultiplied 8-bit colours, which
     // wrap around past 1: a saturated channel turned dark).
     if (!g_skip)
