@@ -19,8 +19,10 @@ from vtkmodules.vtkCommonCore import vtkFloatArray
 from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from TestImageFidelity import read_png, rms  # noqa: E402
+here = os.path.dirname(os.path.abspath(__file__))
+sys.path[:0] = [here, os.path.join(here, "..", "..", "..", "Testing", "Python")]
+from PictureMeasures import rgb  # noqa: E402
+from TestImageFidelity import rms  # noqa: E402
 
 
 def write_ball(path, direction):
@@ -64,7 +66,7 @@ def main():
             sys.stderr.write(run.stdout + run.stderr)
             print("FAILED: volillum-render exited with %d" % run.returncode)
             return 1
-        pictures.append(read_png(picture))
+        pictures.append(rgb(picture))
     difference = rms(pictures[1], pictures[0])
     brightness = pictures[1].sum(axis=2)
     columns = numpy.arange(brightness.shape[1])
