@@ -13,7 +13,6 @@ the plugin does not have. The set-up commands (./setup.sh) are the ones CI runs.
 Usage: python3 TestReadmeCommands.py SOURCE_DIR BUILD_DIR SHARED_DIR PVPYTHON
 """
 import os
-import re
 import shlex
 import subprocess
 import sys
@@ -47,8 +46,8 @@ def code_blocks(readme):
     joined = []
     for block in blocks:
         text = "\n".join(block).strip("\n").replace("\\\n", " ")
-        joined.append([re.sub(r"\s+", " ", l).strip() if not is_python(text) else l
-                       for l in text.splitlines()])
+        lines = text.splitlines()
+        joined.append(lines if is_python(text) else [" ".join(l.split()) for l in lines])
     return joined
 
 
