@@ -66,44 +66,68 @@ namespace volillum
 {
 
 //------------------------------------------------------------------------------
-void ViewLights::Update(vtkPVRenderView* view, bool includeLightKit)
+bool LightValues::operator==(const LightValues& o) const
 {
-  std::vector<vtkLight*> shining;
+  return this->Positional == o.Positional &&
+    std::equal(this->Position, this->Position + 3, o.Position) &&
+    std::equal(this->FocalPoint, this->FocalPoint + 3, o.FocalPoint) &&
+    std::equal(this->Color, this->Color + 3, o.Color) && this->Intensity == o.Intensity &&
+    this->ConeAngle == o.ConeAngle && this->Exponent == o.Exponent && this->On == o.On;
+}
+
+//------------------------------------------------------------------------------
+std::vector<LightValues> ReadViewLights(vtkPVRenderView* view, bool includeLightKit)
+{
+  std::vector<LightValues> values;
   vtkRenderer* renderer = view ? view->GetRenderer() : nullptr;
-  if (renderer)
+  if (!renderer)
   {
-    vtkLightCollection* lights = renderer->GetLights();
-    vtkCollectionSimpleIterator it;
-    lights->InitTraversal(it);
-    while (vtkLight* light = lights->GetNextLight(it))
-    {
-      if (includeLightKit || vtkPVLight::SafeDownCast(light))
-      {
-        shining.push_back(light);
-      }
-    }
+    return values;
   }
-  this->Lights.resize(shining.size());
-  vtkCamera* camera = renderer ? renderer->GetActiveCamera() : nullptr;
-  for (size_t i = 0; i < shining.size(); ++i)
+  vtkCamera* camera = renderer->GetActiveCamera();
+  vtkLightCollection* lights = renderer->GetLights();
+  vtkCollectionSimpleIterator it;
+  lights->InitTraversal(it);
+  while (vtkLight* light = lights->GetNextLight(it))
+  {
+    if (!includeLightKit && !vtkPVLight::SafeDownCast(light))
+    {
+      continue;
+    }
+    LightValues v;
+    WorldGeometry(light, camera, v.Position, v.FocalPoint);
+    v.Positional = light->GetPositional() != 0;
+    light->GetDiffuseColor(v.Color);
+    v.Intensity = light->GetIntensity();
+    v.ConeAngle = light->GetConeAngle();
+    v.Exponent = light->GetExponent();
+    v.On = light->GetSwitch() != 0;
+    values.push_back(v);
+  }
+  return values;
+}
+
+//------------------------------------------------------------------------------
+void ViewLights::Update(const std::vector<LightValues>& values)
+{
+  this->Lights.resize(values.size());
+  for (size_t i = 0; i < values.size(); ++i)
   {
     if (!this->Lights[i])
     {
       this->Lights[i] = vtkSmartPointer<vtkLight>::New();
       this->Lights[i]->SetLightTypeToSceneLight();
     }
-    vtkLight* from = shining[i];
+    const LightValues& from = values[i];
     vtkLight* to = this->Lights[i];
-    double position[3], focal[3];
-    WorldGeometry(from, camera, position, focal);
-    to->SetPositional(from->GetPositional());
-    to->SetPosition(position);
-    to->SetFocalPoint(focal);
-    to->SetDiffuseColor(from->GetDiffuseColor());
-    to->SetIntensity(from->GetIntensity());
-    to->SetConeAngle(from->GetConeAngle());
-    to->SetExponent(from->GetExponent());
-    to->SetSwitch(from->GetSwitch());
+    to->SetPositional(from.Positional);
+    to->SetPosition(from.Position[0], from.Position[1], from.Position[2]);
+    to->SetFocalPoint(from.FocalPoint[0], from.FocalPoint[1], from.FocalPoint[2]);
+    to->SetDiffuseColor(from.Color[0], from.Color[1], from.Color[2]);
+    to->SetIntensity(from.Intensity);
+    to->SetConeAngle(from.ConeAngle);
+    to->SetExponent(from.Exponent);
+    to->SetSwitch(from.On);
   }
 }
 

@@ -34,14 +34,36 @@ class vtkRenderer;
 namespace volillum
 {
 
+/// What a view light shines, in world coordinates: plain values a worker thread can own.
+struct LightValues
+{
+  bool Positional = false;
+  double Position[3] = { 0, 0, 1 };
+  double FocalPoint[3] = { 0, 0, 0 };
+  double Color[3] = { 1, 1, 1 };
+  double Intensity = 1.0;
+  double ConeAngle = 30.0;
+  double Exponent = 1.0;
+  bool On = true;
+  bool operator==(const LightValues& other) const;
+};
+
+/**
+ * The view's lights in world coordinates. With includeLightKit false only the Light
+ * Inspector's lights (vtkPVLight) are taken.
+ */
+std::vector<LightValues> ReadViewLights(vtkPVRenderView* view, bool includeLightKit);
+
 class ViewLights
 {
 public:
-  /**
-   * Re-read the view's lights. With includeLightKit false only the Light Inspector's
-   * lights (vtkPVLight) are taken.
-   */
-  void Update(vtkPVRenderView* view, bool includeLightKit);
+  /// Re-read the view's lights (ReadViewLights).
+  void Update(vtkPVRenderView* view, bool includeLightKit)
+  {
+    this->Update(ReadViewLights(view, includeLightKit));
+  }
+  /// Rewrite the copies from values (a copy whose values did not change stays unmodified).
+  void Update(const std::vector<LightValues>& values);
 
   int Size() const { return static_cast<int>(this->Lights.size()); }
 

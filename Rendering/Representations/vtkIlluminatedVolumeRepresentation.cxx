@@ -1,11 +1,14 @@
 #include "vtkIlluminatedVolumeRepresentation.h"
 
+#include "IlluminationBackground.h"
 #include "IlluminationFilterSupport.h"
 #include "IlluminationParallel.h"
 #include "IlluminationViewLights.h"
 #include "vtkAlgorithmOutput.h"
+#include "vtkColorTransferFunction.h"
 #include "vtkDataSetAttributes.h"
 #include "vtkDoubleArray.h"
+#include "vtkExtractVOI.h"
 #include "vtkFilteredVolumetricShadows.h"
 #include "vtkFloatArray.h"
 #include "vtkIlluminatedVolumeMapper.h"
@@ -18,21 +21,92 @@
 #include "vtkObjectFactory.h"
 #include "vtkPVLODVolume.h"
 #include "vtkPVRenderView.h"
+#include "vtkPiecewiseFunction.h"
 #include "vtkRayMarchedIllumination.h"
 #include "vtkRenderWindow.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkTrivialProducer.h"
 #include "vtkVolumeProperty.h"
+#include "vtkWeakPointer.h"
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <map>
+#include <string>
+
+namespace
+{
+// Expected to take longer than this, a lighting shows a coarse illumination first.
+constexpr double CoarseFirstSeconds = 0.3;
+constexpr int CoarseStride = 4; // the coarse stage lights every 4th sample along each axis
+constexpr double CoarseScale = 1.0 / CoarseStride;
+// Without a measurement yet, an illumination volume of this many points is expected to take
+// longer (the propagation lights about 5 million points a second per light on 2 cores).
+constexpr double CoarseFirstPoints = 1.0e6;
+
+// What a serial lighting reads, owned by the job that computes it: light values, copies of
+// the transfer functions (new copies only when the colour map editor changed them) and a
+// shallow copy of the data (new only when the data changed).
+struct LightingRequest
+{
+  int Method = 0;
+  double Scale = 0.5;
+  bool Chromatic = false;
+  double FilterWidth = 3.0;
+  int FilterKernel = 0;
+  std::vector<volillum::LightValues> Lights;
+  vtkSmartPointer<vtkImageData> Input;
+  std::string ArrayName;
+  int Association = vtkDataObject::FIELD_ASSOCIATION_POINTS;
+  vtkSmartPointer<vtkColorTransferFunction> Color;
+  vtkSmartPointer<vtkPiecewiseFunction> Opacity;
+  double UnitDistance = 1.0;
+  bool CoarseFirst = false;
+  // The cost class of this request against the previous one: -1 everything, otherwise the
+  // number of lights that changed (the history of measured costs is kept per class).
+  int Kind = -1;
+
+  bool SameInputsAs(const LightingRequest& o) const
+  {
+    return this->Method == o.Method && this->Scale == o.Scale && this->Chromatic == o.Chromatic &&
+      this->FilterWidth == o.FilterWidth && this->FilterKernel == o.FilterKernel &&
+      this->Input == o.Input && this->ArrayName == o.ArrayName &&
+      this->Association == o.Association && this->Color == o.Color && this->Opacity == o.Opacity &&
+      this->UnitDistance == o.UnitDistance;
+  }
+  bool SameAs(const LightingRequest& o) const
+  {
+    return this->SameInputsAs(o) && this->Lights == o.Lights;
+  }
+};
+}
 
 struct vtkIlluminatedVolumeRepresentation::vtkInternals
 {
-  volillum::ViewLights Lights;
   volillum::RenderStart Start;
-  // One filter per method, created when first used; only the active one is kept.
+  // One filter per method, created when first used; only the active one is kept. In a serial
+  // run they, Coarse and Lights belong to the lighting job while one runs (see
+  // IlluminationBackground.h); the render thread touches them only through Background.
   std::array<vtkSmartPointer<vtkIlluminationVolumeAlgorithm>, 3> Filters;
+  vtkSmartPointer<vtkIlluminationVolumeAlgorithm> Coarse; // CoarseFirst's, of the same method
+  int CoarseMethod = -1;
+  vtkSmartPointer<vtkImageData> CoarseInput; // the coarse stage's data, made from CoarseSource
+  vtkSmartPointer<vtkImageData> CoarseSource;
+  volillum::ViewLights Lights;
+  vtkMTimeType Published = 0; // the output time of the last published result
+  volillum::BackgroundLighting Background;
+
+  // The render thread's side of a serial run.
+  LightingRequest Submitted; // the last request handed to a job
+  bool HasSubmitted = false;
+  vtkWeakPointer<vtkImageData> Source; // the data Submitted.Input copies, as of InputTime
+  vtkMTimeType InputTime = 0;
+  vtkMTimeType ColorTime = 0, OpacityTime = 0; // of the functions the copies were made from
+  vtkSmartPointer<vtkDataObject> LastFinal;    // the last final illumination taken
+  bool ShownFinal = true;                      // the mapper draws a final illumination
+  std::map<int, double> Seconds;               // measured wall time per request Kind
+
   // A multi-component coloured array, the one-component array that stands for it in the
   // rendered data, and the component its values were made from (-1: the magnitude).
   vtkSmartPointer<vtkDataArray> Vectors;
@@ -44,6 +118,14 @@ struct vtkIlluminatedVolumeRepresentation::vtkInternals
   // pieces are the filter's blocks).
   vtkNew<vtkTrivialProducer> Piece;
   vtkMultiProcessController* Controller = nullptr; // lighting the pieces where they are
+
+  LightingRequest MakeRequest(vtkIlluminatedVolumeRepresentation* self, vtkPVRenderView* view,
+    vtkImageData* image, const volillum::ColouredArray& coloured);
+  bool ExpectedSlow(const LightingRequest& request) const;
+  vtkIlluminationVolumeAlgorithm* FilterFor(int method);
+  void Light(const LightingRequest& request, volillum::BackgroundLighting::Job& job);
+  bool Publish(vtkIlluminationVolumeAlgorithm* filter, bool final, int kind,
+    volillum::BackgroundLighting::Job& job);
 };
 
 vtkStandardNewMacro(vtkIlluminatedVolumeRepresentation);
@@ -109,42 +191,266 @@ void vtkIlluminatedVolumeRepresentation::SetPhongSpecularPower(double value)
 }
 
 //------------------------------------------------------------------------------
-vtkIlluminationVolumeAlgorithm* vtkIlluminatedVolumeRepresentation::GetIlluminationFilter()
+namespace
 {
-  auto& filters = this->Internals->Filters;
-  for (int m = 0; m < static_cast<int>(filters.size()); ++m)
+vtkSmartPointer<vtkIlluminationVolumeAlgorithm> NewFilter(int method)
+{
+  switch (method)
   {
-    if (m != this->IlluminationMethod)
+    case vtkIlluminatedVolumeRepresentation::FilteredShadows:
+      return vtkSmartPointer<vtkFilteredVolumetricShadows>::New();
+    case vtkIlluminatedVolumeRepresentation::RayMarchedReference:
+      return vtkSmartPointer<vtkRayMarchedIllumination>::New();
+    default:
+      return vtkSmartPointer<vtkMultiLightIlluminationVolume>::New();
+  }
+}
+}
+
+//------------------------------------------------------------------------------
+namespace
+{
+enum class Frame
+{
+  Interactive,
+  Still,
+  Preview
+};
+
+// Sample as the Volume representation does (vtkSmartVolumeMapper): still renders every
+// half voxel or finer (the distance locked to the data's spacing), interactive ones as the
+// frame rate allows. Still frames jitter the ray starts within that step, which keeps them
+// no grainier than plain Volume's and free of rings; interactive frames, whose steps are
+// coarse, start every ray one step in, as plain Volume's do. A still frame drawn while the
+// final illumination is computed in the background is a preview (of a coarse or the previous
+// illumination): one sample per `voxel` on every third pixel, about a tenth of a still
+// frame's cost, which leaves the cores to the lighting.
+void SetSampling(vtkIlluminatedVolumeMapper* mapper, Frame frame, double voxel)
+{
+  const bool still = frame == Frame::Still;
+  mapper->SetAutoAdjustSampleDistances(frame == Frame::Interactive);
+  mapper->SetLockSampleDistanceToInputSpacing(still);
+  mapper->SetJitteredRayStarts(still);
+  if (frame == Frame::Preview)
+  {
+    mapper->SetSampleDistance(static_cast<float>(voxel));
+    mapper->SetImageSampleDistance(3.0f);
+  }
+  else if (still)
+  {
+    mapper->SetImageSampleDistance(1.0f);
+  }
+}
+}
+
+//------------------------------------------------------------------------------
+vtkIlluminationVolumeAlgorithm* vtkIlluminatedVolumeRepresentation::vtkInternals::FilterFor(
+  int method)
+{
+  for (int m = 0; m < static_cast<int>(this->Filters.size()); ++m)
+  {
+    if (m != method)
     {
-      filters[m] = nullptr; // one illumination volume in memory at a time
+      this->Filters[m] = nullptr; // one illumination volume in memory at a time
     }
   }
-  auto& filter = filters[this->IlluminationMethod];
+  auto& filter = this->Filters[method];
   if (!filter)
   {
-    switch (this->IlluminationMethod)
-    {
-      case FilteredShadows:
-        filter = vtkSmartPointer<vtkFilteredVolumetricShadows>::New();
-        break;
-      case RayMarchedReference:
-        filter = vtkSmartPointer<vtkRayMarchedIllumination>::New();
-        break;
-      default:
-        filter = vtkSmartPointer<vtkMultiLightIlluminationVolume>::New();
-        break;
-    }
-    volillum::ForwardProgress(filter, this);
+    filter = NewFilter(method);
   }
+  return filter;
+}
+
+//------------------------------------------------------------------------------
+vtkIlluminationVolumeAlgorithm* vtkIlluminatedVolumeRepresentation::GetIlluminationFilter()
+{
+  vtkIlluminationVolumeAlgorithm* filter = this->Internals->FilterFor(this->IlluminationMethod);
   // Pieces lit where they are in a parallel run (see vtkInternals).
   filter->SetController(this->Internals->Controller);
   return filter;
 }
 
 //------------------------------------------------------------------------------
+LightingRequest vtkIlluminatedVolumeRepresentation::vtkInternals::MakeRequest(
+  vtkIlluminatedVolumeRepresentation* self, vtkPVRenderView* view, vtkImageData* image,
+  const volillum::ColouredArray& coloured)
+{
+  LightingRequest r;
+  r.Method = self->IlluminationMethod;
+  r.Scale = self->ResolutionScale;
+  r.Chromatic = self->ChromaticAttenuation;
+  r.FilterWidth = self->ShadowFilterWidth;
+  r.FilterKernel = self->ShadowFilterKernel;
+  r.Lights = volillum::ReadViewLights(view, self->UseLightKit);
+  r.ArrayName = coloured.Name ? coloured.Name : "";
+  r.Association = coloured.Association;
+  vtkVolumeProperty* property = self->Property;
+  r.UnitDistance = property->GetScalarOpacityUnitDistance(0);
+  // Copies the job owns, made anew only when their originals changed (a new copy makes the
+  // filter recompute everything, as an edit of the original does).
+  if (image != this->Source || image->GetMTime() != this->InputTime || !this->Submitted.Input)
+  {
+    r.Input = vtkSmartPointer<vtkImageData>::New();
+    r.Input->ShallowCopy(image);
+    this->Source = image;
+    this->InputTime = image->GetMTime();
+  }
+  else
+  {
+    r.Input = this->Submitted.Input;
+  }
+  vtkColorTransferFunction* color = property->GetRGBTransferFunction(0);
+  if (!this->Submitted.Color || color->GetMTime() != this->ColorTime)
+  {
+    r.Color = vtkSmartPointer<vtkColorTransferFunction>::New();
+    r.Color->DeepCopy(color);
+    this->ColorTime = color->GetMTime();
+  }
+  else
+  {
+    r.Color = this->Submitted.Color;
+  }
+  vtkPiecewiseFunction* opacity = property->GetScalarOpacity(0);
+  if (!this->Submitted.Opacity || opacity->GetMTime() != this->OpacityTime)
+  {
+    r.Opacity = vtkSmartPointer<vtkPiecewiseFunction>::New();
+    r.Opacity->DeepCopy(opacity);
+    this->OpacityTime = opacity->GetMTime();
+  }
+  else
+  {
+    r.Opacity = this->Submitted.Opacity;
+  }
+  if (this->HasSubmitted && r.SameInputsAs(this->Submitted) &&
+    r.Lights.size() == this->Submitted.Lights.size())
+  {
+    r.Kind = 0;
+    for (size_t l = 0; l < r.Lights.size(); ++l)
+    {
+      r.Kind += r.Lights[l] == this->Submitted.Lights[l] ? 0 : 1;
+    }
+  }
+  return r;
+}
+
+//------------------------------------------------------------------------------
+bool vtkIlluminatedVolumeRepresentation::vtkInternals::ExpectedSlow(
+  const LightingRequest& request) const
+{
+  if (request.Scale <= CoarseScale)
+  {
+    return false; // nothing coarser to show first
+  }
+  auto measured = this->Seconds.find(request.Kind);
+  if (measured == this->Seconds.end())
+  {
+    measured = this->Seconds.find(-1); // at most what recomputing everything took
+  }
+  if (measured != this->Seconds.end())
+  {
+    return measured->second > CoarseFirstSeconds;
+  }
+  const double scale = request.Scale;
+  return request.Input->GetNumberOfPoints() * scale * scale * scale > CoarseFirstPoints;
+}
+
+//------------------------------------------------------------------------------
+void vtkIlluminatedVolumeRepresentation::vtkInternals::Light(
+  const LightingRequest& r, volillum::BackgroundLighting::Job& job)
+{
+  this->Lights.Update(r.Lights);
+  auto configure = [&](vtkIlluminationVolumeAlgorithm* filter, vtkImageData* input, double scale)
+  {
+    this->Lights.ApplyTo(filter);
+    filter->SetController(nullptr);
+    filter->SetInputData(input);
+    filter->SetInputArrayToProcess(0, 0, 0, r.Association, r.ArrayName.c_str());
+    filter->SetColorTransferFunction(r.Color);
+    filter->SetOpacityFunction(r.Opacity);
+    filter->SetScalarOpacityUnitDistance(r.UnitDistance);
+    filter->SetResolutionScale(scale);
+    filter->SetChromaticAttenuation(r.Chromatic);
+    if (auto* shadows = vtkFilteredVolumetricShadows::SafeDownCast(filter))
+    {
+      shadows->SetFilterWidth(r.FilterWidth);
+      shadows->SetFilterKernel(r.FilterKernel);
+    }
+  };
+  if (r.CoarseFirst)
+  {
+    if (!this->Coarse || this->CoarseMethod != r.Method)
+    {
+      this->Coarse = NewFilter(r.Method);
+      this->CoarseMethod = r.Method;
+    }
+    if (this->CoarseSource != r.Input)
+    {
+      // Every CoarseStride-th sample: the coarse stage classifies and sweeps a data set
+      // CoarseStride^3 times smaller (the propagation's cost follows the data, not only the
+      // illumination grid).
+      vtkNew<vtkExtractVOI> subsample;
+      subsample->SetInputData(r.Input);
+      subsample->SetSampleRate(CoarseStride, CoarseStride, CoarseStride);
+      subsample->Update();
+      this->CoarseInput = subsample->GetOutput();
+      this->CoarseSource = r.Input;
+    }
+    configure(this->Coarse, this->CoarseInput, 1.0);
+    if (!job.Update(this->Coarse))
+    {
+      return;
+    }
+    this->Publish(this->Coarse, false, r.Kind, job);
+  }
+  vtkIlluminationVolumeAlgorithm* filter = this->FilterFor(r.Method);
+  configure(filter, r.Input, r.Scale);
+  if (job.Update(filter))
+  {
+    this->Publish(filter, true, r.Kind, job);
+  }
+}
+
+//------------------------------------------------------------------------------
+bool vtkIlluminatedVolumeRepresentation::vtkInternals::Publish(
+  vtkIlluminationVolumeAlgorithm* filter, bool final, int kind,
+  volillum::BackgroundLighting::Job& job)
+{
+  vtkImageData* output = filter->GetOutput();
+  volillum::BackgroundLighting::Result result;
+  result.Final = final;
+  result.Kind = kind;
+  if (output && output->GetNumberOfPoints() > 0)
+  {
+    if (final && output->GetMTime() == this->Published)
+    {
+      result.Unchanged = true; // the mapper draws it already
+      job.Publish(result);
+      return true;
+    }
+    // Every update allocates new arrays: the copy shares ones no later update writes.
+    auto copy = vtkSmartPointer<vtkImageData>::New();
+    copy->ShallowCopy(output);
+    result.Data = copy;
+    volillum::ReadUpdateFieldData(output->GetFieldData(), result.Report, result.Seconds);
+  }
+  else if (!final)
+  {
+    return false; // no coarse illumination: wait for the final one
+  }
+  if (final)
+  {
+    this->Published = output ? output->GetMTime() : 0;
+  }
+  job.Publish(result);
+  return true;
+}
+
+//------------------------------------------------------------------------------
 bool vtkIlluminatedVolumeRepresentation::RemoveFromView(vtkView* view)
 {
   this->Internals->Start.Detach();
+  this->Internals->Background.Stop();
   if (auto* rview = vtkPVRenderView::SafeDownCast(view))
   {
     this->GetIlluminatedMapper()->ReleaseGraphicsResources(rview->GetRenderWindow());
@@ -248,6 +554,8 @@ void vtkIlluminatedVolumeRepresentation::UpdateVectorMode()
   const int component = volillum::ColouredComponent(this->Property);
   if (component != internals.Component)
   {
+    internals.Background.Stop(); // a running lighting reads the values rewritten here
+    internals.HasSubmitted = false;
     internals.Component = component;
     volillum::FillSingleComponent(internals.Vectors, component, internals.Reduced);
   }
@@ -277,7 +585,8 @@ int vtkIlluminatedVolumeRepresentation::ProcessViewRequest(
 //------------------------------------------------------------------------------
 bool vtkIlluminatedVolumeRepresentation::UpdateFilter(vtkIlluminationVolumeAlgorithm* filter)
 {
-  filter->Update();
+  this->Internals->Background.Run(
+    [filter](volillum::BackgroundLighting::Job& job) { job.Update(filter); }, this);
   vtkImageData* output = filter->GetOutput();
   if (!output || output->GetNumberOfPoints() == 0)
   {
@@ -291,15 +600,8 @@ bool vtkIlluminatedVolumeRepresentation::UpdateFilter(vtkIlluminationVolumeAlgor
 void vtkIlluminatedVolumeRepresentation::UpdateIllumination(vtkPVRenderView* view)
 {
   vtkIlluminatedVolumeMapper* mapper = this->GetIlluminatedMapper();
-  // Sample as the Volume representation does (vtkSmartVolumeMapper): still renders every
-  // half voxel or finer (the distance locked to the data's spacing), interactive ones as the
-  // frame rate allows. Still frames jitter the ray starts within that step, which keeps them
-  // no grainier than plain Volume's and free of rings; interactive frames, whose steps are
-  // coarse, start every ray one step in, as plain Volume's do.
   const bool interactiveFrame = volillum::IsInteractiveRender(view);
-  mapper->SetAutoAdjustSampleDistances(interactiveFrame);
-  mapper->SetLockSampleDistanceToInputSpacing(!interactiveFrame);
-  mapper->SetJitteredRayStarts(!interactiveFrame);
+  SetSampling(mapper, interactiveFrame ? Frame::Interactive : Frame::Still, 0.0);
   vtkNew<vtkInformation> info;
   info->Set(vtkPVView::VIEW(), view);
   vtkAlgorithmOutput* port = vtkPVRenderView::GetPieceProducer(info, this, 0);
@@ -315,16 +617,20 @@ void vtkIlluminatedVolumeRepresentation::UpdateIllumination(vtkPVRenderView* vie
   if (!volillum::AllOk(together, lightable || (together && empty)))
   {
     // Nothing this representation can light: draw as the Volume representation does.
+    internals.Background.Stop();
+    internals.HasSubmitted = false;
     mapper->SetIlluminationData(nullptr);
+    return;
+  }
+  if (!together)
+  {
+    this->LightSerially(view, image, interactiveFrame);
     return;
   }
 
   vtkIlluminationVolumeAlgorithm* filter = this->GetIlluminationFilter();
-  auto* propagation = vtkMultiLightIlluminationVolume::SafeDownCast(filter);
-  const bool progressive = propagation && this->MaximumPassesPerUpdate > 0;
-  const bool interactive = volillum::AllOk(together, volillum::IsInteractiveRender(view));
   if (volillum::AllOk(together,
-        interactive && !progressive &&
+        volillum::IsInteractiveRender(view) &&
           (empty || mapper->GetIlluminationData() == filter->GetOutput())))
   {
     return; // keep the current illumination while the camera moves
@@ -336,11 +642,6 @@ void vtkIlluminatedVolumeRepresentation::UpdateIllumination(vtkPVRenderView* vie
     filter, together ? internals.Piece->GetOutputPort() : port, coloured, this->Property);
   filter->SetResolutionScale(this->ResolutionScale);
   filter->SetChromaticAttenuation(this->ChromaticAttenuation);
-  if (propagation)
-  {
-    // Interactive renders refine progressively; a still render completes the update.
-    propagation->SetMaximumPassesPerUpdate(interactive ? this->MaximumPassesPerUpdate : 0);
-  }
   if (auto* shadows = vtkFilteredVolumetricShadows::SafeDownCast(filter))
   {
     shadows->SetFilterWidth(this->ShadowFilterWidth);
@@ -361,6 +662,94 @@ void vtkIlluminatedVolumeRepresentation::UpdateIllumination(vtkPVRenderView* vie
 }
 
 //------------------------------------------------------------------------------
+void vtkIlluminatedVolumeRepresentation::LightSerially(
+  vtkPVRenderView* view, vtkImageData* image, bool interactive)
+{
+  auto& internals = *this->Internals;
+  this->ShowFinishedLighting();
+  vtkIlluminatedVolumeMapper* mapper = this->GetIlluminatedMapper();
+  if (interactive && mapper->GetIlluminationData())
+  {
+    return; // keep the current illumination while the camera moves
+  }
+  volillum::ColouredArray coloured;
+  volillum::ColouredScalars(this, image, coloured);
+  LightingRequest request = internals.MakeRequest(this, view, image, coloured);
+  if (!this->AsynchronousLighting)
+  {
+    internals.Submitted = request;
+    internals.HasSubmitted = true;
+    internals.Background.Run([&internals, request](volillum::BackgroundLighting::Job& job)
+      { internals.Light(request, job); },
+      this);
+    this->ShowFinishedLighting();
+    return;
+  }
+  if (internals.HasSubmitted && request.SameAs(internals.Submitted))
+  {
+    if (!internals.Background.Busy() && !internals.ShownFinal)
+    {
+      // Cancelled after a coarse stage: back to the last finished illumination.
+      mapper->SetIlluminationData(vtkImageData::SafeDownCast(internals.LastFinal));
+      internals.ShownFinal = true;
+      this->MeanTime = vtkTimeStamp(); // the mean of what is drawn now
+    }
+  }
+  else
+  {
+    request.CoarseFirst = internals.ExpectedSlow(request);
+    internals.Submitted = request;
+    internals.HasSubmitted = true;
+    internals.Background.Start([&internals, request](volillum::BackgroundLighting::Job& job)
+      { internals.Light(request, job); });
+  }
+  if (!interactive && this->GetIlluminationPending())
+  {
+    const double* spacing = image->GetSpacing();
+    SetSampling(mapper, Frame::Preview,
+      std::min({ std::abs(spacing[0]), std::abs(spacing[1]), std::abs(spacing[2]) }));
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkIlluminatedVolumeRepresentation::ShowFinishedLighting()
+{
+  auto& internals = *this->Internals;
+  volillum::BackgroundLighting::Result result;
+  if (!internals.Background.Take(result))
+  {
+    return;
+  }
+  internals.ShownFinal = result.Final;
+  if (result.Unchanged)
+  {
+    return;
+  }
+  this->GetIlluminatedMapper()->SetIlluminationData(vtkImageData::SafeDownCast(result.Data));
+  this->MeanTime = vtkTimeStamp();
+  if (result.Final)
+  {
+    internals.LastFinal = result.Data;
+    this->Report = result.Report;
+    this->UpdateSeconds = result.Seconds;
+    internals.Seconds[result.Kind] = result.Seconds;
+  }
+}
+
+//------------------------------------------------------------------------------
+int vtkIlluminatedVolumeRepresentation::GetIlluminationPending()
+{
+  const auto& internals = *this->Internals;
+  return internals.Background.Busy() || internals.Background.Ready() || !internals.ShownFinal;
+}
+
+//------------------------------------------------------------------------------
+void vtkIlluminatedVolumeRepresentation::CancelIllumination()
+{
+  this->Internals->Background.Cancel();
+}
+
+//------------------------------------------------------------------------------
 void vtkIlluminatedVolumeRepresentation::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
@@ -369,7 +758,7 @@ void vtkIlluminatedVolumeRepresentation::PrintSelf(ostream& os, vtkIndent indent
   os << indent << "ChromaticAttenuation: " << this->ChromaticAttenuation << "\n";
   os << indent << "ShadowFilterWidth: " << this->ShadowFilterWidth << "\n";
   os << indent << "ShadowFilterKernel: " << this->ShadowFilterKernel << "\n";
-  os << indent << "MaximumPassesPerUpdate: " << this->MaximumPassesPerUpdate << "\n";
+  os << indent << "AsynchronousLighting: " << this->AsynchronousLighting << "\n";
   os << indent << "UseLightKit: " << this->UseLightKit << "\n";
   os << indent << "UpdateMode: " << this->Report.Mode << "\n";
   os << indent << "UpdateSeconds: " << this->UpdateSeconds << "\n";

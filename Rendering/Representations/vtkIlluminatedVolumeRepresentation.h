@@ -20,10 +20,17 @@
  * re-propagates that light only; a transfer-function or data change recomputes everything.
  *
  * While the user drags the camera (interactive renders) the current illumination is
- * kept; with MaximumPassesPerUpdate > 0 (propagation) each interactive render does at
- * most that many propagation passes toward the new lighting, and a still render always
- * completes it. UpdateMode, UpdateSeconds, PropagationPasses and PendingPasses report the
- * last update.
+ * kept. With AsynchronousLighting (serial runs: the GUI's builtin session, a pvserver of one
+ * process, pvpython) a still render does not wait for the lighting: it draws the last
+ * finished illumination and hands the new one to a worker thread (IlluminationBackground.h)
+ * on copies of what it reads; a coarse illumination (Resolution Scale 1/4) comes first when
+ * the final one is expected to take over 0.3 s; a newer edit supersedes the running
+ * computation; CancelIllumination stops it and keeps the last finished illumination. The
+ * result is shown by a later render (the GUI asks for it: pqIlluminationLightingBehavior;
+ * a script renders until IlluminationPending is 0). In a parallel run the processes light
+ * together as each render starts, so the lighting is synchronous there whatever the
+ * setting. UpdateMode, UpdateSeconds, PropagationPasses and PendingPasses report the last
+ * finished update.
  *
  * The coloured array must be a one-component point array; otherwise the volume is drawn
  * without illumination (as the Volume representation draws it).
@@ -39,6 +46,7 @@
 #include <memory>
 
 class vtkIlluminatedVolumeMapper;
+class vtkImageData;
 class vtkIlluminationVolumeAlgorithm;
 class vtkPVRenderView;
 
@@ -84,10 +92,22 @@ public:
   ///@}
 
   ///@{
-  /** Propagation: most passes per update, 0 for no limit (see the class description). */
-  vtkSetClampMacro(MaximumPassesPerUpdate, int, 0, VTK_INT_MAX);
-  vtkGetMacro(MaximumPassesPerUpdate, int);
+  /**
+   * Compute the illumination off the render call (see the class description). Default off
+   * (scripts get the final illumination from each Render()); the GUI turns it on.
+   */
+  vtkSetMacro(AsynchronousLighting, bool);
+  vtkGetMacro(AsynchronousLighting, bool);
   ///@}
+
+  /**
+   * 1 while an illumination is computed or queued in the background, or finished and not
+   * drawn yet; 0 when the last render drew the final illumination.
+   */
+  int GetIlluminationPending();
+
+  /// Stop the background computation; the last finished illumination is drawn again.
+  void CancelIllumination();
 
   ///@{
   /** Also light with the view's light kit (when the view has it on). Default on. */
@@ -154,6 +174,10 @@ protected:
   vtkIlluminationVolumeAlgorithm* GetIlluminationFilter();
   /// Lights the piece this process renders in the view (as its renderer starts a render).
   void UpdateIllumination(vtkPVRenderView* view);
+  /// A serial run: lights on a worker thread (AsynchronousLighting) or now.
+  void LightSerially(vtkPVRenderView* view, vtkImageData* image, bool interactive);
+  /// Draw what the background lighting finished since the last render.
+  void ShowFinishedLighting();
   bool UpdateFilter(vtkIlluminationVolumeAlgorithm* filter);
 
   int IlluminationMethod = MultiLightPropagation;
@@ -161,7 +185,7 @@ protected:
   bool ChromaticAttenuation = false;
   double ShadowFilterWidth = 3.0;
   int ShadowFilterKernel = 0;
-  int MaximumPassesPerUpdate = 0;
+  bool AsynchronousLighting = false;
   bool UseLightKit = true;
 
   volillum::UpdateReport Report;

@@ -58,6 +58,24 @@ def info(rep, name):
     return [prop.GetElement(i) for i in range(prop.GetNumberOfElements())]
 
 
+def render_final(view, rep):
+    """Render until the view shows rep's final illumination. With Asynchronous Lighting on
+    (the GUI's default) a render draws the last finished illumination while the new one is
+    computed on a worker thread; a script renders again once the worker is done (the GUI's
+    pqIlluminationLightingBehavior does the same when its event loop runs)."""
+    from paraview.simple import Render
+    status = servermanager.ProxyManager().SMProxyManager.NewProxy("misc", "IlluminationStatus")
+    status.UpdateVTKObjects()
+    Render(view)
+    while info(rep, "IlluminationPending")[0]:
+        status.UpdatePropertyInformation()
+        if status.GetProperty("IlluminationBusy").GetElement(0):
+            time.sleep(0.02)
+        else:
+            Render(view)
+    status.UnRegister(None)
+
+
 def mean_illumination(proxy):
     """Mean of the Illumination point array of a filter's output (r, g, b)."""
     proxy.UpdatePipeline()
@@ -229,6 +247,9 @@ def run_gui_script(paraview, script, env, result_file):
     when paraview does not exit within 300 s or the script wrote nothing."""
     if os.path.exists(result_file):
         os.remove(result_file)
+    # The GUI runs the script without __file__: it finds these helpers on PYTHONPATH.
+    here = os.path.dirname(os.path.abspath(__file__))
+    env = dict(env, PYTHONPATH=os.pathsep.join(p for p in (here, env.get("PYTHONPATH")) if p))
     try:
         subprocess.run([paraview, "--dr", "--script=" + script], env=env, timeout=300)
     except subprocess.TimeoutExpired:

@@ -4,7 +4,8 @@ The engine CT (engine.vti, coloured by ImageFile with the default colour map and
 is shown as plain "Volume", then as "Illuminated Volume", with the default light kit and
 the default camera (looking straight at the engine's cut face), then at an oblique camera;
 then Illuminated Volume's Resolution Scale is changed and the frame after the change is
-grabbed twice. Every picture is the frame on the screen (vtkWindowToImageFilter without a
+grabbed twice. Each frame is grabbed once the lighting is final (the GUI lights in the
+background: render_final). Every picture is the frame on the screen (vtkWindowToImageFilter without a
 new render: SaveScreenshot renders a fresh frame, which can hide what the view shows),
 saved as OUTPUT_DIR/picture_<name>.png for the driver (run_picture_test.py) to measure.
 Results go to OUTPUT_DIR/picture_result.txt as "name value" lines; then the script ends the
@@ -15,6 +16,8 @@ VOLILLUM_OUTPUT (OUTPUT_DIR).
 import os
 
 from paraview.simple import *
+
+from IlluminatedVolumeTestUtilities import render_final  # on PYTHONPATH: run_gui_script
 from vtkmodules.vtkIOImage import vtkPNGWriter
 from vtkmodules.vtkRenderingCore import vtkWindowToImageFilter
 
@@ -50,18 +53,18 @@ try:
         camera.SetPosition(straight[0])
         camera.SetFocalPoint(straight[1])
         camera.SetViewUp(straight[2])
-        Render(view)
+        render_final(view, rep)
         name = representation.split()[0].lower()
         grab(view, name + "_straight")
         camera.Azimuth(35)
         camera.Elevation(25)
-        Render(view)
+        render_final(view, rep)
         grab(view, name + "_oblique")
     # A Resolution Scale change: the first frame after it and the next one.
     rep.IlluminationResolutionScale = 0.25
-    Render(view)
+    render_final(view, rep)
     grab(view, "scale_first")
-    Render(view)
+    render_final(view, rep)
     grab(view, "scale_next")
     results.append("representation %s" % str(rep.Representation).strip("'").replace(" ", "_"))
 except Exception as error:  # reported to the driver, which fails the test

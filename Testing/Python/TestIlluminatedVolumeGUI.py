@@ -12,6 +12,8 @@ import os
 
 from paraview.simple import *
 
+from IlluminatedVolumeTestUtilities import render_final  # on PYTHONPATH: run_gui_script
+
 out = os.environ["VOLILLUM_OUTPUT"]
 results = []
 try:
@@ -31,7 +33,7 @@ try:
     light.DiffuseColor = [1.0, 0.6, 0.3]
     for step, enable in (("on", 1), ("off", 0), ("on_again", 1)):
         light.Enable = enable
-        Render(view)
+        render_final(view, rep)
         SaveScreenshot(os.path.join(out, "gui_%s.png" % step), view, ImageResolution=[300, 300])
         rep.SMProxy.UpdatePropertyInformation()
         mean = rep.SMProxy.GetProperty("IlluminationMean")

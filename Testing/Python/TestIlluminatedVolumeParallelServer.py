@@ -9,7 +9,8 @@ remote rendering (ordered compositing of the pieces). A third scene lights the C
 the light kit alone (camera lights) and moves the camera just before the screenshot, so
 that the screenshot's render is the first with that camera: the servers (and, in pvbatch,
 every process but the first) get the camera only as that render starts, and must light with
-it. That scene is also rendered by `mpiexec -np 2 pvbatch` running this script. A fourth
+it. That scene is also rendered by `mpiexec -np 2 pvbatch` running this script, with
+Asynchronous Lighting on (synchronous under MPI: the same image). A fourth
 scene adds two bright lights to the light kit: lit samples brighter than the displayable
 range on rays that cross both pieces (a piece's image brighter than its opacity made the
 compositing wrap channels around: saturated blue turned dark). Then a small
@@ -88,14 +89,19 @@ def image_scene(path):
     return render_scene(path, XMLImageDataReader(FileName=[HEAD]), ("POINTS", "scalars"), setup)
 
 
-def light_kit_scene(path):
+def light_kit_scene(path, asynchronous=False):
     """The CT head lit by the light kit (lights that follow the camera), the camera turned
-    just before the screenshot."""
+    just before the screenshot. With asynchronous, Asynchronous Lighting is on (pvbatch:
+    under MPI the processes still light together as each render starts)."""
     def moved():
         GetActiveCamera().Azimuth(150)
         GetActiveCamera().Elevation(40)
+
+    def setup(view, rep):
+        head_colours(rep)
+        rep.AsynchronousLighting = 1 if asynchronous else 0
     return render_scene(path, XMLImageDataReader(FileName=[HEAD]), ("POINTS", "scalars"),
-                        lambda view, rep: head_colours(rep), light_kit=True, moved=moved)
+                        setup, light_kit=True, moved=moved)
 
 
 def grid_scene(path):
@@ -171,7 +177,7 @@ def small_renders(path):
 
 if __name__ == "__main__" and sys.argv[1] == "--batch":
     LoadPlugin(sys.argv[2], remote=False, ns=globals())
-    print("IlluminationDistributed %s" % light_kit_scene(sys.argv[3]))
+    print("IlluminationDistributed %s" % light_kit_scene(sys.argv[3], asynchronous=True))
 elif __name__ == "__main__" and sys.argv[1] == "--small":
     LoadPlugin(sys.argv[2], remote=False, ns=globals())
     small_renders(sys.argv[3])

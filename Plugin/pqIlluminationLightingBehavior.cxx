@@ -1,0 +1,194 @@
+#include "pqIlluminationLightingBehavior.h"
+
+#include "pqApplicationCore.h"
+#include "pqProgressManager.h"
+#include "pqRenderView.h"
+#include "pqRepresentation.h"
+#include "pqServer.h"
+#include "pqServerManagerModel.h"
+#include "vtkSMPropertyHelper.h"
+#include "vtkSMProxy.h"
+#include "vtkSMProxyManager.h"
+#include "vtkSMSessionProxyManager.h"
+
+#include <algorithm>
+
+namespace
+{
+constexpr int PollMilliseconds = 100;
+}
+
+//------------------------------------------------------------------------------
+pqIlluminationLightingBehavior::pqIlluminationLightingBehavior(QObject* parent)
+  : QObject(parent)
+{
+  this->Timer.setSingleShot(true);
+  this->Timer.setInterval(PollMilliseconds);
+  QObject::connect(&this->Timer, &QTimer::timeout, this, &pqIlluminationLightingBehavior::poll);
+}
+
+//------------------------------------------------------------------------------
+pqIlluminationLightingBehavior::~pqIlluminationLightingBehavior() = default;
+
+//------------------------------------------------------------------------------
+void pqIlluminationLightingBehavior::startup()
+{
+  pqApplicationCore* core = pqApplicationCore::instance();
+  if (!core)
+  {
+    return;
+  }
+  pqServerManagerModel* model = core->getServerManagerModel();
+  QObject::connect(model, &pqServerManagerModel::aboutToRemoveServer, this,
+    &pqIlluminationLightingBehavior::onServerRemoved);
+  QObject::connect(model, &pqServerManagerModel::representationAdded, this,
+    &pqIlluminationLightingBehavior::onRepresentationAdded);
+  QObject::connect(
+    model, &pqServerManagerModel::viewAdded, this, &pqIlluminationLightingBehavior::onViewAdded);
+  QObject::connect(core->getProgressManager(), &pqProgressManager::abort, this,
+    &pqIlluminationLightingBehavior::cancel);
+  // The plugin may be loaded after the session started.
+  for (pqView* view : model->findItems<pqView*>())
+  {
+    this->onViewAdded(view);
+  }
+  for (pqRepresentation* representation : model->findItems<pqRepresentation*>())
+  {
+    this->onRepresentationAdded(representation);
+  }
+}
+
+//------------------------------------------------------------------------------
+void pqIlluminationLightingBehavior::shutdown()
+{
+  this->Timer.stop();
+  this->showProgress(false, 1.0);
+  this->Status.clear();
+}
+
+//------------------------------------------------------------------------------
+vtkSMProxy* pqIlluminationLightingBehavior::status(pqServer* server)
+{
+  // Made when first needed: the plugin starts before its proxies are defined.
+  auto found = this->Status.find(server);
+  if (found != this->Status.end())
+  {
+    return found.value();
+  }
+  vtkSMSessionProxyManager* pxm = server->proxyManager();
+  vtkSmartPointer<vtkSMProxy> proxy;
+  if (pxm && pxm->GetPrototypeProxy("misc", "IlluminationStatus"))
+  {
+    proxy.TakeReference(pxm->NewProxy("misc", "IlluminationStatus"));
+    proxy->UpdateVTKObjects();
+    this->Status.insert(server, proxy);
+  }
+  return proxy;
+}
+
+//------------------------------------------------------------------------------
+void pqIlluminationLightingBehavior::onServerRemoved(pqServer* server)
+{
+  this->Status.remove(server);
+}
+
+//------------------------------------------------------------------------------
+void pqIlluminationLightingBehavior::onRepresentationAdded(pqRepresentation* representation)
+{
+  vtkSMProxy* proxy = representation ? representation->getProxy() : nullptr;
+  if (proxy && proxy->GetProperty("AsynchronousLighting"))
+  {
+    vtkSMPropertyHelper(proxy, "AsynchronousLighting").Set(1);
+    proxy->UpdateVTKObjects();
+  }
+}
+
+//------------------------------------------------------------------------------
+void pqIlluminationLightingBehavior::onViewAdded(pqView* view)
+{
+  if (qobject_cast<pqRenderView*>(view))
+  {
+    QObject::connect(view, &pqView::endRender, this, &pqIlluminationLightingBehavior::poll);
+  }
+}
+
+//------------------------------------------------------------------------------
+void pqIlluminationLightingBehavior::poll()
+{
+  bool busy = false;
+  bool ready = false;
+  double progress = 1.0;
+  pqServerManagerModel* model = pqApplicationCore::instance()->getServerManagerModel();
+  for (pqServer* server : model->findItems<pqServer*>())
+  {
+    vtkSMProxy* status = this->status(server);
+    if (!status)
+    {
+      continue;
+    }
+    status->UpdatePropertyInformation();
+    busy = busy || vtkSMPropertyHelper(status, "IlluminationBusy").GetAsInt() != 0;
+    ready = ready || vtkSMPropertyHelper(status, "IlluminationReady").GetAsInt() != 0;
+    progress =
+      std::min(progress, vtkSMPropertyHelper(status, "IlluminationProgress").GetAsDouble());
+  }
+  this->showProgress(busy, progress);
+  if (ready)
+  {
+    this->renderViews(); // their end polls again
+  }
+  else if (busy)
+  {
+    this->Timer.start();
+  }
+}
+
+//------------------------------------------------------------------------------
+void pqIlluminationLightingBehavior::cancel()
+{
+  if (!this->ShowingProgress)
+  {
+    return; // another operation's abort
+  }
+  for (pqServer* server : this->Status.keys())
+  {
+    this->Status.value(server)->InvokeCommand("CancelIllumination");
+  }
+  this->renderViews(); // the representations draw their last finished illumination again
+}
+
+//------------------------------------------------------------------------------
+void pqIlluminationLightingBehavior::renderViews()
+{
+  pqServerManagerModel* model = pqApplicationCore::instance()->getServerManagerModel();
+  for (pqRenderView* view : model->findItems<pqRenderView*>())
+  {
+    view->render();
+  }
+}
+
+//------------------------------------------------------------------------------
+void pqIlluminationLightingBehavior::showProgress(bool busy, double progress)
+{
+  pqProgressManager* manager = pqApplicationCore::instance()->getProgressManager();
+  if (busy && !this->ShowingProgress)
+  {
+    // The progress bar with its abort button, without the input blocking ParaView applies
+    // while a pipeline update runs on the GUI's thread: this one runs beside it.
+    manager->setEnableProgress(true);
+    this->PreviousUnblock = manager->unblockEvents(true);
+    manager->setEnableAbort(true);
+    this->ShowingProgress = true;
+  }
+  if (busy)
+  {
+    manager->setProgress(QString("Illuminating the volume"), static_cast<int>(100.0 * progress));
+  }
+  else if (this->ShowingProgress)
+  {
+    manager->setEnableAbort(false);
+    manager->setEnableProgress(false);
+    manager->unblockEvents(this->PreviousUnblock);
+    this->ShowingProgress = false;
+  }
+}

@@ -1,0 +1,61 @@
+/**
+ * @class pqIlluminationLightingBehavior
+ * @brief The GUI's side of background lighting: no render waits for the illumination.
+ *
+ * Started with the plugin in the paraview client (an auto-start of the plugin), it
+ *  - turns AsynchronousLighting on for every representation that has it (the Illuminated
+ *    Volume representations; pvpython and pvbatch leave it off),
+ *  - after each render of a view, and every 100 ms while a computation runs, polls the
+ *    IlluminationStatus proxy of each server (vtkIlluminationStatus, which lives where the
+ *    views render, so this works in client-server sessions too), as ParaView's
+ *    pqViewStreamingBehavior polls streaming views: when a finished illumination waits, it
+ *    renders the render views, which draw it,
+ *  - shows the computation in ParaView's progress bar without blocking input, and cancels
+ *    it when the progress bar's abort is pressed.
+ */
+#ifndef pqIlluminationLightingBehavior_h
+#define pqIlluminationLightingBehavior_h
+
+#include <QMap>
+#include <QObject>
+#include <QPointer>
+#include <QTimer>
+
+#include "vtkSmartPointer.h"
+
+class pqRepresentation;
+class pqServer;
+class pqView;
+class vtkSMProxy;
+
+class pqIlluminationLightingBehavior : public QObject
+{
+  Q_OBJECT
+
+public:
+  explicit pqIlluminationLightingBehavior(QObject* parent = nullptr);
+  ~pqIlluminationLightingBehavior() override;
+
+  void startup();
+  void shutdown();
+
+private Q_SLOTS:
+  void onServerRemoved(pqServer* server);
+  void onRepresentationAdded(pqRepresentation* representation);
+  void onViewAdded(pqView* view);
+  void poll();
+  void cancel();
+
+private:
+  void showProgress(bool busy, double progress);
+  void renderViews();
+  /// The server's IlluminationStatus proxy (nullptr before the plugin's proxies are defined).
+  vtkSMProxy* status(pqServer* server);
+
+  QMap<pqServer*, vtkSmartPointer<vtkSMProxy>> Status;
+  QTimer Timer;
+  bool ShowingProgress = false;
+  bool PreviousUnblock = false;
+};
+
+#endif

@@ -1,0 +1,243 @@
+#include "IlluminationBackground.h"
+
+#include "vtkAlgorithm.h"
+#include "vtkCallbackCommand.h"
+#include "vtkCommand.h"
+#include "vtkNew.h"
+
+#include <algorithm>
+#include <vector>
+
+namespace
+{
+// Every BackgroundLighting of the process, for vtkIlluminationStatus.
+std::mutex RegistryMutex;
+std::vector<volillum::BackgroundLighting*>& Registry()
+{
+  static std::vector<volillum::BackgroundLighting*> registry;
+  return registry;
+}
+}
+
+namespace volillum
+{
+
+//------------------------------------------------------------------------------
+bool BackgroundLighting::Job::Cancelled() const
+{
+  return this->Owner->CancelRequested.load();
+}
+
+//------------------------------------------------------------------------------
+bool BackgroundLighting::Job::Update(vtkAlgorithm* filter)
+{
+  struct Watch
+  {
+    Job* Self;
+    vtkAlgorithm* Filter;
+  } watch{ this, filter };
+  vtkNew<vtkCallbackCommand> observer;
+  observer->SetClientData(&watch);
+  observer->SetCallback(
+    [](vtkObject*, unsigned long, void* clientData, void*)
+    {
+      auto* w = static_cast<Watch*>(clientData);
+      const double fraction = w->Filter->GetProgress();
+      w->Self->Owner->Fraction.store(fraction);
+      if (w->Self->ProgressTo)
+      {
+        w->Self->ProgressTo->UpdateProgress(fraction);
+      }
+      if (w->Self->Cancelled())
+      {
+        w->Filter->SetAbortExecute(1); // the filter stops at this report
+      }
+    });
+  filter->SetAbortExecute(0);
+  const unsigned long tag = filter->AddObserver(vtkCommand::ProgressEvent, observer);
+  filter->Update();
+  filter->RemoveObserver(tag);
+  if (this->Cancelled())
+  {
+    filter->Modified(); // what was abandoned is computed by the next update
+    return false;
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void BackgroundLighting::Job::Publish(const Result& result)
+{
+  std::lock_guard<std::mutex> lock(this->Owner->Mutex);
+  this->Owner->Latest = result;
+  this->Owner->HasLatest = true;
+}
+
+//------------------------------------------------------------------------------
+BackgroundLighting::BackgroundLighting()
+{
+  std::lock_guard<std::mutex> lock(RegistryMutex);
+  Registry().push_back(this);
+}
+
+//------------------------------------------------------------------------------
+BackgroundLighting::~BackgroundLighting()
+{
+  {
+    std::lock_guard<std::mutex> lock(RegistryMutex);
+    auto& registry = Registry();
+    registry.erase(std::remove(registry.begin(), registry.end(), this), registry.end());
+  }
+  {
+    std::lock_guard<std::mutex> lock(this->Mutex);
+    this->Queued = nullptr;
+    this->Quit = true;
+    this->CancelRequested = true;
+  }
+  this->Changed.notify_all();
+  if (this->Worker.joinable())
+  {
+    this->Worker.join();
+  }
+}
+
+//------------------------------------------------------------------------------
+void BackgroundLighting::Start(Work work)
+{
+  {
+    std::lock_guard<std::mutex> lock(this->Mutex);
+    this->Queued = std::move(work);
+    if (this->Running)
+    {
+      this->CancelRequested = true;
+    }
+    if (!this->Worker.joinable())
+    {
+      this->Worker = std::thread(&BackgroundLighting::Loop, this);
+    }
+  }
+  this->Changed.notify_all();
+}
+
+//------------------------------------------------------------------------------
+void BackgroundLighting::Loop()
+{
+  std::unique_lock<std::mutex> lock(this->Mutex);
+  while (true)
+  {
+    this->Changed.wait(lock, [this] { return this->Quit || this->Queued; });
+    if (this->Quit)
+    {
+      return;
+    }
+    Work work = std::move(this->Queued);
+    this->Queued = nullptr;
+    this->Running = true;
+    this->CancelRequested = false;
+    this->Fraction = 0.0;
+    lock.unlock();
+    Job job(this, nullptr);
+    work(job);
+    lock.lock();
+    this->Running = false;
+    this->Changed.notify_all();
+  }
+}
+
+//------------------------------------------------------------------------------
+void BackgroundLighting::Cancel()
+{
+  std::lock_guard<std::mutex> lock(this->Mutex);
+  this->Queued = nullptr;
+  if (this->Running)
+  {
+    this->CancelRequested = true;
+  }
+}
+
+//------------------------------------------------------------------------------
+void BackgroundLighting::Stop()
+{
+  this->Cancel();
+  std::unique_lock<std::mutex> lock(this->Mutex);
+  this->Changed.wait(lock, [this] { return !this->Running && !this->Queued; });
+}
+
+//------------------------------------------------------------------------------
+void BackgroundLighting::Run(const Work& work, vtkAlgorithm* progressTo)
+{
+  this->Stop();
+  this->CancelRequested = false;
+  Job job(this, progressTo);
+  work(job);
+}
+
+//------------------------------------------------------------------------------
+bool BackgroundLighting::Take(Result& result)
+{
+  std::lock_guard<std::mutex> lock(this->Mutex);
+  if (!this->HasLatest)
+  {
+    return false;
+  }
+  result = std::move(this->Latest);
+  this->Latest = Result();
+  this->HasLatest = false;
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool BackgroundLighting::Busy() const
+{
+  std::lock_guard<std::mutex> lock(this->Mutex);
+  return this->Running || this->Queued;
+}
+
+//------------------------------------------------------------------------------
+bool BackgroundLighting::Ready() const
+{
+  std::lock_guard<std::mutex> lock(this->Mutex);
+  return this->HasLatest;
+}
+
+//------------------------------------------------------------------------------
+bool BackgroundLighting::AnyBusy()
+{
+  std::lock_guard<std::mutex> lock(RegistryMutex);
+  const auto& registry = Registry();
+  return std::any_of(
+    registry.begin(), registry.end(), [](const BackgroundLighting* b) { return b->Busy(); });
+}
+
+bool BackgroundLighting::AnyReady()
+{
+  std::lock_guard<std::mutex> lock(RegistryMutex);
+  const auto& registry = Registry();
+  return std::any_of(
+    registry.begin(), registry.end(), [](const BackgroundLighting* b) { return b->Ready(); });
+}
+
+double BackgroundLighting::LeastProgress()
+{
+  std::lock_guard<std::mutex> lock(RegistryMutex);
+  double least = 1.0;
+  for (const BackgroundLighting* b : Registry())
+  {
+    if (b->Busy())
+    {
+      least = std::min(least, b->Progress());
+    }
+  }
+  return least;
+}
+
+void BackgroundLighting::CancelAll()
+{
+  std::lock_guard<std::mutex> lock(RegistryMutex);
+  for (BackgroundLighting* b : Registry())
+  {
+    b->Cancel();
+  }
+}
+
+}

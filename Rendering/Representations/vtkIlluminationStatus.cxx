@@ -1,0 +1,35 @@
+#include "vtkIlluminationStatus.h"
+
+#include "IlluminationBackground.h"
+#include "vtkObjectFactory.h"
+
+vtkStandardNewMacro(vtkIlluminationStatus);
+
+//------------------------------------------------------------------------------
+int vtkIlluminationStatus::GetIlluminationBusy()
+{
+  return volillum::BackgroundLighting::AnyBusy() ? 1 : 0;
+}
+
+int vtkIlluminationStatus::GetIlluminationReady()
+{
+  return volillum::BackgroundLighting::AnyReady() ? 1 : 0;
+}
+
+double vtkIlluminationStatus::GetIlluminationProgress()
+{
+  return volillum::BackgroundLighting::LeastProgress();
+}
+
+void vtkIlluminationStatus::CancelIllumination()
+{
+  volillum::BackgroundLighting::CancelAll();
+}
+
+//------------------------------------------------------------------------------
+void vtkIlluminationStatus::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "IlluminationBusy: " << this->GetIlluminationBusy() << "\n";
+  os << indent << "IlluminationReady: " << this->GetIlluminationReady() << "\n";
+}

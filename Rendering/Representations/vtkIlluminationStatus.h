@@ -1,0 +1,44 @@
+/**
+ * @class vtkIlluminationStatus
+ * @brief The background lighting of the process, for the GUI's polling.
+ *
+ * Information about every Illuminated Volume representation of the process that lights in
+ * the background (AsynchronousLighting): whether a computation runs or is queued, whether a
+ * finished illumination waits for a render to show it, and the least progress of those
+ * running; CancelIllumination cancels them all (each keeps its last finished illumination).
+ * ParaView's proxy for it ("IlluminationStatus") lives on the server only, so in a
+ * client-server session the client reads the rendering process's state, not its own; the
+ * plugin's pqIlluminationLightingBehavior polls it and re-renders when a result is ready.
+ */
+#ifndef vtkIlluminationStatus_h
+#define vtkIlluminationStatus_h
+
+#include "VolIllumRepresentationsModule.h"
+#include "vtkObject.h"
+
+class VOLILLUMREPRESENTATIONS_EXPORT vtkIlluminationStatus : public vtkObject
+{
+public:
+  static vtkIlluminationStatus* New();
+  vtkTypeMacro(vtkIlluminationStatus, vtkObject);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /// 1 while an illumination is computed or queued in the background.
+  int GetIlluminationBusy();
+  /// 1 while a finished illumination waits for a render to show it.
+  int GetIlluminationReady();
+  /// The least progress (0 to 1) of the computations running.
+  double GetIlluminationProgress();
+  /// Cancel every background computation (the last finished illumination stays).
+  void CancelIllumination();
+
+protected:
+  vtkIlluminationStatus() = default;
+  ~vtkIlluminationStatus() override = default;
+
+private:
+  vtkIlluminationStatus(const vtkIlluminationStatus&) = delete;
+  void operator=(const vtkIlluminationStatus&) = delete;
+};
+
+#endif

@@ -1,0 +1,83 @@
+"""Run inside the ParaView GUI (paraview --script=...): the GUI never waits on the lighting.
+
+The engine CT resampled to 256^3 is shown as "Illuminated Volume" (Resolution Scale 0.5)
+under the default light kit. The script records whether the GUI turned Asynchronous
+Lighting on, the time of a still frame with nothing to light, and the time a synchronous
+Render() blocks after a 40-degree camera turn (the light kit turns with the camera, so
+everything is re-lit). Then, with Asynchronous Lighting on, it turns the camera again,
+renders once and returns to the event loop; a 20 ms timer of the view's interactor (a Qt
+timer) records the largest delay between its ticks until the representation reports
+IlluminationPending 0 without the script rendering again (pqIlluminationLightingBehavior
+renders when the illumination is ready), and the time that took. Results go to
+OUTPUT_DIR/async_result.txt as "name value" lines; then the application ends (os._exit).
+Environment: VOLILLUM_PLUGIN, VOLILLUM_DATA (the folder of engine.vti), VOLILLUM_OUTPUT.
+"""
+import os
+import time
+
+from paraview.simple import *
+
+out = os.environ["VOLILLUM_OUTPUT"]
+results = []
+
+
+def finish():
+    with open(os.path.join(out, "async_result.txt"), "w") as f:
+        f.write("\n".join(results) + "\n")
+    os._exit(0)
+
+
+def pending(rep):
+    rep.SMProxy.UpdatePropertyInformation()
+    return int(rep.SMProxy.GetProperty("IlluminationPending").GetElement(0))
+
+
+try:
+    LoadPlugin(os.environ["VOLILLUM_PLUGIN"], remote=False, ns=globals())
+    engine = XMLImageDataReader(FileName=[os.path.join(os.environ["VOLILLUM_DATA"], "engine.vti")])
+    volume = ResampleToImage(Input=engine, SamplingDimensions=[256, 256, 256])
+    view = GetActiveViewOrCreate("RenderView")
+    rep = Show(volume, view)
+    rep.SetRepresentationType("Illuminated Volume")
+    ColorBy(rep, ("POINTS", "ImageFile"))
+    rep.IlluminationResolutionScale = 0.5
+    results.append("asynchronous_in_gui %d" % rep.AsynchronousLighting)
+    view.ResetCamera()
+    camera = GetActiveCamera()
+    rep.AsynchronousLighting = 0
+    Render(view)
+    start = time.perf_counter()
+    Render(view)
+    results.append("still_frame_s %.3f" % (time.perf_counter() - start))
+    camera.Azimuth(40)
+    start = time.perf_counter()
+    Render(view)
+    results.append("synchronous_turn_s %.3f" % (time.perf_counter() - start))
+
+    rep.AsynchronousLighting = 1
+    camera.Azimuth(40)
+    start = time.perf_counter()
+    Render(view)
+    rendered = time.perf_counter()
+    results.append("asynchronous_turn_render_s %.3f" % (rendered - start))
+    results.append("pending_after_render %d" % pending(rep))
+    interactor = view.GetRenderWindow().GetInteractor()
+    state = {"last": time.perf_counter(), "gap": 0.0}
+
+    def tick(caller, event):
+        now = time.perf_counter()
+        state["gap"] = max(state["gap"], now - state["last"])
+        state["last"] = now
+        if not pending(rep):
+            results.append("final_frame_s %.3f" % (now - start))
+            results.append("largest_timer_delay_s %.3f" % state["gap"])
+            finish()
+        elif now - start > 120:
+            results.append("error the lighting was still pending after 120 s")
+            finish()
+
+    interactor.AddObserver("TimerEvent", tick)
+    interactor.CreateRepeatingTimer(20)
+except Exception as error:  # report instead of leaving the GUI open
+    results.append("error %s" % str(error).replace("\n", " "))
+    finish()

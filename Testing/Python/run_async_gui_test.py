@@ -1,0 +1,42 @@
+"""Driver of TestAsynchronousLightingGUI.py: starts the real paraview GUI (it needs a display:
+run under xvfb-run) and checks what it measured while the engine at 256^3 was re-lit after
+a camera turn with Asynchronous Lighting on:
+- the GUI turned Asynchronous Lighting on (pvpython leaves it off);
+- Render() after the turn took no more than a still frame with nothing to light + 0.25 s;
+- the Qt event loop kept running: its timer's largest delay stayed within a still frame
+  + 0.25 s (the frames the view draws meanwhile block it, the lighting must not);
+- the final illumination was drawn without the script rendering again.
+Prints every figure, with the synchronous turn's blocking time beside them.
+Usage: pvpython run_async_gui_test.py PARAVIEW PLUGIN DATA_DIR OUTPUT_DIR
+"""
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from IlluminatedVolumeTestUtilities import Checks, finish, run_gui_script
+
+FREEZE_BOUND = 0.25  # seconds the lighting may add to what a frame costs anyway
+
+paraview, plugin, data, out = sys.argv[1:5]
+here = os.path.dirname(os.path.abspath(__file__))
+results = run_gui_script(
+    paraview, os.path.join(here, "TestAsynchronousLightingGUI.py"),
+    dict(os.environ, VOLILLUM_PLUGIN=plugin, VOLILLUM_DATA=data, VOLILLUM_OUTPUT=out),
+    os.path.join(out, "async_result.txt"))
+if "error" in results:
+    finish(["the GUI script failed: " + results["error"]])
+check = Checks()
+frame = float(results["still_frame_s"])
+print("still frame %.3f s; after a 40-degree turn: synchronous Render() %.3f s, asynchronous "
+      "Render() %.3f s, final frame after %.3f s, largest event-loop delay %.3f s" %
+      (frame, float(results["synchronous_turn_s"]), float(results["asynchronous_turn_render_s"]),
+       float(results["final_frame_s"]), float(results["largest_timer_delay_s"])))
+check(results["asynchronous_in_gui"] == "1", "the GUI turned Asynchronous Lighting on")
+check(results["pending_after_render"] == "1", "the lighting was pending after Render()")
+check(float(results["asynchronous_turn_render_s"]) <= frame + FREEZE_BOUND,
+      "Render() after the turn took %s s (bound: a still frame + %.2f = %.3f s)" %
+      (results["asynchronous_turn_render_s"], FREEZE_BOUND, frame + FREEZE_BOUND))
+check(float(results["largest_timer_delay_s"]) <= frame + FREEZE_BOUND,
+      "the event loop's largest delay was %s s (bound %.3f s)" %
+      (results["largest_timer_delay_s"], frame + FREEZE_BOUND))
+finish(check.failures)
