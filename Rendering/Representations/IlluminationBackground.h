@@ -31,14 +31,19 @@
 #include "IlluminationFilterSupport.h" // for volillum::UpdateReport
 #include "vtkDataObject.h"
 #include "vtkSmartPointer.h"
+#include "vtkWeakPointer.h"
 
 #include <atomic>
 #include <condition_variable>
 #include <functional>
+#include <map>
 #include <mutex>
 #include <thread>
 
 class vtkAlgorithm;
+class vtkColorTransferFunction;
+class vtkDataSet;
+class vtkPiecewiseFunction;
 
 namespace volillum
 {
@@ -125,6 +130,48 @@ private:
   std::atomic<double> Fraction{ 0.0 };
   Result Latest;
   bool HasLatest = false;
+};
+
+/**
+ * What a job reads, owned by it: copies of the transfer functions and a shallow copy of the
+ * data (its arrays shared, read only), each made anew only when its original changed, so
+ * that a filter sees a change exactly when the original changed.
+ */
+class JobCopies
+{
+public:
+  vtkSmartPointer<vtkColorTransferFunction> Color(vtkColorTransferFunction* original);
+  vtkSmartPointer<vtkPiecewiseFunction> Opacity(vtkPiecewiseFunction* original);
+  vtkSmartPointer<vtkDataSet> Data(vtkDataSet* original);
+
+private:
+  template <class T>
+  struct Copy
+  {
+    vtkWeakPointer<T> Original;
+    vtkMTimeType Time = 0;
+    vtkSmartPointer<T> Owned;
+  };
+  Copy<vtkColorTransferFunction> ColorCopy;
+  Copy<vtkPiecewiseFunction> OpacityCopy;
+  Copy<vtkDataSet> DataCopy;
+};
+
+/**
+ * Measured wall times of finished lightings by the kind of change that caused them (the
+ * caller's key: for instance -1 for everything, n for n lights), and whether a new one is
+ * expected to take longer than a coarse stage is worth.
+ */
+class LightingCosts
+{
+public:
+  void Record(int kind, double seconds) { this->Seconds[kind] = seconds; }
+  /// The last time of this kind, or of -1 (everything); without either, whether `points`
+  /// exceeds a million (about 0.3 s for the propagation on 2 cores).
+  bool ExpectedSlow(int kind, double points) const;
+
+private:
+  std::map<int, double> Seconds;
 };
 
 }

@@ -1,8 +1,10 @@
 #include "vtkIlluminatedUnstructuredGridRepresentation.h"
 
+#include "IlluminationBackground.h"
 #include "IlluminationParallel.h"
 #include "IlluminationViewLights.h"
 #include "vtkAlgorithmOutput.h"
+#include "vtkColorTransferFunction.h"
 #include "vtkDataArray.h"
 #include "vtkInformation.h"
 #include "vtkMultiProcessController.h"
@@ -19,6 +21,48 @@
 #include "vtkVolumeProperty.h"
 
 #include <algorithm>
+#include <array>
+#include <string>
+#include <vector>
+
+namespace
+{
+// What a serial lighting reads, owned by the job (as for image data).
+struct GridRequest
+{
+  std::vector<volillum::LightValues> Lights;
+  vtkSmartPointer<vtkDataSet> Input;
+  std::string ArrayName;
+  int Association = vtkDataObject::FIELD_ASSOCIATION_POINTS;
+  int Component = -1;
+  vtkSmartPointer<vtkColorTransferFunction> Color;
+  vtkSmartPointer<vtkPiecewiseFunction> Opacity;
+  double UnitDistance = 1.0;
+  bool Chromatic = false;
+  std::array<int, 3> Level0{ { 64, 64, 64 } };
+  double Absorption = 1.0;
+  std::array<double, 3> Scattering{ { 0.0, 0.0, 0.0 } };
+  int ScatteringIterations = 10;
+  double Exposure = 5.0;
+  bool CoarseFirst = false;
+  int Kind = -1; // -1 everything changed, otherwise the number of lights that did
+
+  bool SameInputsAs(const GridRequest& o) const
+  {
+    return this->Input == o.Input && this->ArrayName == o.ArrayName &&
+      this->Association == o.Association && this->Component == o.Component &&
+      this->Color == o.Color && this->Opacity == o.Opacity &&
+      this->UnitDistance == o.UnitDistance && this->Chromatic == o.Chromatic &&
+      this->Level0 == o.Level0 && this->Absorption == o.Absorption &&
+      this->Scattering == o.Scattering && this->ScatteringIterations == o.ScatteringIterations &&
+      this->Exposure == o.Exposure;
+  }
+  bool SameAs(const GridRequest& o) const
+  {
+    return this->SameInputsAs(o) && this->Lights == o.Lights;
+  }
+};
+}
 
 struct vtkIlluminatedUnstructuredGridRepresentation::vtkInternals
 {
@@ -28,6 +72,23 @@ struct vtkIlluminatedUnstructuredGridRepresentation::vtkInternals
   // What the lit mapper draws: a copy of the filter's output, so that a render that pulls on
   // the mapper (its bounds) never updates the filter, whose update is collective in parallel.
   vtkNew<vtkUnstructuredGrid> LitGrid;
+
+  // A serial run: the job owns the filter (the representation's Illumination), Coarse (level 0
+  // alone) and Lights while it runs; the render thread goes through Background.
+  volillum::BackgroundLighting Background;
+  vtkNew<vtkUnstructuredGridIllumination> Coarse;
+  vtkMTimeType Published = 0;
+  GridRequest Submitted;
+  bool HasSubmitted = false;
+  volillum::JobCopies Copies;
+  vtkSmartPointer<vtkDataObject> LastFinal; // the last final lighting taken
+  bool ShownFinal = true;
+  volillum::LightingCosts Costs;
+
+  void Light(vtkUnstructuredGridIllumination* filter, const GridRequest& request,
+    volillum::BackgroundLighting::Job& job);
+  void Publish(vtkUnstructuredGridIllumination* filter, bool final, int kind,
+    volillum::BackgroundLighting::Job& job);
 };
 
 vtkStandardNewMacro(vtkIlluminatedUnstructuredGridRepresentation);
@@ -37,7 +98,8 @@ vtkIlluminatedUnstructuredGridRepresentation::vtkIlluminatedUnstructuredGridRepr
   : Internals(new vtkInternals)
 {
   this->Illumination->SetLitColors(true);
-  volillum::ForwardProgress(this->Illumination, this);
+  this->Internals->Coarse->SetLitColors(true);
+  this->Internals->Coarse->SetLevel1Iterations(0); // level 0 alone
   this->SetProgressText("Illuminating the grid");
   this->LitMapper->SetScalarModeToUsePointFieldData();
   this->LitMapper->SelectScalarArray("LitColors");
@@ -54,41 +116,10 @@ vtkIlluminatedUnstructuredGridRepresentation::~vtkIlluminatedUnstructuredGridRep
   default;
 
 //------------------------------------------------------------------------------
-void vtkIlluminatedUnstructuredGridRepresentation::SetChromaticAttenuation(bool enable)
-{
-  this->Illumination->SetChromaticAttenuation(enable);
-}
-
-void vtkIlluminatedUnstructuredGridRepresentation::SetLevel0Resolution(int x, int y, int z)
-{
-  this->Illumination->SetLevel0Resolution(x, y, z);
-}
-
-void vtkIlluminatedUnstructuredGridRepresentation::SetAbsorption(double value)
-{
-  this->Illumination->SetAbsorption(value);
-}
-
-void vtkIlluminatedUnstructuredGridRepresentation::SetScatteringStrength(
-  double r, double g, double b)
-{
-  this->Illumination->SetScatteringStrength(r, g, b);
-}
-
-void vtkIlluminatedUnstructuredGridRepresentation::SetScatteringIterations(int count)
-{
-  this->Illumination->SetScatteringIterations(count);
-}
-
-void vtkIlluminatedUnstructuredGridRepresentation::SetExposure(double value)
-{
-  this->Illumination->SetExposure(value);
-}
-
-//------------------------------------------------------------------------------
 bool vtkIlluminatedUnstructuredGridRepresentation::RemoveFromView(vtkView* view)
 {
   this->Internals->Start.Detach();
+  this->Internals->Background.Stop();
   if (auto* rview = vtkPVRenderView::SafeDownCast(view))
   {
     this->LitMapper->ReleaseGraphicsResources(rview->GetRenderWindow());
@@ -99,7 +130,7 @@ bool vtkIlluminatedUnstructuredGridRepresentation::RemoveFromView(vtkView* view)
 //------------------------------------------------------------------------------
 double* vtkIlluminatedUnstructuredGridRepresentation::GetMeanIllumination()
 {
-  volillum::MeanIllumination(this->Internals->Lit ? this->Illumination->GetOutput() : nullptr,
+  volillum::MeanIllumination(this->Internals->Lit ? this->Internals->LitGrid.Get() : nullptr,
     this->MeanIllumination, this->MeanTime);
   return this->MeanIllumination;
 }
@@ -162,22 +193,29 @@ bool vtkIlluminatedUnstructuredGridRepresentation::UpdateIllumination(vtkPVRende
   }
   this->LitProperty->SetScalarOpacityUnitDistance(this->Property->GetScalarOpacityUnitDistance(0));
   auto& internals = *this->Internals;
+  const int component = vectors ? volillum::ColouredComponent(this->Property) : -1;
+  if (!together)
+  {
+    return this->LightSerially(view, grid, volillum::IsInteractiveRender(view), coloured.Name,
+      coloured.Association, component);
+  }
   if (volillum::AllOk(together, volillum::IsInteractiveRender(view) && (empty || internals.Lit)))
   {
     return internals.Lit; // keep the current lighting while the camera moves
   }
-  this->Illumination->SetScalarComponent(
-    vectors ? volillum::ColouredComponent(this->Property) : -1);
+  vtkUnstructuredGridIllumination* filter = this->Illumination;
+  this->Configure(filter);
+  filter->SetScalarComponent(component);
   internals.Lights.Update(view, this->UseLightKit);
-  internals.Lights.ApplyTo(this->Illumination.Get());
-  volillum::SetVolumeInput(this->Illumination.Get(), port, coloured, this->Property);
+  internals.Lights.ApplyTo(filter);
+  volillum::SetVolumeInput(filter, port, coloured, this->Property);
   // Every process updates the filter, or none.
-  if (volillum::MustUpdateTogether(
-        together, this->Illumination, grid ? grid->GetMTime() : vtkMTimeType(0)))
+  if (volillum::MustUpdateTogether(together, filter, grid ? grid->GetMTime() : vtkMTimeType(0)))
   {
-    this->Illumination->Update();
+    internals.Background.Run(
+      [filter](volillum::BackgroundLighting::Job& job) { job.Update(filter); }, this);
   }
-  vtkUnstructuredGrid* lit = this->Illumination->GetOutput();
+  vtkUnstructuredGrid* lit = filter->GetOutput();
   if (!lit || !lit->GetPointData()->GetArray("LitColors"))
   {
     return false;
@@ -192,11 +230,209 @@ bool vtkIlluminatedUnstructuredGridRepresentation::UpdateIllumination(vtkPVRende
 }
 
 //------------------------------------------------------------------------------
+void vtkIlluminatedUnstructuredGridRepresentation::Configure(
+  vtkUnstructuredGridIllumination* filter) const
+{
+  filter->SetChromaticAttenuation(this->ChromaticAttenuation);
+  filter->SetLevel0Resolution(const_cast<int*>(this->Level0Resolution));
+  filter->SetAbsorption(this->Absorption);
+  filter->SetScatteringStrength(const_cast<double*>(this->ScatteringStrength));
+  filter->SetScatteringIterations(this->ScatteringIterations);
+  filter->SetExposure(this->Exposure);
+}
+
+//------------------------------------------------------------------------------
+bool vtkIlluminatedUnstructuredGridRepresentation::LightSerially(vtkPVRenderView* view,
+  vtkUnstructuredGrid* grid, bool interactive, const char* array, int association, int component)
+{
+  auto& internals = *this->Internals;
+  this->ShowFinishedLighting();
+  if (interactive && internals.Lit)
+  {
+    return true; // keep the current lighting while the camera moves
+  }
+  GridRequest r;
+  r.Lights = volillum::ReadViewLights(view, this->UseLightKit);
+  r.Input = internals.Copies.Data(grid);
+  r.ArrayName = array ? array : "";
+  r.Association = association;
+  r.Component = component;
+  r.Color = internals.Copies.Color(this->Property->GetRGBTransferFunction(0));
+  r.Opacity = internals.Copies.Opacity(this->Property->GetScalarOpacity(0));
+  r.UnitDistance = this->Property->GetScalarOpacityUnitDistance(0);
+  r.Chromatic = this->ChromaticAttenuation;
+  std::copy_n(this->Level0Resolution, 3, r.Level0.begin());
+  r.Absorption = this->Absorption;
+  std::copy_n(this->ScatteringStrength, 3, r.Scattering.begin());
+  r.ScatteringIterations = this->ScatteringIterations;
+  r.Exposure = this->Exposure;
+  if (internals.HasSubmitted && r.SameInputsAs(internals.Submitted) &&
+    r.Lights.size() == internals.Submitted.Lights.size())
+  {
+    r.Kind = 0;
+    for (size_t l = 0; l < r.Lights.size(); ++l)
+    {
+      r.Kind += r.Lights[l] == internals.Submitted.Lights[l] ? 0 : 1;
+    }
+  }
+  // The filter reads the range of the array it lights: computed here first, so that the job
+  // only reads the range the array keeps (the render thread may ask for it meanwhile).
+  volillum::ColouredArray coloured;
+  if (vtkDataArray* scalars = volillum::ColouredArrayOf(this, grid, coloured))
+  {
+    scalars->GetRange(component);
+  }
+  vtkUnstructuredGridIllumination* filter = this->Illumination;
+  if (!this->AsynchronousLighting)
+  {
+    internals.Submitted = r;
+    internals.HasSubmitted = true;
+    internals.Background.Run([&internals, filter, r](volillum::BackgroundLighting::Job& job)
+      { internals.Light(filter, r, job); },
+      this);
+    return this->ShowFinishedLighting();
+  }
+  if (!internals.HasSubmitted || !r.SameAs(internals.Submitted))
+  {
+    r.CoarseFirst = internals.Costs.ExpectedSlow(r.Kind, grid->GetNumberOfPoints());
+    internals.Submitted = r;
+    internals.HasSubmitted = true;
+    internals.Background.Start([&internals, filter, r](volillum::BackgroundLighting::Job& job)
+      { internals.Light(filter, r, job); });
+  }
+  else if (!internals.Background.Busy() && !internals.ShownFinal)
+  {
+    // Cancelled after the level-0 stage: back to the last finished lighting.
+    internals.LitGrid->ShallowCopy(internals.LastFinal);
+    internals.ShownFinal = true;
+    this->MeanTime = vtkTimeStamp();
+  }
+  return internals.Lit;
+}
+
+//------------------------------------------------------------------------------
+void vtkIlluminatedUnstructuredGridRepresentation::vtkInternals::Light(
+  vtkUnstructuredGridIllumination* filter, const GridRequest& r,
+  volillum::BackgroundLighting::Job& job)
+{
+  this->Lights.Update(r.Lights);
+  auto configure = [&](vtkUnstructuredGridIllumination* f)
+  {
+    this->Lights.ApplyTo(f);
+    f->SetController(nullptr);
+    f->SetInputData(r.Input);
+    f->SetInputArrayToProcess(0, 0, 0, r.Association, r.ArrayName.c_str());
+    f->SetScalarComponent(r.Component);
+    f->SetColorTransferFunction(r.Color);
+    f->SetOpacityFunction(r.Opacity);
+    f->SetScalarOpacityUnitDistance(r.UnitDistance);
+    f->SetChromaticAttenuation(r.Chromatic);
+    f->SetLevel0Resolution(r.Level0[0], r.Level0[1], r.Level0[2]);
+    f->SetAbsorption(r.Absorption);
+    f->SetScatteringStrength(r.Scattering[0], r.Scattering[1], r.Scattering[2]);
+    f->SetScatteringIterations(r.ScatteringIterations);
+    f->SetExposure(r.Exposure);
+  };
+  if (r.CoarseFirst)
+  {
+    configure(this->Coarse);
+    if (!job.Update(this->Coarse))
+    {
+      return;
+    }
+    this->Publish(this->Coarse, false, r.Kind, job);
+  }
+  configure(filter);
+  if (job.Update(filter))
+  {
+    this->Publish(filter, true, r.Kind, job);
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkIlluminatedUnstructuredGridRepresentation::vtkInternals::Publish(
+  vtkUnstructuredGridIllumination* filter, bool final, int kind,
+  volillum::BackgroundLighting::Job& job)
+{
+  vtkUnstructuredGrid* output = filter->GetOutput();
+  volillum::BackgroundLighting::Result result;
+  result.Final = final;
+  result.Kind = kind;
+  const bool lit = output && output->GetPointData()->GetArray("LitColors");
+  if (lit && final && output->GetMTime() == this->Published)
+  {
+    result.Unchanged = true; // drawn already
+  }
+  else if (lit)
+  {
+    // Every update makes new arrays: the copy shares ones no later update writes.
+    auto copy = vtkSmartPointer<vtkUnstructuredGrid>::New();
+    copy->ShallowCopy(output);
+    result.Data = copy;
+    volillum::ReadUpdateFieldData(output->GetFieldData(), result.Report, result.Seconds);
+  }
+  else if (!final)
+  {
+    return; // no level-0 lighting: wait for the final one
+  }
+  if (final)
+  {
+    this->Published = output ? output->GetMTime() : 0;
+  }
+  job.Publish(result);
+}
+
+//------------------------------------------------------------------------------
+bool vtkIlluminatedUnstructuredGridRepresentation::ShowFinishedLighting()
+{
+  auto& internals = *this->Internals;
+  volillum::BackgroundLighting::Result result;
+  if (!internals.Background.Take(result))
+  {
+    return internals.Lit;
+  }
+  internals.ShownFinal = result.Final;
+  if (result.Unchanged)
+  {
+    return internals.Lit;
+  }
+  internals.Lit = result.Data != nullptr;
+  if (internals.Lit)
+  {
+    internals.LitGrid->ShallowCopy(result.Data);
+    this->LitMapper->SetInputData(internals.LitGrid);
+  }
+  this->MeanTime = vtkTimeStamp();
+  if (result.Final)
+  {
+    internals.LastFinal = result.Data;
+    this->Report = result.Report;
+    this->UpdateSeconds = result.Seconds;
+    internals.Costs.Record(result.Kind, result.Seconds);
+  }
+  return internals.Lit;
+}
+
+//------------------------------------------------------------------------------
+int vtkIlluminatedUnstructuredGridRepresentation::GetIlluminationPending()
+{
+  const auto& internals = *this->Internals;
+  return internals.Background.Busy() || internals.Background.Ready() || !internals.ShownFinal;
+}
+
+//------------------------------------------------------------------------------
+void vtkIlluminatedUnstructuredGridRepresentation::CancelIllumination()
+{
+  this->Internals->Background.Cancel();
+}
+
+//------------------------------------------------------------------------------
 void vtkIlluminatedUnstructuredGridRepresentation::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "IlluminationMethod: " << this->IlluminationMethod << "\n";
   os << indent << "UseLightKit: " << this->UseLightKit << "\n";
+  os << indent << "AsynchronousLighting: " << this->AsynchronousLighting << "\n";
   os << indent << "UpdateMode: " << this->Report.Mode << "\n";
   os << indent << "UpdateSeconds: " << this->UpdateSeconds << "\n";
   os << indent << "PropagationPasses: " << this->Report.Passes << "\n";

@@ -11,7 +11,12 @@
  * illumination) and drawn with projected tetrahedra on those colours. The solver keeps
  * each light's solution, so a light edit recomputes that light only. Interactive renders
  * keep the current lighting (or draw the level-of-detail outline when ParaView asks for
- * it). UpdateMode, UpdateSeconds and PropagationPasses report the last update. In parallel
+ * it). With AsynchronousLighting (serial runs) the lighting runs on a worker thread as for
+ * image data (see vtkIlluminatedVolumeRepresentation and IlluminationBackground.h): a still
+ * render draws the last finished lighting, a level-0-only lighting comes first when the
+ * final one is expected to take over 0.3 s, a newer edit supersedes a running one and
+ * CancelIllumination stops it. UpdateMode, UpdateSeconds and PropagationPasses report the
+ * last finished update. In parallel
  * (pvserver or pvbatch under MPI, rendered on the server) the processes light the pieces
  * they render together as each render starts: ParaView gives each process whole cells for
  * ordered compositing, and the solver, with the global controller, gets from the other
@@ -35,6 +40,7 @@
 
 class vtkPVRenderView;
 class vtkProjectedTetrahedraMapper;
+class vtkUnstructuredGrid;
 class vtkUnstructuredGridIllumination;
 class vtkVolumeProperty;
 
@@ -57,14 +63,25 @@ public:
   ///@}
 
   ///@{
-  /** Solver settings, forwarded to vtkUnstructuredGridIllumination. */
-  void SetChromaticAttenuation(bool enable);
-  void SetLevel0Resolution(int x, int y, int z);
-  void SetAbsorption(double value);
-  void SetScatteringStrength(double r, double g, double b);
-  void SetScatteringIterations(int count);
-  void SetExposure(double value);
+  /** Solver settings, given to vtkUnstructuredGridIllumination as each lighting starts. */
+  vtkSetMacro(ChromaticAttenuation, bool);
+  vtkSetVector3Macro(Level0Resolution, int);
+  vtkSetMacro(Absorption, double);
+  vtkSetVector3Macro(ScatteringStrength, double);
+  vtkSetMacro(ScatteringIterations, int);
+  vtkSetMacro(Exposure, double);
   ///@}
+
+  ///@{
+  /** Light off the render call (see the class description). Default off; the GUI turns it on. */
+  vtkSetMacro(AsynchronousLighting, bool);
+  vtkGetMacro(AsynchronousLighting, bool);
+  ///@}
+
+  /// 1 while a lighting runs, is queued or waits to be drawn (see the image representation).
+  int GetIlluminationPending();
+  /// Stop the background lighting; the last finished lighting is drawn again.
+  void CancelIllumination();
 
   ///@{
   /** Also light with the view's light kit (when the view has it on). Default on. */
@@ -96,9 +113,24 @@ protected:
 
   /// Light the delivered piece and draw it; false when it cannot be lit.
   bool UpdateIllumination(vtkPVRenderView* view);
+  /// A serial run: light on the worker thread (AsynchronousLighting) or now; false when
+  /// nothing lit is drawn.
+  bool LightSerially(vtkPVRenderView* view, vtkUnstructuredGrid* grid, bool interactive,
+    const char* array, int association, int component);
+  /// Draw what the lighting finished since the last render; whether a lit grid is drawn.
+  bool ShowFinishedLighting();
+  /// Give the solver settings to a filter.
+  void Configure(vtkUnstructuredGridIllumination* filter) const;
 
   int IlluminationMethod = 0;
   bool UseLightKit = true;
+  bool ChromaticAttenuation = false;
+  int Level0Resolution[3] = { 64, 64, 64 };
+  double Absorption = 1.0;
+  double ScatteringStrength[3] = { 0.0, 0.0, 0.0 };
+  int ScatteringIterations = 10;
+  double Exposure = 5.0;
+  bool AsynchronousLighting = false;
   volillum::UpdateReport Report;
   double UpdateSeconds = 0.0;
   // Computed when asked for, once per new illumination (a pass over every point).

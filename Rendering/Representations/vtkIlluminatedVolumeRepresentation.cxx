@@ -32,18 +32,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <map>
 #include <string>
 
 namespace
 {
-// Expected to take longer than this, a lighting shows a coarse illumination first.
-constexpr double CoarseFirstSeconds = 0.3;
 constexpr int CoarseStride = 4; // the coarse stage lights every 4th sample along each axis
 constexpr double CoarseScale = 1.0 / CoarseStride;
-// Without a measurement yet, an illumination volume of this many points is expected to take
-// longer (the propagation lights about 5 million points a second per light on 2 cores).
-constexpr double CoarseFirstPoints = 1.0e6;
 
 // What a serial lighting reads, owned by the job that computes it: light values, copies of
 // the transfer functions (new copies only when the colour map editor changed them) and a
@@ -100,12 +94,10 @@ struct vtkIlluminatedVolumeRepresentation::vtkInternals
   // The render thread's side of a serial run.
   LightingRequest Submitted; // the last request handed to a job
   bool HasSubmitted = false;
-  vtkWeakPointer<vtkImageData> Source; // the data Submitted.Input copies, as of InputTime
-  vtkMTimeType InputTime = 0;
-  vtkMTimeType ColorTime = 0, OpacityTime = 0; // of the functions the copies were made from
-  vtkSmartPointer<vtkDataObject> LastFinal;    // the last final illumination taken
-  bool ShownFinal = true;                      // the mapper draws a final illumination
-  std::map<int, double> Seconds;               // measured wall time per request Kind
+  volillum::JobCopies Copies;
+  vtkSmartPointer<vtkDataObject> LastFinal; // the last final illumination taken
+  bool ShownFinal = true;                   // the mapper draws a final illumination
+  volillum::LightingCosts Costs;
 
   // A multi-component coloured array, the one-component array that stands for it in the
   // rendered data, and the component its values were made from (-1: the magnitude).
@@ -121,7 +113,6 @@ struct vtkIlluminatedVolumeRepresentation::vtkInternals
 
   LightingRequest MakeRequest(vtkIlluminatedVolumeRepresentation* self, vtkPVRenderView* view,
     vtkImageData* image, const volillum::ColouredArray& coloured);
-  bool ExpectedSlow(const LightingRequest& request) const;
   vtkIlluminationVolumeAlgorithm* FilterFor(int method);
   void Light(const LightingRequest& request, volillum::BackgroundLighting::Job& job);
   bool Publish(vtkIlluminationVolumeAlgorithm* filter, bool final, int kind,
@@ -289,39 +280,9 @@ LightingRequest vtkIlluminatedVolumeRepresentation::vtkInternals::MakeRequest(
   r.UnitDistance = property->GetScalarOpacityUnitDistance(0);
   // Copies the job owns, made anew only when their originals changed (a new copy makes the
   // filter recompute everything, as an edit of the original does).
-  if (image != this->Source || image->GetMTime() != this->InputTime || !this->Submitted.Input)
-  {
-    r.Input = vtkSmartPointer<vtkImageData>::New();
-    r.Input->ShallowCopy(image);
-    this->Source = image;
-    this->InputTime = image->GetMTime();
-  }
-  else
-  {
-    r.Input = this->Submitted.Input;
-  }
-  vtkColorTransferFunction* color = property->GetRGBTransferFunction(0);
-  if (!this->Submitted.Color || color->GetMTime() != this->ColorTime)
-  {
-    r.Color = vtkSmartPointer<vtkColorTransferFunction>::New();
-    r.Color->DeepCopy(color);
-    this->ColorTime = color->GetMTime();
-  }
-  else
-  {
-    r.Color = this->Submitted.Color;
-  }
-  vtkPiecewiseFunction* opacity = property->GetScalarOpacity(0);
-  if (!this->Submitted.Opacity || opacity->GetMTime() != this->OpacityTime)
-  {
-    r.Opacity = vtkSmartPointer<vtkPiecewiseFunction>::New();
-    r.Opacity->DeepCopy(opacity);
-    this->OpacityTime = opacity->GetMTime();
-  }
-  else
-  {
-    r.Opacity = this->Submitted.Opacity;
-  }
+  r.Input = vtkImageData::SafeDownCast(this->Copies.Data(image));
+  r.Color = this->Copies.Color(property->GetRGBTransferFunction(0));
+  r.Opacity = this->Copies.Opacity(property->GetScalarOpacity(0));
   if (this->HasSubmitted && r.SameInputsAs(this->Submitted) &&
     r.Lights.size() == this->Submitted.Lights.size())
   {
@@ -332,27 +293,6 @@ LightingRequest vtkIlluminatedVolumeRepresentation::vtkInternals::MakeRequest(
     }
   }
   return r;
-}
-
-//------------------------------------------------------------------------------
-bool vtkIlluminatedVolumeRepresentation::vtkInternals::ExpectedSlow(
-  const LightingRequest& request) const
-{
-  if (request.Scale <= CoarseScale)
-  {
-    return false; // nothing coarser to show first
-  }
-  auto measured = this->Seconds.find(request.Kind);
-  if (measured == this->Seconds.end())
-  {
-    measured = this->Seconds.find(-1); // at most what recomputing everything took
-  }
-  if (measured != this->Seconds.end())
-  {
-    return measured->second > CoarseFirstSeconds;
-  }
-  const double scale = request.Scale;
-  return request.Input->GetNumberOfPoints() * scale * scale * scale > CoarseFirstPoints;
 }
 
 //------------------------------------------------------------------------------
@@ -697,7 +637,10 @@ void vtkIlluminatedVolumeRepresentation::LightSerially(
   }
   else
   {
-    request.CoarseFirst = internals.ExpectedSlow(request);
+    const double scale = request.Scale;
+    request.CoarseFirst = scale > CoarseScale &&
+      internals.Costs.ExpectedSlow(
+        request.Kind, request.Input->GetNumberOfPoints() * scale * scale * scale);
     internals.Submitted = request;
     internals.HasSubmitted = true;
     internals.Background.Start([&internals, request](volillum::BackgroundLighting::Job& job)
@@ -732,7 +675,7 @@ void vtkIlluminatedVolumeRepresentation::ShowFinishedLighting()
     internals.LastFinal = result.Data;
     this->Report = result.Report;
     this->UpdateSeconds = result.Seconds;
-    internals.Seconds[result.Kind] = result.Seconds;
+    internals.Costs.Record(result.Kind, result.Seconds);
   }
 }
 

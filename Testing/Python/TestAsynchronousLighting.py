@@ -9,6 +9,8 @@ with Asynchronous Lighting on. Checks:
   and that frame equals the synchronous view's within 0.5 of 255 (mean absolute);
 - two opacity edits in a row, the second before the first is lit: the final frame equals
   the synchronous frame of the second edit (the first, superseded, never becomes final);
+- the unstructured representation (a tetrahedralised phantom) likewise after a turn: pending
+  after Render(), then the synchronous frame and mean illumination;
 - Ray-Marched Reference cancelled while it runs (IlluminationStatus's CancelIllumination):
   the representation draws the illumination it had before (same mean illumination), and
   nothing stays pending. The time the cancellation took is printed.
@@ -53,17 +55,17 @@ status = servermanager.ProxyManager().SMProxyManager.NewProxy("misc", "Illuminat
 status.UpdateVTKObjects()
 
 
-def turn(degrees):
+def turn(degrees, views=views):
     for view in views:
         SetActiveView(view)
         GetActiveCamera().Azimuth(degrees)
     SetActiveView(None)
 
 
-def frames_agree(name):
+def frames_agree(name, views=views, reps=reps):
     """Both views' final frames, saved and compared (mean absolute difference per channel)."""
     paths = []
-    for view, rep, kind in ((sync_view, sync_rep, "sync"), (async_view, async_rep, "async")):
+    for view, rep, kind in zip(views, reps, ("sync", "async")):
         render_final(view, rep)
         paths.append(os.path.join(out, "async_%s_%s.png" % (name, kind)))
         SaveScreenshot(paths[-1], view, ImageResolution=[300, 300])
@@ -118,5 +120,28 @@ render_final(async_view, async_rep)
 after = info(async_rep, "IlluminationMean")
 check(after == before, "the cancelled update kept the previous illumination (mean %s, before %s)"
       % (after, before))
+
+# The unstructured representation likewise: a tetrahedralised phantom turned under the light kit.
+mesh = Tetrahedralize(Input=IlluminationPhantom(Scene="Three Spheres", Dimensions=[32, 32, 32]))
+grid_views, grid_reps = [], []
+for asynchronous in (0, 1):
+    view = CreateView("RenderView")
+    view.ViewSize = [300, 300]
+    view.OrientationAxesVisibility = 0
+    rep = Show(mesh, view)
+    rep.SetRepresentationType("Illuminated Volume")
+    ColorBy(rep, ("POINTS", "Density"))
+    rep.AsynchronousLighting = asynchronous
+    view.ResetCamera()
+    render_final(view, rep)
+    grid_views.append(view)
+    grid_reps.append(rep)
+turn(40, grid_views)
+Render(grid_views[1])
+check(info(grid_reps[1], "IlluminationPending")[0] == 1,
+      "unstructured: the asynchronous Render() returned with the lighting pending")
+frames_agree("grid_turn", grid_views, grid_reps)
+check(info(grid_reps[0], "IlluminationMean") == info(grid_reps[1], "IlluminationMean"),
+      "unstructured: the same mean illumination (%s)" % info(grid_reps[1], "IlluminationMean"))
 status.UnRegister(None)
 finish(check.failures)
