@@ -413,12 +413,14 @@ bool RayMarchIllumination(const ClassifiedVolume& volume, const std::vector<Ligh
     return true;
   }
   const EmptyBlocks empty(volume);
-  // Slices are done in chunks so that progress is reported from this thread.
-  const long long chunk = std::max(1LL, nz / 20);
-  for (long long k0 = 0; k0 < nz; k0 += chunk)
+  // Rows are done in 256 chunks, progress reported from this thread after each: a stop
+  // asked for is seen within 1/256 of the whole march (0.1 s of a 30 s reference).
+  const long long rows = ny * nz;
+  const long long chunk = std::max(1LL, rows / 256);
+  for (long long r0 = 0; r0 < rows; r0 += chunk)
   {
-    const long long k1 = std::min(nz, k0 + chunk);
-    vtkSMPTools::For(k0 * ny, k1 * ny,
+    const long long r1 = std::min(rows, r0 + chunk);
+    vtkSMPTools::For(r0, r1,
       [&](long long begin, long long end)
       {
         for (long long row = begin; row < end; ++row)
@@ -437,7 +439,7 @@ bool RayMarchIllumination(const ClassifiedVolume& volume, const std::vector<Ligh
           }
         }
       });
-    if (progress && !progress(static_cast<double>(k1) / nz))
+    if (progress && !progress(static_cast<double>(r1) / rows))
     {
       return false;
     }

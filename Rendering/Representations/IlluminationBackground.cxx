@@ -13,10 +13,11 @@
 
 namespace
 {
-// A lighting expected to take longer than this shows a coarse stage first.
-constexpr double CoarseFirstSeconds = 0.3;
-// Without a measurement: points above which it is expected to (the propagation lights about 5
-// million points a second per light on 2 cores).
+// How a lighting runs by its expected time (LightingCosts).
+constexpr double NowSeconds = 0.2;
+constexpr double CoarseFirstSeconds = 1.0;
+// Without a measurement: points above which a lighting is expected to take over 1 s (the
+// propagation lights about 5 million points a second per light on 2 cores).
 constexpr double CoarseFirstPoints = 1.0e6;
 
 template <class T, class Make>
@@ -305,18 +306,22 @@ vtkSmartPointer<vtkDataSet> JobCopies::Data(vtkDataSet* original)
 }
 
 //------------------------------------------------------------------------------
-bool LightingCosts::ExpectedSlow(int kind, double points) const
+LightingCosts::Plan LightingCosts::Choose(int kind, double points) const
 {
   auto measured = this->Seconds.find(kind);
   if (measured == this->Seconds.end())
   {
     measured = this->Seconds.find(-1);
   }
-  if (measured != this->Seconds.end())
+  if (measured == this->Seconds.end())
   {
-    return measured->second > CoarseFirstSeconds;
+    return points > CoarseFirstPoints ? Plan::CoarseFirst : Plan::Background;
   }
-  return points > CoarseFirstPoints;
+  if (measured->second <= NowSeconds)
+  {
+    return Plan::Now;
+  }
+  return measured->second > CoarseFirstSeconds ? Plan::CoarseFirst : Plan::Background;
 }
 
 }

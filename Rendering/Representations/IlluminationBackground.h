@@ -159,16 +159,28 @@ private:
 
 /**
  * Measured wall times of finished lightings by the kind of change that caused them (the
- * caller's key: for instance -1 for everything, n for n lights), and whether a new one is
- * expected to take longer than a coarse stage is worth.
+ * caller's key: for instance -1 for everything, n for n lights), and how a new one of a kind
+ * is best run with AsynchronousLighting:
+ *  - Now: expected within 0.2 s, it is computed in the render (no preview frame to pay for);
+ *  - Background: on the worker thread, the final lighting alone;
+ *  - CoarseFirst: expected over 1 s, a coarse lighting is shown first. Below that, the
+ *    coarse stage's own frame costs more than it shows: measured on the engine at 256^3 (2
+ *    cores), a one-light edit (0.33 s) with a coarse stage drew its final frame 1.47x later
+ *    than synchronously.
+ * Without a measurement of the kind, the last time of -1 (everything) bounds it; without
+ * either, `points` over a million is expected to take over 1 s.
  */
 class LightingCosts
 {
 public:
+  enum class Plan
+  {
+    Now,
+    Background,
+    CoarseFirst
+  };
   void Record(int kind, double seconds) { this->Seconds[kind] = seconds; }
-  /// The last time of this kind, or of -1 (everything); without either, whether `points`
-  /// exceeds a million (about 0.3 s for the propagation on 2 cores).
-  bool ExpectedSlow(int kind, double points) const;
+  Plan Choose(int kind, double points) const;
 
 private:
   std::map<int, double> Seconds;

@@ -283,7 +283,10 @@ bool vtkIlluminatedUnstructuredGridRepresentation::LightSerially(vtkPVRenderView
     scalars->GetRange(component);
   }
   vtkUnstructuredGridIllumination* filter = this->Illumination;
-  if (!this->AsynchronousLighting)
+  const auto plan = internals.Costs.Choose(r.Kind, grid->GetNumberOfPoints());
+  const bool changed = !internals.HasSubmitted || !r.SameAs(internals.Submitted);
+  if (!this->AsynchronousLighting ||
+    (changed && plan == volillum::LightingCosts::Plan::Now && !internals.Background.Busy()))
   {
     internals.Submitted = r;
     internals.HasSubmitted = true;
@@ -292,9 +295,9 @@ bool vtkIlluminatedUnstructuredGridRepresentation::LightSerially(vtkPVRenderView
       this);
     return this->ShowFinishedLighting();
   }
-  if (!internals.HasSubmitted || !r.SameAs(internals.Submitted))
+  if (changed)
   {
-    r.CoarseFirst = internals.Costs.ExpectedSlow(r.Kind, grid->GetNumberOfPoints());
+    r.CoarseFirst = plan == volillum::LightingCosts::Plan::CoarseFirst;
     internals.Submitted = r;
     internals.HasSubmitted = true;
     internals.Background.Start([&internals, filter, r](volillum::BackgroundLighting::Job& job)

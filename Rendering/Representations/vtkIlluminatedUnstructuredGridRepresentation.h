@@ -14,7 +14,7 @@
  * it). With AsynchronousLighting (serial runs) the lighting runs on a worker thread as for
  * image data (see vtkIlluminatedVolumeRepresentation and IlluminationBackground.h): a still
  * render draws the last finished lighting, a level-0-only lighting comes first when the
- * final one is expected to take over 0.3 s, a newer edit supersedes a running one and
+ * final one is expected to take over 1 s (LightingCosts), a newer edit supersedes a running one and
  * CancelIllumination stops it. UpdateMode, UpdateSeconds and PropagationPasses report the
  * last finished update. In parallel
  * (pvserver or pvbatch under MPI, rendered on the server) the processes light the pieces

@@ -615,7 +615,12 @@ void vtkIlluminatedVolumeRepresentation::LightSerially(
   volillum::ColouredArray coloured;
   volillum::ColouredScalars(this, image, coloured);
   LightingRequest request = internals.MakeRequest(this, view, image, coloured);
-  if (!this->AsynchronousLighting)
+  const double scale = request.Scale;
+  const auto plan = internals.Costs.Choose(
+    request.Kind, request.Input->GetNumberOfPoints() * scale * scale * scale);
+  const bool changed = !internals.HasSubmitted || !request.SameAs(internals.Submitted);
+  if (!this->AsynchronousLighting ||
+    (changed && plan == volillum::LightingCosts::Plan::Now && !internals.Background.Busy()))
   {
     internals.Submitted = request;
     internals.HasSubmitted = true;
@@ -625,7 +630,7 @@ void vtkIlluminatedVolumeRepresentation::LightSerially(
     this->ShowFinishedLighting();
     return;
   }
-  if (internals.HasSubmitted && request.SameAs(internals.Submitted))
+  if (!changed)
   {
     if (!internals.Background.Busy() && !internals.ShownFinal)
     {
@@ -637,10 +642,8 @@ void vtkIlluminatedVolumeRepresentation::LightSerially(
   }
   else
   {
-    const double scale = request.Scale;
-    request.CoarseFirst = scale > CoarseScale &&
-      internals.Costs.ExpectedSlow(
-        request.Kind, request.Input->GetNumberOfPoints() * scale * scale * scale);
+    request.CoarseFirst =
+      scale > CoarseScale && plan == volillum::LightingCosts::Plan::CoarseFirst;
     internals.Submitted = request;
     internals.HasSubmitted = true;
     internals.Background.Start([&internals, request](volillum::BackgroundLighting::Job& job)

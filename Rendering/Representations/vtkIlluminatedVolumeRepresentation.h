@@ -21,11 +21,12 @@
  *
  * While the user drags the camera (interactive renders) the current illumination is
  * kept. With AsynchronousLighting (serial runs: the GUI's builtin session, a pvserver of one
- * process, pvpython) a still render does not wait for the lighting: it draws the last
- * finished illumination and hands the new one to a worker thread (IlluminationBackground.h)
- * on copies of what it reads; a coarse illumination (Resolution Scale 1/4) comes first when
- * the final one is expected to take over 0.3 s; a newer edit supersedes the running
- * computation; CancelIllumination stops it and keeps the last finished illumination. The
+ * process, pvpython) a still render does not wait for a lighting expected to take over
+ * 0.2 s: it draws the last finished illumination (a cheaper preview frame) and hands the new
+ * one to a worker thread (IlluminationBackground.h) on copies of what it reads; a coarse
+ * illumination (every 4th sample) comes first when the final one is expected to take over
+ * 1 s (LightingCosts); a newer edit supersedes the running computation;
+ * CancelIllumination stops it and keeps the last finished illumination. The
  * result is shown by a later render (the GUI asks for it: pqIlluminationLightingBehavior;
  * a script renders until IlluminationPending is 0). In a parallel run the processes light
  * together as each render starts, so the lighting is synchronous there whatever the

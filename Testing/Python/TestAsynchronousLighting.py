@@ -122,7 +122,7 @@ check(after == before, "the cancelled update kept the previous illumination (mea
       % (after, before))
 
 # The unstructured representation likewise: a tetrahedralised phantom turned under the light kit.
-mesh = Tetrahedralize(Input=IlluminationPhantom(Scene="Three Spheres", Dimensions=[32, 32, 32]))
+mesh = Tetrahedralize(Input=IlluminationPhantom(Scene="Three Spheres", Dimensions=[48, 48, 48]))
 grid_views, grid_reps = [], []
 for asynchronous in (0, 1):
     view = CreateView("RenderView")
