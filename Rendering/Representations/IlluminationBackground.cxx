@@ -37,6 +37,14 @@ vtkSmartPointer<T> Renewed(
   return owned;
 }
 
+template <class T>
+vtkSmartPointer<T> DeepCopyOf(T* original)
+{
+  auto copy = vtkSmartPointer<T>::New();
+  copy->DeepCopy(original);
+  return copy;
+}
+
 // Every BackgroundLighting of the process, for vtkIlluminationStatus.
 std::mutex RegistryMutex;
 std::vector<volillum::BackgroundLighting*>& Registry()
@@ -98,6 +106,52 @@ void BackgroundLighting::Job::Publish(const Result& result)
   std::lock_guard<std::mutex> lock(this->Owner->Mutex);
   this->Owner->Latest = result;
   this->Owner->HasLatest = true;
+}
+
+//------------------------------------------------------------------------------
+void BackgroundLighting::Job::RunStages(vtkAlgorithm* coarse, vtkAlgorithm* filter, int kind,
+  vtkMTimeType& published, const std::function<bool(vtkDataObject*)>& lit)
+{
+  auto publish = [&](vtkAlgorithm* stage, bool final)
+  {
+    vtkDataObject* output = stage->GetOutputDataObject(0);
+    Result result;
+    result.Final = final;
+    result.Kind = kind;
+    const bool drawable = output && lit(output);
+    if (drawable && final && output->GetMTime() == published)
+    {
+      result.Unchanged = true; // drawn already
+    }
+    else if (drawable)
+    {
+      // Every update allocates new arrays: the copy shares ones no later update writes.
+      result.Data.TakeReference(output->NewInstance());
+      result.Data->ShallowCopy(output);
+      ReadUpdateFieldData(output->GetFieldData(), result.Report, result.Seconds);
+    }
+    else if (!final)
+    {
+      return; // no coarse illumination: wait for the final one
+    }
+    if (final)
+    {
+      published = output ? output->GetMTime() : 0;
+    }
+    this->Publish(result);
+  };
+  if (coarse)
+  {
+    if (!this->Update(coarse))
+    {
+      return;
+    }
+    publish(coarse, false);
+  }
+  if (this->Update(filter))
+  {
+    publish(filter, true);
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -271,25 +325,13 @@ void BackgroundLighting::CancelAll()
 vtkSmartPointer<vtkColorTransferFunction> JobCopies::Color(vtkColorTransferFunction* original)
 {
   auto& c = this->ColorCopy;
-  return Renewed(original, c.Original, c.Time, c.Owned,
-    [](vtkColorTransferFunction* f)
-    {
-      auto copy = vtkSmartPointer<vtkColorTransferFunction>::New();
-      copy->DeepCopy(f);
-      return copy;
-    });
+  return Renewed(original, c.Original, c.Time, c.Owned, DeepCopyOf<vtkColorTransferFunction>);
 }
 
 vtkSmartPointer<vtkPiecewiseFunction> JobCopies::Opacity(vtkPiecewiseFunction* original)
 {
   auto& c = this->OpacityCopy;
-  return Renewed(original, c.Original, c.Time, c.Owned,
-    [](vtkPiecewiseFunction* f)
-    {
-      auto copy = vtkSmartPointer<vtkPiecewiseFunction>::New();
-      copy->DeepCopy(f);
-      return copy;
-    });
+  return Renewed(original, c.Original, c.Time, c.Owned, DeepCopyOf<vtkPiecewiseFunction>);
 }
 
 vtkSmartPointer<vtkDataSet> JobCopies::Data(vtkDataSet* original)

@@ -74,6 +74,15 @@ public:
     bool Update(vtkAlgorithm* filter);
     /// Hand a result to the render thread (replaces one it has not taken yet).
     void Publish(const Result& result);
+    /**
+     * Update `coarse` (when given; its output published as a coarse stage) and then
+     * `filter` (published as the final result), stopping when cancelled. `lit` tells whether
+     * an output holds something to draw (a final one without is published as nothing to
+     * draw); an output whose time is `published`, that of the last final result, is
+     * published as Unchanged; `published` is updated. Results carry `kind`.
+     */
+    void RunStages(vtkAlgorithm* coarse, vtkAlgorithm* filter, int kind, vtkMTimeType& published,
+      const std::function<bool(vtkDataObject*)>& lit);
     bool Cancelled() const;
 
   private:

@@ -87,8 +87,6 @@ struct vtkIlluminatedUnstructuredGridRepresentation::vtkInternals
 
   void Light(vtkUnstructuredGridIllumination* filter, const GridRequest& request,
     volillum::BackgroundLighting::Job& job);
-  void Publish(vtkUnstructuredGridIllumination* filter, bool final, int kind,
-    volillum::BackgroundLighting::Job& job);
 };
 
 vtkStandardNewMacro(vtkIlluminatedUnstructuredGridRepresentation);
@@ -339,50 +337,14 @@ void vtkIlluminatedUnstructuredGridRepresentation::vtkInternals::Light(
   if (r.CoarseFirst)
   {
     configure(this->Coarse);
-    if (!job.Update(this->Coarse))
-    {
-      return;
-    }
-    this->Publish(this->Coarse, false, r.Kind, job);
   }
   configure(filter);
-  if (job.Update(filter))
-  {
-    this->Publish(filter, true, r.Kind, job);
-  }
-}
-
-//------------------------------------------------------------------------------
-void vtkIlluminatedUnstructuredGridRepresentation::vtkInternals::Publish(
-  vtkUnstructuredGridIllumination* filter, bool final, int kind,
-  volillum::BackgroundLighting::Job& job)
-{
-  vtkUnstructuredGrid* output = filter->GetOutput();
-  volillum::BackgroundLighting::Result result;
-  result.Final = final;
-  result.Kind = kind;
-  const bool lit = output && output->GetPointData()->GetArray("LitColors");
-  if (lit && final && output->GetMTime() == this->Published)
-  {
-    result.Unchanged = true; // drawn already
-  }
-  else if (lit)
-  {
-    // Every update makes new arrays: the copy shares ones no later update writes.
-    auto copy = vtkSmartPointer<vtkUnstructuredGrid>::New();
-    copy->ShallowCopy(output);
-    result.Data = copy;
-    volillum::ReadUpdateFieldData(output->GetFieldData(), result.Report, result.Seconds);
-  }
-  else if (!final)
-  {
-    return; // no level-0 lighting: wait for the final one
-  }
-  if (final)
-  {
-    this->Published = output ? output->GetMTime() : 0;
-  }
-  job.Publish(result);
+  job.RunStages(r.CoarseFirst ? this->Coarse.Get() : nullptr, filter, r.Kind, this->Published,
+    [](vtkDataObject* output)
+    {
+      auto* grid = vtkUnstructuredGrid::SafeDownCast(output);
+      return grid && grid->GetPointData()->GetArray("LitColors");
+    });
 }
 
 //------------------------------------------------------------------------------

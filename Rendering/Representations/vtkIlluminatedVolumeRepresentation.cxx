@@ -115,8 +115,6 @@ struct vtkIlluminatedVolumeRepresentation::vtkInternals
     vtkImageData* image, const volillum::ColouredArray& coloured);
   vtkIlluminationVolumeAlgorithm* FilterFor(int method);
   void Light(const LightingRequest& request, volillum::BackgroundLighting::Job& job);
-  bool Publish(vtkIlluminationVolumeAlgorithm* filter, bool final, int kind,
-    volillum::BackgroundLighting::Job& job);
 };
 
 vtkStandardNewMacro(vtkIlluminatedVolumeRepresentation);
@@ -337,53 +335,15 @@ void vtkIlluminatedVolumeRepresentation::vtkInternals::Light(
       this->CoarseSource = r.Input;
     }
     configure(this->Coarse, this->CoarseInput, 1.0);
-    if (!job.Update(this->Coarse))
-    {
-      return;
-    }
-    this->Publish(this->Coarse, false, r.Kind, job);
   }
   vtkIlluminationVolumeAlgorithm* filter = this->FilterFor(r.Method);
   configure(filter, r.Input, r.Scale);
-  if (job.Update(filter))
-  {
-    this->Publish(filter, true, r.Kind, job);
-  }
-}
-
-//------------------------------------------------------------------------------
-bool vtkIlluminatedVolumeRepresentation::vtkInternals::Publish(
-  vtkIlluminationVolumeAlgorithm* filter, bool final, int kind,
-  volillum::BackgroundLighting::Job& job)
-{
-  vtkImageData* output = filter->GetOutput();
-  volillum::BackgroundLighting::Result result;
-  result.Final = final;
-  result.Kind = kind;
-  if (output && output->GetNumberOfPoints() > 0)
-  {
-    if (final && output->GetMTime() == this->Published)
+  job.RunStages(r.CoarseFirst ? this->Coarse.Get() : nullptr, filter, r.Kind, this->Published,
+    [](vtkDataObject* output)
     {
-      result.Unchanged = true; // the mapper draws it already
-      job.Publish(result);
-      return true;
-    }
-    // Every update allocates new arrays: the copy shares ones no later update writes.
-    auto copy = vtkSmartPointer<vtkImageData>::New();
-    copy->ShallowCopy(output);
-    result.Data = copy;
-    volillum::ReadUpdateFieldData(output->GetFieldData(), result.Report, result.Seconds);
-  }
-  else if (!final)
-  {
-    return false; // no coarse illumination: wait for the final one
-  }
-  if (final)
-  {
-    this->Published = output ? output->GetMTime() : 0;
-  }
-  job.Publish(result);
-  return true;
+      auto* image = vtkImageData::SafeDownCast(output);
+      return image && image->GetNumberOfPoints() > 0;
+    });
 }
 
 //------------------------------------------------------------------------------
@@ -642,8 +602,7 @@ void vtkIlluminatedVolumeRepresentation::LightSerially(
   }
   else
   {
-    request.CoarseFirst =
-      scale > CoarseScale && plan == volillum::LightingCosts::Plan::CoarseFirst;
+    request.CoarseFirst = scale > CoarseScale && plan == volillum::LightingCosts::Plan::CoarseFirst;
     internals.Submitted = request;
     internals.HasSubmitted = true;
     internals.Background.Start([&internals, request](volillum::BackgroundLighting::Job& job)

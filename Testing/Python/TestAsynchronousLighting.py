@@ -34,21 +34,32 @@ lut = GetColorTransferFunction("Density")
 lut.ApplyPreset("Cool to Warm", True)
 pwf = GetOpacityTransferFunction("Density")
 pwf.Points = [0.0, 0.0, 0.5, 0.0, 0.3, 0.05, 0.5, 0.0, 1.0, 0.4, 0.5, 0.0]
-views, reps = [], []
-for asynchronous in (False, True):
-    view = CreateView("RenderView")
-    view.ViewSize = [300, 300]
-    view.OrientationAxesVisibility = 0
-    rep = Show(phantom, view)
-    rep.SetRepresentationType("Illuminated Volume")
-    ColorBy(rep, ("POINTS", "Density"))
+
+
+def sync_and_async(source):
+    """Two 300x300 views showing source as "Illuminated Volume" coloured by Density, lit
+    synchronously and with Asynchronous Lighting on (after checking it is off by default)."""
+    pair_views, pair_reps = [], []
+    for asynchronous in (0, 1):
+        view = CreateView("RenderView")
+        view.ViewSize = [300, 300]
+        view.OrientationAxesVisibility = 0
+        rep = Show(source, view)
+        rep.SetRepresentationType("Illuminated Volume")
+        ColorBy(rep, ("POINTS", "Density"))
+        if asynchronous:
+            check(rep.AsynchronousLighting == 0, "pvpython leaves Asynchronous Lighting off (%s)"
+                  % source.GetXMLLabel())
+        rep.AsynchronousLighting = asynchronous
+        view.ResetCamera()
+        pair_views.append(view)
+        pair_reps.append(rep)
+    return pair_views, pair_reps
+
+
+views, reps = sync_and_async(phantom)
+for rep in reps:
     rep.IlluminationResolutionScale = 1.0
-    if asynchronous:
-        check(rep.AsynchronousLighting == 0, "pvpython leaves Asynchronous Lighting off")
-        rep.AsynchronousLighting = 1
-    view.ResetCamera()
-    views.append(view)
-    reps.append(rep)
 sync_view, async_view = views
 sync_rep, async_rep = reps
 status = servermanager.ProxyManager().SMProxyManager.NewProxy("misc", "IlluminationStatus")
@@ -123,19 +134,9 @@ check(after == before, "the cancelled update kept the previous illumination (mea
 
 # The unstructured representation likewise: a tetrahedralised phantom turned under the light kit.
 mesh = Tetrahedralize(Input=IlluminationPhantom(Scene="Three Spheres", Dimensions=[48, 48, 48]))
-grid_views, grid_reps = [], []
-for asynchronous in (0, 1):
-    view = CreateView("RenderView")
-    view.ViewSize = [300, 300]
-    view.OrientationAxesVisibility = 0
-    rep = Show(mesh, view)
-    rep.SetRepresentationType("Illuminated Volume")
-    ColorBy(rep, ("POINTS", "Density"))
-    rep.AsynchronousLighting = asynchronous
-    view.ResetCamera()
+grid_views, grid_reps = sync_and_async(mesh)
+for view, rep in zip(grid_views, grid_reps):
     render_final(view, rep)
-    grid_views.append(view)
-    grid_reps.append(rep)
 turn(40, grid_views)
 Render(grid_views[1])
 check(info(grid_reps[1], "IlluminationPending")[0] == 1,

@@ -17,6 +17,8 @@ import time
 
 from paraview.simple import *
 
+from IlluminatedVolumeTestUtilities import info  # on PYTHONPATH: run_gui_script
+
 out = os.environ["VOLILLUM_OUTPUT"]
 results = []
 
@@ -28,8 +30,7 @@ def finish():
 
 
 def pending(rep):
-    rep.SMProxy.UpdatePropertyInformation()
-    return int(rep.SMProxy.GetProperty("IlluminationPending").GetElement(0))
+    return info(rep, "IlluminationPending")[0]
 
 
 try:
