@@ -108,7 +108,9 @@ void pqIlluminationLightingBehavior::onViewAdded(pqView* view)
 {
   if (qobject_cast<pqRenderView*>(view))
   {
-    QObject::connect(view, &pqView::endRender, this, &pqIlluminationLightingBehavior::poll);
+    // Polled 100 ms after the last render: renders in quick succession (a camera drag) ask
+    // nothing of the server.
+    QObject::connect(view, &pqView::endRender, &this->Timer, QOverload<>::of(&QTimer::start));
   }
 }
 
@@ -116,7 +118,7 @@ void pqIlluminationLightingBehavior::onViewAdded(pqView* view)
 void pqIlluminationLightingBehavior::poll()
 {
   bool busy = false;
-  bool ready = false;
+  unsigned int publications = 0;
   double progress = 1.0;
   pqServerManagerModel* model = pqApplicationCore::instance()->getServerManagerModel();
   for (pqServer* server : model->findItems<pqServer*>())
@@ -128,16 +130,22 @@ void pqIlluminationLightingBehavior::poll()
     }
     status->UpdatePropertyInformation();
     busy = busy || vtkSMPropertyHelper(status, "IlluminationBusy").GetAsInt() != 0;
-    ready = ready || vtkSMPropertyHelper(status, "IlluminationReady").GetAsInt() != 0;
+    publications += vtkSMPropertyHelper(status, "IlluminationPublications").GetAsInt();
     progress =
       std::min(progress, vtkSMPropertyHelper(status, "IlluminationProgress").GetAsDouble());
   }
   this->showProgress(busy, progress);
-  if (ready)
+  // A render draws what was published since the last poll, or, once a lighting the user
+  // cancelled has stopped, the last finished illumination again.
+  const bool published = publications != this->Publications;
+  const bool cancelled = this->Cancelled && !busy;
+  this->Publications = publications;
+  this->Cancelled = this->Cancelled && busy;
+  if (published || cancelled)
   {
-    this->renderViews(); // their end polls again
+    this->renderViews(); // their ends poll again
   }
-  else if (busy)
+  else if (busy || this->ShowingProgress)
   {
     this->Timer.start();
   }
@@ -154,7 +162,8 @@ void pqIlluminationLightingBehavior::cancel()
   {
     this->Status.value(server)->InvokeCommand("CancelIllumination");
   }
-  this->renderViews(); // the representations draw their last finished illumination again
+  this->Cancelled = true;
+  this->Timer.start(); // renders once the lighting has stopped
 }
 
 //------------------------------------------------------------------------------
@@ -170,7 +179,13 @@ void pqIlluminationLightingBehavior::renderViews()
 //------------------------------------------------------------------------------
 void pqIlluminationLightingBehavior::showProgress(bool busy, double progress)
 {
+  // While another object holds the progress manager, it ignores everyone else's calls: the
+  // bar is shown or taken down only when it is free, so that every call counts and pairs.
   pqProgressManager* manager = pqApplicationCore::instance()->getProgressManager();
+  if (manager->isLocked())
+  {
+    return;
+  }
   if (busy && !this->ShowingProgress)
   {
     // The progress bar with its abort button, without the input blocking ParaView applies

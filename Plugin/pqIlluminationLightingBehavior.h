@@ -5,11 +5,11 @@
  * Started with the plugin in the paraview client (an auto-start of the plugin), it
  *  - turns AsynchronousLighting on for every representation that has it (the Illuminated
  *    Volume representations; pvpython and pvbatch leave it off),
- *  - after each render of a view, and every 100 ms while a computation runs, polls the
- *    IlluminationStatus proxy of each server (vtkIlluminationStatus, which lives where the
- *    views render, so this works in client-server sessions too), as ParaView's
- *    pqViewStreamingBehavior polls streaming views: when a finished illumination waits, it
- *    renders the render views, which draw it,
+ *  - 100 ms after the last render of a view, and every 100 ms while a computation runs,
+ *    polls the IlluminationStatus proxy of each server (vtkIlluminationStatus, which lives
+ *    where the views render, so this works in client-server sessions too), as ParaView's
+ *    pqViewStreamingBehavior polls streaming views: when illuminations were published since
+ *    the last poll, or a lighting the user cancelled has stopped, it renders the render views,
  *  - shows the computation in ParaView's progress bar without blocking input, and cancels
  *    it when the progress bar's abort is pressed.
  */
@@ -56,6 +56,8 @@ private:
   QTimer Timer;
   bool ShowingProgress = false;
   bool PreviousUnblock = false;
+  unsigned int Publications = 0; // results published, as of the last poll
+  bool Cancelled = false;        // the user cancelled a lighting that has not stopped yet
 };
 
 #endif

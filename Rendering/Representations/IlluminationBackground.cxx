@@ -47,6 +47,7 @@ vtkSmartPointer<T> DeepCopyOf(T* original)
 
 // Every BackgroundLighting of the process, for vtkIlluminationStatus.
 std::mutex RegistryMutex;
+std::atomic<unsigned int> PublishedCount{ 0 }; // results published by every job so far
 std::vector<volillum::BackgroundLighting*>& Registry()
 {
   static std::vector<volillum::BackgroundLighting*> registry;
@@ -104,14 +105,20 @@ bool BackgroundLighting::Job::Update(vtkAlgorithm* filter)
 void BackgroundLighting::Job::Publish(const Result& result)
 {
   std::lock_guard<std::mutex> lock(this->Owner->Mutex);
+  if (this->Owner->CancelRequested)
+  {
+    return; // cancelled or superseded after its last progress report
+  }
   this->Owner->Latest = result;
   this->Owner->HasLatest = true;
+  ++PublishedCount;
 }
 
 //------------------------------------------------------------------------------
 void BackgroundLighting::Job::RunStages(vtkAlgorithm* coarse, vtkAlgorithm* filter, int kind,
   vtkMTimeType& published, const std::function<bool(vtkDataObject*)>& lit)
 {
+  bool coarsePublished = false;
   auto publish = [&](vtkAlgorithm* stage, bool final)
   {
     vtkDataObject* output = stage->GetOutputDataObject(0);
@@ -119,7 +126,7 @@ void BackgroundLighting::Job::RunStages(vtkAlgorithm* coarse, vtkAlgorithm* filt
     result.Final = final;
     result.Kind = kind;
     const bool drawable = output && lit(output);
-    if (drawable && final && output->GetMTime() == published)
+    if (drawable && final && !coarsePublished && output->GetMTime() == published)
     {
       result.Unchanged = true; // drawn already
     }
@@ -147,6 +154,7 @@ void BackgroundLighting::Job::RunStages(vtkAlgorithm* coarse, vtkAlgorithm* filt
       return;
     }
     publish(coarse, false);
+    coarsePublished = true;
   }
   if (this->Update(filter))
   {
@@ -268,6 +276,14 @@ bool BackgroundLighting::Take(Result& result)
 }
 
 //------------------------------------------------------------------------------
+void BackgroundLighting::Discard()
+{
+  std::lock_guard<std::mutex> lock(this->Mutex);
+  this->Latest = Result();
+  this->HasLatest = false;
+}
+
+//------------------------------------------------------------------------------
 bool BackgroundLighting::Busy() const
 {
   std::lock_guard<std::mutex> lock(this->Mutex);
@@ -296,6 +312,11 @@ bool BackgroundLighting::AnyReady()
   const auto& registry = Registry();
   return std::any_of(
     registry.begin(), registry.end(), [](const BackgroundLighting* b) { return b->Ready(); });
+}
+
+unsigned int BackgroundLighting::Publications()
+{
+  return PublishedCount.load();
 }
 
 double BackgroundLighting::LeastProgress()
@@ -350,20 +371,21 @@ vtkSmartPointer<vtkDataSet> JobCopies::Data(vtkDataSet* original)
 //------------------------------------------------------------------------------
 LightingCosts::Plan LightingCosts::Choose(int kind, double points) const
 {
-  auto measured = this->Seconds.find(kind);
-  if (measured == this->Seconds.end())
+  auto measured = this->SecondsPerPoint.find(kind);
+  if (measured == this->SecondsPerPoint.end())
   {
-    measured = this->Seconds.find(-1);
+    measured = this->SecondsPerPoint.find(-1);
   }
-  if (measured == this->Seconds.end())
+  if (measured == this->SecondsPerPoint.end())
   {
     return points > CoarseFirstPoints ? Plan::CoarseFirst : Plan::Background;
   }
-  if (measured->second <= NowSeconds)
+  const double expected = measured->second * points;
+  if (expected <= NowSeconds)
   {
     return Plan::Now;
   }
-  return measured->second > CoarseFirstSeconds ? Plan::CoarseFirst : Plan::Background;
+  return expected > CoarseFirstSeconds ? Plan::CoarseFirst : Plan::Background;
 }
 
 }

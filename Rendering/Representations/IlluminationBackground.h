@@ -33,6 +33,7 @@
 #include "vtkSmartPointer.h"
 #include "vtkWeakPointer.h"
 
+#include <algorithm>
 #include <atomic>
 #include <condition_variable>
 #include <functional>
@@ -108,6 +109,8 @@ public:
   void Run(const Work& work, vtkAlgorithm* progressTo);
   /// Drop the queued job and cancel the running one (results already published stay).
   void Cancel();
+  /// Drop a published result not taken yet (the representation will not draw it).
+  void Discard();
   /// Cancel, and wait until no job runs.
   void Stop();
 
@@ -123,6 +126,8 @@ public:
   /// Over every BackgroundLighting of the process (vtkIlluminationStatus).
   static bool AnyBusy();
   static bool AnyReady();
+  /// Results published by every job of the process so far (a render shows new ones).
+  static unsigned int Publications();
   static double LeastProgress();
   static void CancelAll();
 
@@ -167,9 +172,9 @@ private:
 };
 
 /**
- * Measured wall times of finished lightings by the kind of change that caused them (the
- * caller's key: for instance -1 for everything, n for n lights), and how a new one of a kind
- * is best run with AsynchronousLighting:
+ * Measured wall times per illumination point of finished lightings by the kind of change that
+ * caused them (the caller's key: for instance -1 for everything, n for n lights), and how a
+ * new one of a kind, its time expected from that, is best run with AsynchronousLighting:
  *  - Now: expected within 0.2 s, it is computed in the render (no preview frame to pay for);
  *  - Background: on the worker thread, the final lighting alone;
  *  - CoarseFirst: expected over 1 s, a coarse lighting is shown first. Below that, the
@@ -188,11 +193,16 @@ public:
     Background,
     CoarseFirst
   };
-  void Record(int kind, double seconds) { this->Seconds[kind] = seconds; }
+  /// A finished lighting of `points` illumination points took `seconds`.
+  void Record(int kind, double seconds, double points)
+  {
+    this->SecondsPerPoint[kind] = seconds / std::max(points, 1.0);
+  }
+  /// How to run a lighting of `points` illumination points.
   Plan Choose(int kind, double points) const;
 
 private:
-  std::map<int, double> Seconds;
+  std::map<int, double> SecondsPerPoint;
 };
 
 }

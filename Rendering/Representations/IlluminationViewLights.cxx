@@ -183,6 +183,16 @@ bool IsInteractiveRender(vtkPVRenderView* view)
 }
 
 //------------------------------------------------------------------------------
+bool InScreenshot(vtkPVRenderView* view)
+{
+  struct Probe : public vtkPVView
+  {
+    static bool In(vtkPVView* v) { return (v->*(&Probe::GetInCaptureScreenshot))(); }
+  };
+  return view && Probe::In(view);
+}
+
+//------------------------------------------------------------------------------
 vtkDataArray* ColouredArrayOf(vtkAlgorithm* representation, vtkDataSet* data, ColouredArray& array)
 {
   vtkInformation* info = representation->GetInputArrayInformation(0);

@@ -134,6 +134,13 @@ private:
  */
 bool IsInteractiveRender(vtkPVRenderView* view);
 
+/**
+ * True while the view renders for a screenshot or an animation frame (between its
+ * PrepareForScreenshot and CleanupAfterScreenshot). vtkPVView keeps that flag's getter
+ * protected in ParaView 5.11; it is read here through a member pointer taken in a subclass.
+ */
+bool InScreenshot(vtkPVRenderView* view);
+
 /// The array a representation colours by (its input array 0), as the illumination
 /// filters are told to read it.
 struct ColouredArray

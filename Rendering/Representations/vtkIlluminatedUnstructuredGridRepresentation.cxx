@@ -6,6 +6,7 @@
 #include "vtkAlgorithmOutput.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkDataArray.h"
+#include "vtkDataSet.h"
 #include "vtkInformation.h"
 #include "vtkMultiProcessController.h"
 #include "vtkNew.h"
@@ -74,10 +75,11 @@ struct vtkIlluminatedUnstructuredGridRepresentation::vtkInternals
   vtkNew<vtkUnstructuredGrid> LitGrid;
 
   // A serial run: the job owns the filter (the representation's Illumination), Coarse (level 0
-  // alone) and Lights while it runs; the render thread goes through Background.
-  volillum::BackgroundLighting Background;
+  // alone), Lights and Published while it runs; the render thread goes through Background,
+  // declared after them so that its worker is joined before they go.
   vtkNew<vtkUnstructuredGridIllumination> Coarse;
   vtkMTimeType Published = 0;
+  volillum::BackgroundLighting Background;
   GridRequest Submitted;
   bool HasSubmitted = false;
   volillum::JobCopies Copies;
@@ -85,6 +87,14 @@ struct vtkIlluminatedUnstructuredGridRepresentation::vtkInternals
   bool ShownFinal = true;
   volillum::LightingCosts Costs;
 
+  /// Nothing to light or draw any more: stop the lighting, drop what it left to draw.
+  void Forget()
+  {
+    this->Background.Cancel();
+    this->Background.Discard();
+    this->HasSubmitted = false;
+    this->ShownFinal = true;
+  }
   void Light(vtkUnstructuredGridIllumination* filter, const GridRequest& request,
     volillum::BackgroundLighting::Job& job);
 };
@@ -117,7 +127,7 @@ vtkIlluminatedUnstructuredGridRepresentation::~vtkIlluminatedUnstructuredGridRep
 bool vtkIlluminatedUnstructuredGridRepresentation::RemoveFromView(vtkView* view)
 {
   this->Internals->Start.Detach();
-  this->Internals->Background.Stop();
+  this->Internals->Forget();
   if (auto* rview = vtkPVRenderView::SafeDownCast(view))
   {
     this->LitMapper->ReleaseGraphicsResources(rview->GetRenderWindow());
@@ -187,6 +197,7 @@ bool vtkIlluminatedUnstructuredGridRepresentation::UpdateIllumination(vtkPVRende
   if (!volillum::AllOk(together, lightable || (together && empty)) ||
     (together && volillum::AllOk(together, empty)))
   {
+    this->Internals->Forget();
     return false;
   }
   this->LitProperty->SetScalarOpacityUnitDistance(this->Property->GetScalarOpacityUnitDistance(0));
@@ -283,7 +294,8 @@ bool vtkIlluminatedUnstructuredGridRepresentation::LightSerially(vtkPVRenderView
   vtkUnstructuredGridIllumination* filter = this->Illumination;
   const auto plan = internals.Costs.Choose(r.Kind, grid->GetNumberOfPoints());
   const bool changed = !internals.HasSubmitted || !r.SameAs(internals.Submitted);
-  if (!this->AsynchronousLighting ||
+  // A screenshot shows the final lighting: its render waits for it.
+  if (!this->AsynchronousLighting || volillum::InScreenshot(view) ||
     (changed && plan == volillum::LightingCosts::Plan::Now && !internals.Background.Busy()))
   {
     internals.Submitted = r;
@@ -304,9 +316,7 @@ bool vtkIlluminatedUnstructuredGridRepresentation::LightSerially(vtkPVRenderView
   else if (!internals.Background.Busy() && !internals.ShownFinal)
   {
     // Cancelled after the level-0 stage: back to the last finished lighting.
-    internals.LitGrid->ShallowCopy(internals.LastFinal);
-    internals.ShownFinal = true;
-    this->MeanTime = vtkTimeStamp();
+    this->DrawLastFinal();
   }
   return internals.Lit;
 }
@@ -356,11 +366,15 @@ bool vtkIlluminatedUnstructuredGridRepresentation::ShowFinishedLighting()
   {
     return internals.Lit;
   }
-  internals.ShownFinal = result.Final;
   if (result.Unchanged)
   {
+    if (!internals.ShownFinal || !internals.Lit)
+    {
+      this->DrawLastFinal(); // the last final lighting holds; another is drawn meanwhile
+    }
     return internals.Lit;
   }
+  internals.ShownFinal = result.Final;
   internals.Lit = result.Data != nullptr;
   if (internals.Lit)
   {
@@ -373,9 +387,34 @@ bool vtkIlluminatedUnstructuredGridRepresentation::ShowFinishedLighting()
     internals.LastFinal = result.Data;
     this->Report = result.Report;
     this->UpdateSeconds = result.Seconds;
-    internals.Costs.Record(result.Kind, result.Seconds);
+    internals.Costs.Record(result.Kind, result.Seconds,
+      result.Data ? vtkDataSet::SafeDownCast(result.Data)->GetNumberOfPoints() : 0.0);
   }
   return internals.Lit;
+}
+
+//------------------------------------------------------------------------------
+void vtkIlluminatedUnstructuredGridRepresentation::DrawLastFinal()
+{
+  auto& internals = *this->Internals;
+  internals.Lit = internals.LastFinal != nullptr; // none yet: drawn unlit
+  if (internals.Lit)
+  {
+    internals.LitGrid->ShallowCopy(internals.LastFinal);
+    this->LitMapper->SetInputData(internals.LitGrid);
+  }
+  internals.ShownFinal = true;
+  this->MeanTime = vtkTimeStamp();
+}
+
+//------------------------------------------------------------------------------
+void vtkIlluminatedUnstructuredGridRepresentation::SetVisibility(bool visible)
+{
+  if (!visible)
+  {
+    this->Internals->Forget(); // a hidden representation renders nothing it could take
+  }
+  this->Superclass::SetVisibility(visible);
 }
 
 //------------------------------------------------------------------------------

@@ -100,6 +100,9 @@ public:
   double* GetMeanIllumination() VTK_SIZEHINT(3);
   ///@}
 
+  /// Hidden, the representation stops its background lighting.
+  void SetVisibility(bool visible) override;
+
   int ProcessViewRequest(
     vtkInformationRequestKey* request, vtkInformation* inInfo, vtkInformation* outInfo) override;
 
@@ -119,6 +122,8 @@ protected:
     const char* array, int association, int component);
   /// Draw what the lighting finished since the last render; whether a lit grid is drawn.
   bool ShowFinishedLighting();
+  /// Draw the last final lighting again (unlit when there is none yet).
+  void DrawLastFinal();
   /// Give the solver settings to a filter.
   void Configure(vtkUnstructuredGridIllumination* filter) const;
 

@@ -6,6 +6,7 @@
 #include "IlluminationViewLights.h"
 #include "vtkAlgorithmOutput.h"
 #include "vtkColorTransferFunction.h"
+#include "vtkDataSet.h"
 #include "vtkDataSetAttributes.h"
 #include "vtkDoubleArray.h"
 #include "vtkExtractVOI.h"
@@ -80,8 +81,9 @@ struct vtkIlluminatedVolumeRepresentation::vtkInternals
 {
   volillum::RenderStart Start;
   // One filter per method, created when first used; only the active one is kept. In a serial
-  // run they, Coarse and Lights belong to the lighting job while one runs (see
-  // IlluminationBackground.h); the render thread touches them only through Background.
+  // run they, Coarse, Lights and Published belong to the lighting job while one runs (see
+  // IlluminationBackground.h); the render thread touches them only through Background,
+  // declared after them so that its worker is joined before they go.
   std::array<vtkSmartPointer<vtkIlluminationVolumeAlgorithm>, 3> Filters;
   vtkSmartPointer<vtkIlluminationVolumeAlgorithm> Coarse; // CoarseFirst's, of the same method
   int CoarseMethod = -1;
@@ -111,6 +113,14 @@ struct vtkIlluminatedVolumeRepresentation::vtkInternals
   vtkNew<vtkTrivialProducer> Piece;
   vtkMultiProcessController* Controller = nullptr; // lighting the pieces where they are
 
+  /// Nothing to light or draw any more: stop the lighting, drop what it left to draw.
+  void Forget()
+  {
+    this->Background.Cancel();
+    this->Background.Discard();
+    this->HasSubmitted = false;
+    this->ShownFinal = true;
+  }
   LightingRequest MakeRequest(vtkIlluminatedVolumeRepresentation* self, vtkPVRenderView* view,
     vtkImageData* image, const volillum::ColouredArray& coloured);
   vtkIlluminationVolumeAlgorithm* FilterFor(int method);
@@ -350,12 +360,22 @@ void vtkIlluminatedVolumeRepresentation::vtkInternals::Light(
 bool vtkIlluminatedVolumeRepresentation::RemoveFromView(vtkView* view)
 {
   this->Internals->Start.Detach();
-  this->Internals->Background.Stop();
+  this->Internals->Forget();
   if (auto* rview = vtkPVRenderView::SafeDownCast(view))
   {
     this->GetIlluminatedMapper()->ReleaseGraphicsResources(rview->GetRenderWindow());
   }
   return this->Superclass::RemoveFromView(view);
+}
+
+//------------------------------------------------------------------------------
+void vtkIlluminatedVolumeRepresentation::SetVisibility(bool visible)
+{
+  if (!visible)
+  {
+    this->Internals->Forget(); // a hidden representation renders nothing it could take
+  }
+  this->Superclass::SetVisibility(visible);
 }
 
 //------------------------------------------------------------------------------
@@ -517,8 +537,7 @@ void vtkIlluminatedVolumeRepresentation::UpdateIllumination(vtkPVRenderView* vie
   if (!volillum::AllOk(together, lightable || (together && empty)))
   {
     // Nothing this representation can light: draw as the Volume representation does.
-    internals.Background.Stop();
-    internals.HasSubmitted = false;
+    internals.Forget();
     mapper->SetIlluminationData(nullptr);
     return;
   }
@@ -579,7 +598,8 @@ void vtkIlluminatedVolumeRepresentation::LightSerially(
   const auto plan = internals.Costs.Choose(
     request.Kind, request.Input->GetNumberOfPoints() * scale * scale * scale);
   const bool changed = !internals.HasSubmitted || !request.SameAs(internals.Submitted);
-  if (!this->AsynchronousLighting ||
+  // A screenshot shows the final illumination: its render waits for it.
+  if (!this->AsynchronousLighting || volillum::InScreenshot(view) ||
     (changed && plan == volillum::LightingCosts::Plan::Now && !internals.Background.Busy()))
   {
     internals.Submitted = request;
@@ -625,19 +645,23 @@ void vtkIlluminatedVolumeRepresentation::ShowFinishedLighting()
   {
     return;
   }
+  vtkIlluminatedVolumeMapper* mapper = this->GetIlluminatedMapper();
   internals.ShownFinal = result.Final;
   if (result.Unchanged)
   {
+    // The last final illumination holds (a coarse one, or none, may be drawn meanwhile).
+    mapper->SetIlluminationData(vtkImageData::SafeDownCast(internals.LastFinal));
     return;
   }
-  this->GetIlluminatedMapper()->SetIlluminationData(vtkImageData::SafeDownCast(result.Data));
+  mapper->SetIlluminationData(vtkImageData::SafeDownCast(result.Data));
   this->MeanTime = vtkTimeStamp();
   if (result.Final)
   {
     internals.LastFinal = result.Data;
     this->Report = result.Report;
     this->UpdateSeconds = result.Seconds;
-    internals.Costs.Record(result.Kind, result.Seconds);
+    internals.Costs.Record(result.Kind, result.Seconds,
+      result.Data ? vtkDataSet::SafeDownCast(result.Data)->GetNumberOfPoints() : 0.0);
   }
 }
 

@@ -146,6 +146,9 @@ public:
    */
   bool GetDistributedIllumination() const;
 
+  /// Hidden, the representation stops its background lighting.
+  void SetVisibility(bool visible) override;
+
   int ProcessViewRequest(
     vtkInformationRequestKey* request, vtkInformation* inInfo, vtkInformation* outInfo) override;
 

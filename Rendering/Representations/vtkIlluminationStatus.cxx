@@ -16,6 +16,11 @@ int vtkIlluminationStatus::GetIlluminationReady()
   return volillum::BackgroundLighting::AnyReady() ? 1 : 0;
 }
 
+int vtkIlluminationStatus::GetIlluminationPublications()
+{
+  return static_cast<int>(volillum::BackgroundLighting::Publications() & 0x7fffffff);
+}
+
 double vtkIlluminationStatus::GetIlluminationProgress()
 {
   return volillum::BackgroundLighting::LeastProgress();

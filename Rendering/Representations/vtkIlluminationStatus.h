@@ -27,6 +27,8 @@ public:
   int GetIlluminationBusy();
   /// 1 while a finished illumination waits for a render to show it.
   int GetIlluminationReady();
+  /// Results published so far (the views show new ones when they render).
+  int GetIlluminationPublications();
   /// The least progress (0 to 1) of the computations running.
   double GetIlluminationProgress();
   /// Cancel every background computation (the last finished illumination stays).

@@ -13,7 +13,8 @@ mode, the script performs the action, renders, and returns to the Qt event loop;
 timer of the view's interactor records the largest delay between ticks until the final
 illumination is drawn (IlluminationPending 0; the plugin's GUI behaviour renders it). The
 freeze is the longest of Render() and that delay; the final time runs from the action to
-the final frame. One run; the lines "mode action render_s freeze_s final_s" are written to
+the final frame. One run; a line "still_frame s" (a still frame with nothing to light, the
+drawing part of any freeze) and lines "mode action render_s freeze_s final_s" are written to
 VOLILLUM_OUTPUT, then the application ends.
 """
 import os
@@ -116,6 +117,12 @@ try:
         start_next()
         run["last"] = time.perf_counter()
 
+    # What a still frame costs with nothing to light: the part of a freeze that is drawing.
+    reset()
+    Render(view)
+    start = time.perf_counter()
+    Render(view)
+    lines.append("still_frame %.3f" % (time.perf_counter() - start))
     start_next()
     interactor.AddObserver("TimerEvent", tick)
     interactor.CreateRepeatingTimer(20)

@@ -58,22 +58,39 @@ def info(rep, name):
     return [prop.GetElement(i) for i in range(prop.GetNumberOfElements())]
 
 
-def render_final(view, rep):
-    """Render until the view shows rep's final illumination. With Asynchronous Lighting on
-    (the GUI's default) a render draws the last finished illumination while the new one is
-    computed on a worker thread; a script renders again once the worker is done (the GUI's
-    pqIlluminationLightingBehavior does the same when its event loop runs)."""
+def render_final(view):
+    """Render until the view shows its final illumination; returns whether a lighting ran in
+    the background meanwhile. With Asynchronous Lighting on (the GUI's default) a render
+    draws the last finished illumination while the new one is computed on a worker thread; a
+    script renders again once a result is ready, as the GUI's pqIlluminationLightingBehavior
+    does. It asks IlluminationStatus, which lives where the views render (the server of a
+    client-server session), whether a lighting runs or a result waits; the status covers
+    every representation, so a result still waiting after this view rendered is another
+    view's."""
     from paraview.simple import Render
     status = servermanager.ProxyManager().SMProxyManager.NewProxy("misc", "IlluminationStatus")
     status.UpdateVTKObjects()
-    Render(view)
-    while info(rep, "IlluminationPending")[0]:
+
+    def flags():
         status.UpdatePropertyInformation()
-        if status.GetProperty("IlluminationBusy").GetElement(0):
-            time.sleep(0.02)
-        else:
+        return (status.GetProperty("IlluminationBusy").GetElement(0) != 0,
+                status.GetProperty("IlluminationReady").GetElement(0) != 0)
+
+    Render(view)
+    waited = False
+    while True:
+        busy, ready = flags()
+        if not busy and not ready:
+            break
+        waited = True
+        if ready:
             Render(view)
+            busy, ready = flags()
+            if ready and not busy:
+                break  # another view's result
+        time.sleep(0.02)
     status.UnRegister(None)
+    return waited
 
 
 def mean_illumination(proxy):

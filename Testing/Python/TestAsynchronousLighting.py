@@ -11,6 +11,8 @@ with Asynchronous Lighting on. Checks:
   the synchronous frame of the second edit (the first, superseded, never becomes final);
 - the unstructured representation (a tetrahedralised phantom) likewise after a turn: pending
   after Render(), then the synchronous frame and mean illumination;
+- a screenshot taken right after a turn (no render in between) equals the synchronous one:
+  a screenshot's render waits for the lighting;
 - Ray-Marched Reference cancelled while it runs (IlluminationStatus's CancelIllumination):
   the representation draws the illumination it had before (same mean illumination), and
   nothing stays pending. The time the cancellation took is printed.
@@ -77,7 +79,7 @@ def frames_agree(name, views=views, reps=reps):
     """Both views' final frames, saved and compared (mean absolute difference per channel)."""
     paths = []
     for view, rep, kind in zip(views, reps, ("sync", "async")):
-        render_final(view, rep)
+        render_final(view)
         paths.append(os.path.join(out, "async_%s_%s.png" % (name, kind)))
         SaveScreenshot(paths[-1], view, ImageResolution=[300, 300])
     difference = image_difference(*paths)
@@ -86,8 +88,8 @@ def frames_agree(name, views=views, reps=reps):
           "bound 0.5)" % (name, difference))
 
 
-render_final(sync_view, sync_rep)
-render_final(async_view, async_rep)
+render_final(sync_view)
+render_final(async_view)
 
 # A camera turn: the light kit turns with the camera, so everything is re-lit.
 turn(40)
@@ -100,7 +102,7 @@ asynchronous = time.perf_counter() - start
 check(info(async_rep, "IlluminationPending")[0] == 1,
       "the asynchronous Render() returned with the lighting pending (Render %.3f s, the "
       "synchronous one %.3f s)" % (asynchronous, synchronous))
-render_final(async_view, async_rep)
+render_final(async_view)
 check(info(async_rep, "IlluminationPending")[0] == 0, "then the final illumination was drawn")
 frames_agree("turn")
 
@@ -110,6 +112,16 @@ Render(async_view)
 pwf.Points = [0.0, 0.0, 0.5, 0.0, 0.3, 0.02, 0.5, 0.0, 1.0, 0.3, 0.5, 0.0]
 Render(async_view)
 frames_agree("superseded_edit")
+
+# A screenshot right after a turn waits for the final illumination.
+turn(30)
+shots = []
+for view, kind in ((sync_view, "sync"), (async_view, "async")):
+    shots.append(os.path.join(out, "async_screenshot_%s.png" % kind))
+    SaveScreenshot(shots[-1], view, ImageResolution=[300, 300])
+difference = image_difference(*shots)
+check(difference <= 0.5, "a screenshot right after a turn shows the final illumination (mean abs "
+      "%.4f of 255, bound 0.5)" % difference)
 
 # Ray-Marched Reference, cancelled while it runs: the previous illumination stays.
 before = info(async_rep, "IlluminationMean")
@@ -127,7 +139,7 @@ while True:
 cancelled = time.perf_counter() - start
 check(running == 1, "the ray-marched lighting ran in the background (cancelled within %.3f s)"
       % cancelled)
-render_final(async_view, async_rep)
+render_final(async_view)
 after = info(async_rep, "IlluminationMean")
 check(after == before, "the cancelled update kept the previous illumination (mean %s, before %s)"
       % (after, before))
@@ -136,7 +148,7 @@ check(after == before, "the cancelled update kept the previous illumination (mea
 mesh = Tetrahedralize(Input=IlluminationPhantom(Scene="Three Spheres", Dimensions=[48, 48, 48]))
 grid_views, grid_reps = sync_and_async(mesh)
 for view, rep in zip(grid_views, grid_reps):
-    render_final(view, rep)
+    render_final(view)
 turn(40, grid_views)
 Render(grid_views[1])
 check(info(grid_reps[1], "IlluminationPending")[0] == 1,

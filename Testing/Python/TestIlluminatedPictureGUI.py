@@ -53,18 +53,18 @@ try:
         camera.SetPosition(straight[0])
         camera.SetFocalPoint(straight[1])
         camera.SetViewUp(straight[2])
-        render_final(view, rep)
+        render_final(view)
         name = representation.split()[0].lower()
         grab(view, name + "_straight")
         camera.Azimuth(35)
         camera.Elevation(25)
-        render_final(view, rep)
+        render_final(view)
         grab(view, name + "_oblique")
     # A Resolution Scale change: the first frame after it and the next one.
     rep.IlluminationResolutionScale = 0.25
-    render_final(view, rep)
+    render_final(view)
     grab(view, "scale_first")
-    render_final(view, rep)
+    render_final(view)
     grab(view, "scale_next")
     results.append("representation %s" % str(rep.Representation).strip("'").replace(" ", "_"))
 except Exception as error:  # reported to the driver, which fails the test

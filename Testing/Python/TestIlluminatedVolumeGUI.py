@@ -33,7 +33,7 @@ try:
     light.DiffuseColor = [1.0, 0.6, 0.3]
     for step, enable in (("on", 1), ("off", 0), ("on_again", 1)):
         light.Enable = enable
-        render_final(view, rep)
+        render_final(view)
         SaveScreenshot(os.path.join(out, "gui_%s.png" % step), view, ImageResolution=[300, 300])
         rep.SMProxy.UpdatePropertyInformation()
         mean = rep.SMProxy.GetProperty("IlluminationMean")
