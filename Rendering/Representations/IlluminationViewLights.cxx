@@ -1,7 +1,6 @@
 #include "IlluminationViewLights.h"
 
 #include "vtkAlgorithm.h"
-#include "vtkCallbackCommand.h"
 #include "vtkCamera.h"
 #include "vtkCellData.h"
 #include "vtkColorTransferFunction.h"
@@ -9,6 +8,7 @@
 #include "vtkDataArray.h"
 #include "vtkDataObject.h"
 #include "vtkDataSet.h"
+#include "vtkFloatArray.h"
 #include "vtkInformation.h"
 #include "vtkLightCollection.h"
 #include "vtkMatrix4x4.h"
@@ -229,20 +229,6 @@ int ColouredComponent(vtkVolumeProperty* property)
 }
 
 //------------------------------------------------------------------------------
-void ForwardProgress(vtkAlgorithm* filter, vtkAlgorithm* representation)
-{
-  vtkNew<vtkCallbackCommand> forward;
-  forward->SetClientData(representation);
-  forward->SetCallback(
-    [](vtkObject* caller, unsigned long, void* clientData, void*)
-    {
-      static_cast<vtkAlgorithm*>(clientData)
-        ->UpdateProgress(static_cast<vtkAlgorithm*>(caller)->GetProgress());
-    });
-  filter->AddObserver(vtkCommand::ProgressEvent, forward);
-}
-
-//------------------------------------------------------------------------------
 void MeanIllumination(vtkDataObject* output, double mean[3], vtkTimeStamp& computed)
 {
   if (!output || output->GetMTime() <= computed)
@@ -258,11 +244,26 @@ void MeanIllumination(vtkDataObject* output, double mean[3], vtkTimeStamp& compu
     return;
   }
   const vtkIdType n = a->GetNumberOfTuples();
-  for (vtkIdType i = 0; i < n; ++i)
+  if (auto* values = vtkFloatArray::FastDownCast(a))
   {
-    for (int c = 0; c < 3; ++c)
+    // The filters' arrays: read in place (a virtual call a value takes 0.2 s on 16 M points).
+    const float* v = values->GetPointer(0);
+    for (vtkIdType i = 0; i < n; ++i)
     {
-      mean[c] += a->GetComponent(i, c);
+      for (int c = 0; c < 3; ++c)
+      {
+        mean[c] += v[3 * i + c];
+      }
+    }
+  }
+  else
+  {
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        mean[c] += a->GetComponent(i, c);
+      }
     }
   }
   for (int c = 0; c < 3; ++c)

@@ -181,10 +181,6 @@ vtkDataArray* ColouredArrayOf(vtkAlgorithm* representation, vtkDataSet* data, Co
 /// vector mode), or -1 for the magnitude (also without a colour map).
 int ColouredComponent(vtkVolumeProperty* property);
 
-/// Report the progress of an illumination filter as progress of a representation, so
-/// that ParaView's progress bar moves during long updates.
-void ForwardProgress(vtkAlgorithm* filter, vtkAlgorithm* representation);
-
 /// Mean of the 3-component point array "Illumination" of a filter output (0 without it),
 /// recomputed only when the output is newer than computed (which it then updates); mean
 /// is left as it is without an output.

@@ -11,10 +11,11 @@ view). For each action (a 40-degree camera turn, an opacity edit, a Light Inspec
 made positional, Method changed to Filtered Shadows, Resolution Scale changed to 1) and each
 mode, the script performs the action, renders, and returns to the Qt event loop; a 20 ms
 timer of the view's interactor records the largest delay between ticks until the final
-illumination is drawn (IlluminationPending 0; the plugin's GUI behaviour renders it). The
+illumination is drawn (IlluminationStatus neither busy nor holding a result: the plugin's GUI
+behaviour renders it). The
 freeze is the longest of Render() and that delay; the final time runs from the action to
-the final frame. One run; a line "still_frame s" (a still frame with nothing to light, the
-drawing part of any freeze) and lines "mode action render_s freeze_s final_s" are written to
+the final frame. One run; a line "volume_still_frame s" (a still frame of the plain Volume
+representation, the drawing part of any freeze) and lines "mode action render_s freeze_s final_s" are written to
 VOLILLUM_OUTPUT, then the application ends.
 """
 import os
@@ -31,9 +32,12 @@ def write_and_exit():
     os._exit(0)
 
 
-def pending(rep):
-    rep.SMProxy.UpdatePropertyInformation()
-    return int(rep.SMProxy.GetProperty("IlluminationPending").GetElement(0))
+def pending(status):
+    """A lighting runs or a result waits to be drawn (IlluminationStatus: cheap to ask, unlike
+    the representation's information, which includes its mean illumination)."""
+    status.UpdatePropertyInformation()
+    return (status.GetProperty("IlluminationBusy").GetElement(0) or
+            status.GetProperty("IlluminationReady").GetElement(0))
 
 
 try:
@@ -85,6 +89,8 @@ try:
                ("light_positional", positional), ("method", method), ("resolution_scale", scale)]
     plan = [(mode, name, action) for mode in (0, 1) for name, action in actions]
     interactor = view.GetRenderWindow().GetInteractor()
+    status = servermanager.ProxyManager().SMProxyManager.NewProxy("misc", "IlluminationStatus")
+    status.UpdateVTKObjects()
     run = {"index": -1}
 
     def start_next():
@@ -108,7 +114,7 @@ try:
         now = time.perf_counter()
         run["gap"] = max(run["gap"], now - run["last"])
         run["last"] = now
-        if pending(rep) and now - run["start"] < 300:
+        if pending(status) and now - run["start"] < 300:
             return
         mode, name, _ = plan[run["index"]]
         lines.append("%s %s %.3f %.3f %.3f" % ("async" if mode else "sync", name, run["render"],
@@ -117,12 +123,16 @@ try:
         start_next()
         run["last"] = time.perf_counter()
 
-    # What a still frame costs with nothing to light: the part of a freeze that is drawing.
+    # What a still frame of the plain Volume representation costs after a small turn: the
+    # part of any freeze that is drawing, not lighting.
     reset()
+    rep.SetRepresentationType("Volume")
     Render(view)
+    camera.Azimuth(1)
     start = time.perf_counter()
     Render(view)
-    lines.append("still_frame %.3f" % (time.perf_counter() - start))
+    lines.append("volume_still_frame %.3f" % (time.perf_counter() - start))
+    rep.SetRepresentationType("Illuminated Volume")
     start_next()
     interactor.AddObserver("TimerEvent", tick)
     interactor.CreateRepeatingTimer(20)

@@ -33,6 +33,8 @@ print("still frame %.3f s; after a 40-degree turn: synchronous Render() %.3f s, 
        float(results["final_frame_s"]), float(results["largest_timer_delay_s"])))
 check(results["asynchronous_in_gui"] == "1", "the GUI turned Asynchronous Lighting on")
 check(results["pending_after_render"] == "1", "the lighting was pending after Render()")
+check(results["pending_at_the_end"] == "0",
+      "the GUI drew the final illumination (IlluminationPending 0) without the script rendering")
 check(float(results["asynchronous_turn_render_s"]) <= frame + FREEZE_BOUND,
       "Render() after the turn took %s s (bound: a still frame + %.2f = %.3f s)" %
       (results["asynchronous_turn_render_s"], FREEZE_BOUND, frame + FREEZE_BOUND))
