@@ -1,7 +1,7 @@
 """Run inside the ParaView GUI: how long the GUI freezes after what users do, lighting
 synchronously (as before Asynchronous Lighting) and in the background.
 
-  xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" paraview --dr \
+  PYTHONPATH=Testing/Python xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" paraview --dr \
       --script=Testing/Benchmarks/GuiFreezeBenchmark.py
   (environment: VOLILLUM_PLUGIN the plugin, VOLILLUM_VOLUME a volume file ParaView reads,
    VOLILLUM_OUTPUT a file for the results)
@@ -23,6 +23,8 @@ import time
 
 from paraview.simple import *
 
+from IlluminatedVolumeTestUtilities import illumination_status, lighting_flags  # PYTHONPATH
+
 lines = []
 
 
@@ -33,11 +35,7 @@ def write_and_exit():
 
 
 def pending(status):
-    """A lighting runs or a result waits to be drawn (IlluminationStatus: cheap to ask, unlike
-    the representation's information, which includes its mean illumination)."""
-    status.UpdatePropertyInformation()
-    return (status.GetProperty("IlluminationBusy").GetElement(0) or
-            status.GetProperty("IlluminationReady").GetElement(0))
+    return any(lighting_flags(status))
 
 
 try:
@@ -89,8 +87,7 @@ try:
                ("light_positional", positional), ("method", method), ("resolution_scale", scale)]
     plan = [(mode, name, action) for mode in (0, 1) for name, action in actions]
     interactor = view.GetRenderWindow().GetInteractor()
-    status = servermanager.ProxyManager().SMProxyManager.NewProxy("misc", "IlluminationStatus")
-    status.UpdateVTKObjects()
+    status = illumination_status()
     run = {"index": -1}
 
     def start_next():

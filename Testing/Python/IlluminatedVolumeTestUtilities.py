@@ -58,34 +58,41 @@ def info(rep, name):
     return [prop.GetElement(i) for i in range(prop.GetNumberOfElements())]
 
 
+def illumination_status():
+    """A new IlluminationStatus proxy of the active session: the background lighting where
+    the views render (the server of a client-server session). UnRegister(None) it when done."""
+    status = servermanager.ProxyManager().SMProxyManager.NewProxy("misc", "IlluminationStatus")
+    status.UpdateVTKObjects()
+    return status
+
+
+def lighting_flags(status):
+    """(busy, ready): a lighting runs or is queued; a finished one waits to be drawn. Cheap to
+    ask, unlike a representation's information, which includes its mean illumination."""
+    status.UpdatePropertyInformation()
+    return (status.GetProperty("IlluminationBusy").GetElement(0) != 0,
+            status.GetProperty("IlluminationReady").GetElement(0) != 0)
+
+
 def render_final(view):
     """Render until the view shows its final illumination; returns whether a lighting ran in
     the background meanwhile. With Asynchronous Lighting on (the GUI's default) a render
     draws the last finished illumination while the new one is computed on a worker thread; a
     script renders again once a result is ready, as the GUI's pqIlluminationLightingBehavior
-    does. It asks IlluminationStatus, which lives where the views render (the server of a
-    client-server session), whether a lighting runs or a result waits; the status covers
-    every representation, so a result still waiting after this view rendered is another
-    view's."""
+    does. The status covers every representation, so a result still waiting after this view
+    rendered is another view's."""
     from paraview.simple import Render
-    status = servermanager.ProxyManager().SMProxyManager.NewProxy("misc", "IlluminationStatus")
-    status.UpdateVTKObjects()
-
-    def flags():
-        status.UpdatePropertyInformation()
-        return (status.GetProperty("IlluminationBusy").GetElement(0) != 0,
-                status.GetProperty("IlluminationReady").GetElement(0) != 0)
-
+    status = illumination_status()
     Render(view)
     waited = False
     while True:
-        busy, ready = flags()
+        busy, ready = lighting_flags(status)
         if not busy and not ready:
             break
         waited = True
         if ready:
             Render(view)
-            busy, ready = flags()
+            busy, ready = lighting_flags(status)
             if ready and not busy:
                 break  # another view's result
         time.sleep(0.02)

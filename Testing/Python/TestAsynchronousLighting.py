@@ -25,7 +25,8 @@ import time
 from paraview.simple import *
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from IlluminatedVolumeTestUtilities import Checks, finish, image_difference, info, render_final
+from IlluminatedVolumeTestUtilities import (Checks, finish, illumination_status, image_difference,
+                                             info, lighting_flags, render_final)
 
 LoadPlugin(sys.argv[1], remote=False, ns=globals())
 out = sys.argv[2]
@@ -64,8 +65,7 @@ for rep in reps:
     rep.IlluminationResolutionScale = 1.0
 sync_view, async_view = views
 sync_rep, async_rep = reps
-status = servermanager.ProxyManager().SMProxyManager.NewProxy("misc", "IlluminationStatus")
-status.UpdateVTKObjects()
+status = illumination_status()
 
 
 def turn(degrees, views=views):
@@ -127,17 +127,15 @@ check(difference <= 0.5, "a screenshot right after a turn shows the final illumi
 before = info(async_rep, "IlluminationMean")
 async_rep.IlluminationMethod = "Ray-Marched Reference"
 Render(async_view)
-status.UpdatePropertyInformation()
-running = status.GetProperty("IlluminationBusy").GetElement(0)
+running = lighting_flags(status)[0]
 start = time.perf_counter()
 status.InvokeCommand("CancelIllumination")
 while True:
-    status.UpdatePropertyInformation()
-    if not status.GetProperty("IlluminationBusy").GetElement(0):
+    if not lighting_flags(status)[0]:
         break
     time.sleep(0.005)
 cancelled = time.perf_counter() - start
-check(running == 1, "the ray-marched lighting ran in the background (cancelled within %.3f s)"
+check(running, "the ray-marched lighting ran in the background (cancelled within %.3f s)"
       % cancelled)
 render_final(async_view)
 after = info(async_rep, "IlluminationMean")

@@ -18,7 +18,8 @@ import time
 
 from paraview.simple import *
 
-from IlluminatedVolumeTestUtilities import info  # on PYTHONPATH: run_gui_script
+# On PYTHONPATH: run_gui_script.
+from IlluminatedVolumeTestUtilities import illumination_status, info, lighting_flags
 
 out = os.environ["VOLILLUM_OUTPUT"]
 results = []
@@ -31,11 +32,7 @@ def finish():
 
 
 def pending(status):
-    """A lighting runs or a result waits to be drawn (IlluminationStatus: cheap to ask, unlike
-    the representation's information, which includes its mean illumination)."""
-    status.UpdatePropertyInformation()
-    return (status.GetProperty("IlluminationBusy").GetElement(0) or
-            status.GetProperty("IlluminationReady").GetElement(0))
+    return any(lighting_flags(status))
 
 
 try:
@@ -66,8 +63,7 @@ try:
     Render(view)
     rendered = time.perf_counter()
     results.append("asynchronous_turn_render_s %.3f" % (rendered - start))
-    status = servermanager.ProxyManager().SMProxyManager.NewProxy("misc", "IlluminationStatus")
-    status.UpdateVTKObjects()
+    status = illumination_status()
     results.append("pending_after_render %d" % info(rep, "IlluminationPending")[0])
     interactor = view.GetRenderWindow().GetInteractor()
     state = {"last": time.perf_counter(), "gap": 0.0}
