@@ -369,6 +369,14 @@ vtkSmartPointer<vtkDataSet> JobCopies::Data(vtkDataSet* original)
 }
 
 //------------------------------------------------------------------------------
+void LightingCosts::Record(const BackgroundLighting::Result& result)
+{
+  auto* data = vtkDataSet::SafeDownCast(result.Data);
+  const double points = data ? static_cast<double>(data->GetNumberOfPoints()) : 0.0;
+  this->SecondsPerPoint[result.Kind] = result.Seconds / std::max(points, 1.0);
+}
+
+//------------------------------------------------------------------------------
 LightingCosts::Plan LightingCosts::Choose(int kind, double points) const
 {
   auto measured = this->SecondsPerPoint.find(kind);

@@ -33,7 +33,6 @@
 #include "vtkSmartPointer.h"
 #include "vtkWeakPointer.h"
 
-#include <algorithm>
 #include <atomic>
 #include <condition_variable>
 #include <functional>
@@ -193,11 +192,8 @@ public:
     Background,
     CoarseFirst
   };
-  /// A finished lighting of `points` illumination points took `seconds`.
-  void Record(int kind, double seconds, double points)
-  {
-    this->SecondsPerPoint[kind] = seconds / std::max(points, 1.0);
-  }
+  /// A final result taken: the time per point of the lighting that made it, by its Kind.
+  void Record(const BackgroundLighting::Result& result);
   /// How to run a lighting of `points` illumination points.
   Plan Choose(int kind, double points) const;
 

@@ -76,6 +76,21 @@ bool LightValues::operator==(const LightValues& o) const
 }
 
 //------------------------------------------------------------------------------
+int ChangedLights(const std::vector<LightValues>& now, const std::vector<LightValues>& before)
+{
+  if (now.size() != before.size())
+  {
+    return -1;
+  }
+  int changed = 0;
+  for (size_t l = 0; l < now.size(); ++l)
+  {
+    changed += now[l] == before[l] ? 0 : 1;
+  }
+  return changed;
+}
+
+//------------------------------------------------------------------------------
 std::vector<LightValues> ReadViewLights(vtkPVRenderView* view, bool includeLightKit)
 {
   std::vector<LightValues> values;

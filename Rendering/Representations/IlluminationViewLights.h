@@ -48,6 +48,9 @@ struct LightValues
   bool operator==(const LightValues& other) const;
 };
 
+/// How many lights differ between two lists of the same length; -1 when the lengths differ.
+int ChangedLights(const std::vector<LightValues>& now, const std::vector<LightValues>& before);
+
 /**
  * The view's lights in world coordinates. With includeLightKit false only the Light
  * Inspector's lights (vtkPVLight) are taken.

@@ -275,14 +275,9 @@ bool vtkIlluminatedUnstructuredGridRepresentation::LightSerially(vtkPVRenderView
   std::copy_n(this->ScatteringStrength, 3, r.Scattering.begin());
   r.ScatteringIterations = this->ScatteringIterations;
   r.Exposure = this->Exposure;
-  if (internals.HasSubmitted && r.SameInputsAs(internals.Submitted) &&
-    r.Lights.size() == internals.Submitted.Lights.size())
+  if (internals.HasSubmitted && r.SameInputsAs(internals.Submitted))
   {
-    r.Kind = 0;
-    for (size_t l = 0; l < r.Lights.size(); ++l)
-    {
-      r.Kind += r.Lights[l] == internals.Submitted.Lights[l] ? 0 : 1;
-    }
+    r.Kind = volillum::ChangedLights(r.Lights, internals.Submitted.Lights);
   }
   // The filter reads the range of the array it lights: computed here first, so that the job
   // only reads the range the array keeps (the render thread may ask for it meanwhile).
@@ -387,8 +382,7 @@ bool vtkIlluminatedUnstructuredGridRepresentation::ShowFinishedLighting()
     internals.LastFinal = result.Data;
     this->Report = result.Report;
     this->UpdateSeconds = result.Seconds;
-    internals.Costs.Record(result.Kind, result.Seconds,
-      result.Data ? vtkDataSet::SafeDownCast(result.Data)->GetNumberOfPoints() : 0.0);
+    internals.Costs.Record(result);
   }
   return internals.Lit;
 }

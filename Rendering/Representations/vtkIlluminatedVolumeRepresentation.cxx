@@ -6,7 +6,6 @@
 #include "IlluminationViewLights.h"
 #include "vtkAlgorithmOutput.h"
 #include "vtkColorTransferFunction.h"
-#include "vtkDataSet.h"
 #include "vtkDataSetAttributes.h"
 #include "vtkDoubleArray.h"
 #include "vtkExtractVOI.h"
@@ -291,14 +290,9 @@ LightingRequest vtkIlluminatedVolumeRepresentation::vtkInternals::MakeRequest(
   r.Input = vtkImageData::SafeDownCast(this->Copies.Data(image));
   r.Color = this->Copies.Color(property->GetRGBTransferFunction(0));
   r.Opacity = this->Copies.Opacity(property->GetScalarOpacity(0));
-  if (this->HasSubmitted && r.SameInputsAs(this->Submitted) &&
-    r.Lights.size() == this->Submitted.Lights.size())
+  if (this->HasSubmitted && r.SameInputsAs(this->Submitted))
   {
-    r.Kind = 0;
-    for (size_t l = 0; l < r.Lights.size(); ++l)
-    {
-      r.Kind += r.Lights[l] == this->Submitted.Lights[l] ? 0 : 1;
-    }
+    r.Kind = volillum::ChangedLights(r.Lights, this->Submitted.Lights);
   }
   return r;
 }
@@ -660,8 +654,7 @@ void vtkIlluminatedVolumeRepresentation::ShowFinishedLighting()
     internals.LastFinal = result.Data;
     this->Report = result.Report;
     this->UpdateSeconds = result.Seconds;
-    internals.Costs.Record(result.Kind, result.Seconds,
-      result.Data ? vtkDataSet::SafeDownCast(result.Data)->GetNumberOfPoints() : 0.0);
+    internals.Costs.Record(result);
   }
 }
 
