@@ -1,0 +1,144 @@
+#include "PropagationSweep.h"
+
+#include "vtkMath.h"
+#include "vtkSMPTools.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace volillum
+{
+namespace propagation
+{
+// The geometry of a sweep of the grid g in a group (SweepAxes), and whether row kernels
+// apply.
+SweepContext MakeSweepContext(const ClassifiedVolume& volume, const EmptyBlocks* empty,
+  bool rowKernels, const GridGeometry& g, int group)
+{
+  const auto& sp = volume.Geometry.Spacing;
+  const SweepAxes axes(group);
+  SweepContext s{ volume, empty, std::min(sp[0], std::min(sp[1], sp[2])), axes.Axis, axes.Sign,
+    axes.B, axes.C, { g.Dimensions[0], g.Dimensions[1], g.Dimensions[2] },
+    { 1, g.Dimensions[0], static_cast<long long>(g.Dimensions[0]) * g.Dimensions[1] },
+    { g.Origin[0], g.Origin[1], g.Origin[2] }, { g.Spacing[0], g.Spacing[1], g.Spacing[2] }, {},
+    { 1, g.Dimensions[0], static_cast<long long>(g.Dimensions[0]) * g.Dimensions[1] }, { 0, 0, 0 },
+    false, volume.IsChromatic() ? 3 : 1 };
+  g.GetBounds(s.Bounds);
+  // Row kernels take a ray inside the volume's grid to be inside the box: along the rows
+  // the two must coincide; across them the volume may be a band of the box (SweepBand).
+  double volumeBounds[6];
+  volume.Geometry.GetBounds(volumeBounds);
+  s.RowKernels = rowKernels;
+  for (int a = 0; a < 3; ++a)
+  {
+    const double tolerance = FaceTolerance(s.Bounds, a);
+    const double low = volumeBounds[2 * a] - s.Bounds[2 * a];
+    const double high = s.Bounds[2 * a + 1] - volumeBounds[2 * a + 1];
+    s.RowKernels = s.RowKernels &&
+      (a != s.B ? low >= -tolerance && high >= -tolerance
+                : std::abs(low) <= tolerance && std::abs(high) <= tolerance);
+  }
+  return s;
+}
+
+// The distinct ray sources of the tasks (prepared for the sweep) and each task's deposit,
+// its radiance in fixed-point units.
+void PrepareDeposits(const SweepContext& s, const std::vector<PropagationTask>& tasks, double scale,
+  std::vector<SweepSource>& prepared, std::vector<Deposit>& deposits)
+{
+  std::vector<RaySource> sources;
+  for (const auto& task : tasks)
+  {
+    const RaySource source = SourceOf(task);
+    auto found = std::find(sources.begin(), sources.end(), source);
+    Deposit deposit;
+    deposit.Source = static_cast<size_t>(found - sources.begin());
+    deposit.Recorded = task.Recorded;
+    deposit.Uniform = source.Directional;
+    if (found == sources.end())
+    {
+      sources.push_back(source);
+      prepared.emplace_back(source, s);
+    }
+    const LightState& l = task.Light;
+    deposit.Spot = l.Kind == LightKind::Spot;
+    if (task.OtherGroup >= 0 && task.Weight > 0.0)
+    {
+      deposit.OtherAxis = task.OtherGroup / 2;
+      deposit.OtherSign = task.OtherGroup % 2 == 0 ? 1 : -1;
+      deposit.Whole = (task.Weight + task.OtherWeight) / task.Weight;
+    }
+    const auto axis = l.Direction();
+    std::copy(axis.begin(), axis.end(), deposit.Axis);
+    deposit.CosCone = std::cos(vtkMath::RadiansFromDegrees(l.ConeAngle));
+    deposit.Exponent = l.Exponent;
+    const auto r = l.Radiance();
+    for (int ch = 0; ch < 3; ++ch)
+    {
+      deposit.Scaled[ch] = r[ch] * task.Weight * task.Sign * scale;
+    }
+    deposits.push_back(deposit);
+  }
+}
+
+// The read and write slice buffers of each source of a sweep (s); returns the bytes of
+// every buffer of the sweep, the threads' row buffers included.
+size_t AllocateSliceBuffers(const SweepContext& s, std::vector<SweepSource>& prepared,
+  int latticeRows, std::vector<std::vector<float>>& read, std::vector<std::vector<float>>& write)
+{
+  const int channels = s.Channels, nb = s.N[s.B], nc = s.N[s.C];
+  const size_t count = prepared.size();
+  // Slice buffers: a ray lattice (one ray more than points along each slice axis; the
+  // latticeRows rows a band reads) for a directional source; the rays from the anchor and
+  // those of the next anchor for a point or spot source (a band's: the rows of its cone).
+  const size_t latticeValues = channels * static_cast<size_t>(nb + 1) * latticeRows;
+  size_t bufferBytes = 0;
+  for (SweepSource& sweep : prepared)
+  {
+    size_t size = sweep.FollowsRays() ? latticeValues : 0;
+    if (!sweep.Source.Directional)
+    {
+      // The rays leaving an anchor, AnchorSpread times denser than its points.
+      sweep.RaysB = static_cast<int>(std::ceil((nb - 1) * AnchorSpread)) + 1;
+      sweep.RaysC = static_cast<int>(std::ceil((nc - 1) * AnchorSpread)) + 1;
+      int first = 0, last = sweep.RaysC - 1;
+      if (!sweep.ConeLow.empty())
+      {
+        // A wedge's: the rows of its cone at any anchor, which hold the taps of its reads
+        // (ConeMargin).
+        int low = sweep.RaysC - 1, high = -1;
+        for (int k = 0; k < s.N[s.Axis]; ++k)
+        {
+          int f, l;
+          ConeRows(s, sweep, k, f, l);
+          if (f <= l)
+          {
+            low = std::min(low, f);
+            high = std::max(high, l);
+          }
+        }
+        first = low;
+        last = std::max(high, low);
+      }
+      sweep.RayFirst = first;
+      sweep.RayRows = last - first + 1;
+      const size_t rays = static_cast<size_t>(sweep.RaysB) * sweep.RayRows;
+      size = channels * rays;
+      sweep.Norms.assign(rays, 0.0);
+      sweep.RowAnchor.assign(sweep.RaysC, -1);
+      bufferBytes += rays * sizeof(double) + sweep.RaysC * sizeof(int);
+    }
+    read.emplace_back(size, 1.0f);
+    write.emplace_back(size, 1.0f);
+    bufferBytes += 2 * size * sizeof(float);
+  }
+  // Each thread's row buffers: light per pixel and source, direction and group factor too
+  // with a point or spot source (SweepSlices::NewScratch), and a deposit's factors per pixel.
+  const bool directions = std::any_of(prepared.begin(), prepared.end(),
+    [](const SweepSource& sweep) { return !sweep.Source.Directional; });
+  bufferBytes += static_cast<size_t>(vtkSMPTools::GetEstimatedNumberOfThreads()) * nb *
+    (count * (channels * sizeof(float) + (directions ? 4 * sizeof(double) : 0)) + sizeof(double));
+  return bufferBytes;
+}
+}
+}
