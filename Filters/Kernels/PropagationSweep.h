@@ -348,6 +348,14 @@ void PrepareDeposits(const SweepContext& s, const std::vector<PropagationTask>& 
 size_t AllocateSliceBuffers(const SweepContext& s, std::vector<SweepSource>& prepared,
   int latticeRows, std::vector<std::vector<float>>& read, std::vector<std::vector<float>>& write);
 
+// The units a sweep over a band deposits into (SweepSpan::Band): the band's rows only, x
+// fastest (PropagateSweepBand).
+void SetBandUnits(const SweepBand& band, SweepContext& s);
+// The units a sweep over a wedge deposits into (SweepSpan::Wedge): per slice the wedge's rows
+// (WedgeRowsOf), and the material it reads (SweepSpan::WedgeMaterial).
+void SetWedgeUnits(const GridGeometry& g, int group, const std::vector<PropagationTask>& tasks,
+  const SweepSpan& span, SweepContext& s);
+
 // The sweep (PropagationSweep.cxx).
 
 // One sweep of the tasks (all in the same group) through the grid, or over the rows `span`

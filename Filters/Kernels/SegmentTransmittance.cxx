@@ -331,6 +331,9 @@ void GreyRowTransmittance(const SweepContext& s, const TrilinearCell* cells, con
 // fractions along B are shared too, and without chromatic attenuation the whole row is
 // summed at once (GreyRowTransmittance). Other rays are integrated one by one. All give the
 // same cells up to the rounding of the positions.
+// Kept whole (issue 45): the per-row inner loop of a directional source's sweep (each lattice
+// row and row of points); its parts share the row's sample cells (cells, alongB) and its run
+// of rays inside the volume, so helpers would cost a call and a dozen arguments per row.
 void RowSegments(const SweepContext& s, const double p[3], double spacing, int count,
   const double d[3], double length, float* out)
 {
@@ -450,6 +453,9 @@ void RowSegments(const SweepContext& s, const double p[3], double spacing, int c
 // the optical depth scaled by each ray's step length. Other rays are integrated one by one.
 // Both give the same cells up to the rounding of the positions: a ray's result depends, by
 // that rounding, on the run it belongs to (deterministic, as runs depend on the row only).
+// Kept whole (issue 45): the per-row inner loop of a point or spot source's rays; its parts
+// share the rays' steps and insideness and the runs' depths (arrays on the stack), so helpers
+// would cost a call and those arrays per row.
 void DivergingRowSegments(const SweepContext& s, const double* p, const double* d,
   const double* length, int count, float* out)
 {

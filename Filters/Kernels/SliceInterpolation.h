@@ -2,7 +2,7 @@
  * @file SliceInterpolation.h
  * @brief The interpolation of a sweep's slice buffers (private to the light propagation
  * kernel's sources): bilinear, and bicubic (Catmull-Rom) limited to the range of the four
- * surrounding pixels, at a point or along a row.
+ * surrounding pixels.
  */
 #ifndef SliceInterpolation_h
 #define SliceInterpolation_h
@@ -107,40 +107,6 @@ inline void MonotoneBicubic(const float* base, int channels, int nb, int nc, con
     const float c = base[rowValues * iv[2] + channels * iu[1] + ch];
     const float d = base[rowValues * iv[2] + channels * iu[2] + ch];
     out[ch] = ClampToSurrounding(sum, a, b, c, d);
-  }
-}
-
-// MonotoneBicubic for the pixels [first, last] of a row whose positions in the slice buffer
-// (width x height pixels, `channels` values each) share their fractions (fu, fv): pixel i
-// lies in cell (i + shiftU, v) and all its taps inside the buffer (1 <= first + shiftU,
-// last + shiftU + 2 < width, 1 <= v, v + 2 < height). The weights are computed once, and the
-// row is one flat loop the compiler vectorises; the same values as MonotoneBicubic.
-template <int Channels>
-void MonotoneBicubicRow(const float* base, int width, int shiftU, int v, float fu, float fv,
-  int first, int last, float* out)
-{
-  float wu[4], wv[4];
-  CubicWeights(fu, wu);
-  CubicWeights(fv, wv);
-  const float u0 = wu[0], u1 = wu[1], u2 = wu[2], u3 = wu[3];
-  const float v0 = wv[0], v1 = wv[1], v2 = wv[2], v3 = wv[3];
-  const long long rowValues = 1LL * Channels * width;
-  // Tap (mu, mv) of value x of the row (x = Channels x pixel + channel) is r_mv[x + mu C].
-  const float* r0 = base + rowValues * (v - 1) + Channels * (shiftU - 1);
-  const float* r1 = r0 + rowValues;
-  const float* r2 = r1 + rowValues;
-  const float* r3 = r2 + rowValues;
-  constexpr int C = Channels;
-  for (int x = C * first; x < C * (last + 1); ++x)
-  {
-    float sum = 0.0f;
-    sum += v0 * (u0 * r0[x] + u1 * r0[x + C] + u2 * r0[x + 2 * C] + u3 * r0[x + 3 * C]);
-    sum += v1 * (u0 * r1[x] + u1 * r1[x + C] + u2 * r1[x + 2 * C] + u3 * r1[x + 3 * C]);
-    sum += v2 * (u0 * r2[x] + u1 * r2[x + C] + u2 * r2[x + 2 * C] + u3 * r2[x + 3 * C]);
-    sum += v3 * (u0 * r3[x] + u1 * r3[x + C] + u2 * r3[x + 2 * C] + u3 * r3[x + 3 * C]);
-    const float a = r1[x + C], b = r1[x + 2 * C];
-    const float c = r2[x + C], d = r2[x + 2 * C];
-    out[x] = ClampToSurrounding(sum, a, b, c, d);
   }
 }
 }

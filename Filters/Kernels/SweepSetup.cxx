@@ -140,5 +140,34 @@ size_t AllocateSliceBuffers(const SweepContext& s, std::vector<SweepSource>& pre
     (count * (channels * sizeof(float) + (directions ? 4 * sizeof(double) : 0)) + sizeof(double));
   return bufferBytes;
 }
+
+void SetBandUnits(const SweepBand& band, SweepContext& s)
+{
+  const int firstRow = band.First, lastRow = band.Last;
+  const long long rows[3] = { s.C == 0 ? lastRow - firstRow + 1 : s.N[0],
+    s.C == 1 ? lastRow - firstRow + 1 : s.N[1], 0 };
+  s.UnitStride[1] = rows[0];
+  s.UnitStride[2] = rows[0] * rows[1];
+  s.UnitFirst[s.C] = firstRow;
+}
+
+void SetWedgeUnits(const GridGeometry& g, int group, const std::vector<PropagationTask>& tasks,
+  const SweepSpan& span, SweepContext& s)
+{
+  // Per slice its rows, one after the other, each row's points in the grid's order.
+  std::vector<int> first, last;
+  WedgeRowsOf(g, SweepAxes(group), SourceOf(tasks[0]).Position, *span.Wedge, first, last);
+  s.Wedge = span.WedgeMaterial;
+  s.UnitStride[s.B] = 1;
+  s.UnitStride[s.C] = s.N[s.B];
+  s.UnitSliceFirst = first;
+  s.UnitSliceBase.resize(first.size());
+  long long base = 0;
+  for (size_t k = 0; k < first.size(); ++k)
+  {
+    s.UnitSliceBase[k] = base;
+    base += static_cast<long long>(s.N[s.B]) * (last[k] - first[k] + 1);
+  }
+}
 }
 }
