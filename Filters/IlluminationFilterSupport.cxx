@@ -105,13 +105,20 @@ vtkSmartPointer<vtkDataArray> SingleComponent(vtkDataArray* array, int component
 }
 
 //------------------------------------------------------------------------------
+const char* LitArrayName(vtkAlgorithm* algorithm)
+{
+  vtkInformation* arrayInfo = algorithm->GetInputArrayInformation(0);
+  return arrayInfo && arrayInfo->Has(vtkDataObject::FIELD_NAME())
+    ? arrayInfo->Get(vtkDataObject::FIELD_NAME())
+    : nullptr;
+}
+
+//------------------------------------------------------------------------------
 vtkAbstractArray* ChooseScalars(
   vtkAlgorithm* algorithm, vtkDataSet* input, bool& onCells, std::string& error)
 {
   vtkInformation* arrayInfo = algorithm->GetInputArrayInformation(0);
-  const char* requested = arrayInfo && arrayInfo->Has(vtkDataObject::FIELD_NAME())
-    ? arrayInfo->Get(vtkDataObject::FIELD_NAME())
-    : nullptr;
+  const char* requested = LitArrayName(algorithm);
   vtkAbstractArray* chosen = nullptr;
   onCells = false;
   if (!requested || !*requested)
@@ -160,6 +167,13 @@ PointScalars FindPointScalars(vtkAlgorithm* algorithm, vtkDataSet* input, int co
     return PointScalars();
   }
   return ToPointScalars(input, chosen, onCells, component, previous, error);
+}
+
+//------------------------------------------------------------------------------
+vtkSmartPointer<vtkDataArray> CellScalarsToPoints(
+  vtkDataSet* input, vtkDataArray* cells, int component, std::string& error)
+{
+  return ToPointScalars(input, cells, true, component, PointScalars(), error).Array;
 }
 
 //------------------------------------------------------------------------------

@@ -67,6 +67,10 @@ VOLILLUMFILTERS_EXPORT void FillSingleComponent(
 VOLILLUMFILTERS_EXPORT PointScalars FindPointScalars(vtkAlgorithm* algorithm, vtkDataSet* input,
   int component, const PointScalars& previous, std::string& error);
 
+/// The name of the array `algorithm`'s input array 0 names (nullptr when it names none: the
+/// active scalars are lit).
+VOLILLUMFILTERS_EXPORT const char* LitArrayName(vtkAlgorithm* algorithm);
+
 /// The array FindPointScalars lights, before any conversion, and whether it is cell data;
 /// nullptr with the reason in error when there is none.
 VOLILLUMFILTERS_EXPORT vtkAbstractArray* ChooseScalars(
@@ -76,6 +80,11 @@ VOLILLUMFILTERS_EXPORT vtkAbstractArray* ChooseScalars(
 /// onCells).
 VOLILLUMFILTERS_EXPORT PointScalars ToPointScalars(vtkDataSet* input, vtkAbstractArray* chosen,
   bool onCells, int component, const PointScalars& previous, std::string& error);
+
+/// Point scalars of `input` from its cell array `cells` (ToPointScalars, `component` as there),
+/// as volillum::CellsToPoints converts; nullptr with the reason in error.
+VOLILLUMFILTERS_EXPORT vtkSmartPointer<vtkDataArray> CellScalarsToPoints(
+  vtkDataSet* input, vtkDataArray* cells, int component, std::string& error);
 
 /**
  * The lights in the frame of an image's axes, where the filters work: positions and focal

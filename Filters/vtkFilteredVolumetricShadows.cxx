@@ -2,7 +2,10 @@
 
 #include "FilteredShadowsKernel.h"
 #include "IlluminationFilterSupport.h"
-#include "IlluminationParallel.h"
+#include "DistributedClassification.h"
+#include "DistributedShadowTables.h"
+#include "ImageExtents.h"
+#include "ParallelCollectives.h"
 #include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
@@ -16,9 +19,6 @@ vtkStandardNewMacro(vtkFilteredVolumetricShadows);
 
 namespace
 {
-// Messages of the cells beyond a window (ShareCellsBeyond).
-constexpr int CellsBeyondTag = 8280;
-
 bool SameFrame(const volillum::SatFrame& a, const volillum::SatFrame& b)
 {
   return a.Axes == b.Axes;
@@ -146,6 +146,30 @@ bool vtkFilteredVolumetricShadows::LightsDistributedPieces() const
 }
 
 //------------------------------------------------------------------------------
+void vtkFilteredVolumetricShadows::TableReach(const volillum::GridGeometry& data, double cell,
+  const std::vector<volillum::SphericalLookup>& sphericalLookups, double& reach,
+  double& margin) const
+{
+  // The table cells that the shadows of a process's points end in lie within `reach` of them
+  // (CartesianSAT::LocalReach and SphericalSAT::LocalReach: a patch and a near segment); a
+  // spherical cell's samples lie within half a radial cell (`margin`) of its centre.
+  const Patch patch = this->PatchFor(data.MinimumSpacing());
+  double bounds[6];
+  data.GetBounds(bounds);
+  reach = volillum::CartesianSAT::LocalReach(cell, patch.HalfWidth, patch.Near);
+  margin = 0.0;
+  for (const auto& l : sphericalLookups)
+  {
+    volillum::SphericalSAT planned;
+    planned.Plan(bounds, l.Light.Position.data(), cell);
+    reach = std::max(reach,
+      planned.LocalReach(
+        patch.Half, volillum::NearSegmentLength(planned.GetCellSize(), patch.Half)));
+    margin = std::max(margin, 0.5 * planned.GetRadialCellLength());
+  }
+}
+
+//------------------------------------------------------------------------------
 void vtkFilteredVolumetricShadows::ComputeDistributedIllumination(
   vtkMultiProcessController* controller, const volillum::ClassifiedVolume& volume,
   const volillum::VolumePiece& piece, const std::vector<volillum::LightState>& lights,
@@ -173,53 +197,22 @@ void vtkFilteredVolumetricShadows::ComputeDistributedIllumination(
   const int channels = this->ChromaticAttenuation ? 3 : 1;
   const volillum::GridGeometry& data = piece.Whole;
   const double cell = data.MinimumSpacing() / scale;
-  double bounds[6];
-  data.GetBounds(bounds);
   // The lights that are on (a process without a piece has none: it only takes part).
   std::vector<volillum::SatFrame> frames;
   std::vector<volillum::ShadowLookup> lookups;
   std::vector<volillum::SphericalLookup> sphericalLookups;
   volillum::GroupShadowLights(lights, frames, lookups, sphericalLookups);
-  // The table cells that the shadows of this process's points end in lie within `reach` of
-  // them (CartesianSAT::LocalReach and SphericalSAT::LocalReach: a patch and a near segment);
-  // a spherical cell's samples lie within half a radial cell (`margin`) of its centre.
-  const Patch patch = this->PatchFor(data.MinimumSpacing());
-  double reach = volillum::CartesianSAT::LocalReach(cell, patch.HalfWidth, patch.Near);
-  double margin = 0.0;
-  for (const auto& l : sphericalLookups)
-  {
-    volillum::SphericalSAT planned;
-    planned.Plan(bounds, l.Light.Position.data(), cell);
-    reach = std::max(reach,
-      planned.LocalReach(
-        patch.Half, volillum::NearSegmentLength(planned.GetCellSize(), patch.Half)));
-    margin = std::max(margin, 0.5 * planned.GetRadialCellLength());
-  }
-  // The cells of the tables' windows: those whose centres lie in this process's block and
-  // the data points around its extent of the illumination grid, grown by the reach and a
-  // spacing (tables); and the points they read, grown by the margin and a spacing (wanted).
+  double reach, margin;
+  this->TableReach(data, cell, sphericalLookups, reach, margin);
+  // The tables' windows over this process's grown block, and the classification they read.
   int tables[6] = { 0, -1, 0, -1, 0, -1 }, wanted[6] = { 0, -1, 0, -1, 0, -1 };
   if (lit)
   {
-    for (int a = 0; a < 3; ++a)
-    {
-      const double u[2] = {
-        (target.Origin[a] + own[2 * a] * target.Spacing[a] - data.Origin[a]) / data.Spacing[a],
-        (target.Origin[a] + own[2 * a + 1] * target.Spacing[a] - data.Origin[a]) / data.Spacing[a]
-      };
-      const double spacing = std::abs(data.Spacing[a]);
-      const int halo = static_cast<int>(std::ceil(reach / spacing)) + 1;
-      const int more = margin > 0.0 ? static_cast<int>(std::ceil(margin / spacing)) + 1 : 0;
-      const int first = std::min(piece.FirstCell[a], static_cast<int>(std::floor(u[0])));
-      const int last = std::max(piece.LastCell[a] + 1, static_cast<int>(std::ceil(u[1])));
-      tables[2 * a] = std::max(0, first - halo);
-      tables[2 * a + 1] = std::min(data.Dimensions[a] - 1, last + halo);
-      wanted[2 * a] = std::max(0, tables[2 * a] - more);
-      wanted[2 * a + 1] = std::min(data.Dimensions[a] - 1, tables[2 * a + 1] + more);
-    }
+    volillum::GrownBlock(target, piece, own, reach, margin, tables, wanted);
   }
   volillum::ClassifiedVolume grownVolume;
-  this->SentBytes = GatherClassification(controller, volume, piece, wanted, grownVolume);
+  this->SentBytes =
+    volillum::GatherClassification(controller, volume, piece, wanted, grownVolume);
   this->GrownPoints = volillum::ExtentPoints(wanted);
   const std::vector<int> tableExtents = volillum::GatherExtents(controller, lit ? tables : nullptr);
   volillum::VolumePiece grown; // the tables' cells, in the grown block's volume
@@ -238,13 +231,24 @@ void vtkFilteredVolumetricShadows::ComputeDistributedIllumination(
     // beyond a face lie within its patch's reach across the light.
     this->UpdateTables(grownVolume, frames, sphericalLookups, cell, channels, inputModified,
       report.Passes, empty.get(), &grown,
-      volillum::CartesianSAT::LocalReach(cell, patch.HalfWidth, 0.0));
+      volillum::CartesianSAT::LocalReach(cell, this->PatchFor(data.MinimumSpacing()).HalfWidth, 0.0));
   }
-  this->ShareCellsBeyond(controller, piece, lookups, sphericalLookups, channels, tableExtents);
-  if (!lit)
+  this->SentBytes += volillum::ShareCellsBeyond(controller, piece, lookups, sphericalLookups,
+    channels, tableExtents, this->Tables, this->SphericalTables);
+  if (lit)
   {
-    return;
+    this->ShadeGrownBlock(data, grownVolume, lookups, sphericalLookups, lights, target, own,
+      empty.get(), rgb);
   }
+}
+
+//------------------------------------------------------------------------------
+void vtkFilteredVolumetricShadows::ShadeGrownBlock(const volillum::GridGeometry& data,
+  const volillum::ClassifiedVolume& grownVolume, const std::vector<volillum::ShadowLookup>& lookups,
+  const std::vector<volillum::SphericalLookup>& sphericalLookups,
+  const std::vector<volillum::LightState>& lights, const volillum::GridGeometry& target,
+  const int own[6], const volillum::EmptyBlocks* empty, float* rgb)
+{
   // Every point of the piece, from the grown block and its tables alone.
   volillum::GridGeometry mine = target;
   for (int a = 0; a < 3; ++a)
@@ -252,176 +256,17 @@ void vtkFilteredVolumetricShadows::ComputeDistributedIllumination(
     mine.Dimensions[a] = own[2 * a + 1] - own[2 * a] + 1;
     mine.Origin[a] = target.Origin[a] + own[2 * a] * target.Spacing[a];
   }
+  double bounds[6];
+  data.GetBounds(bounds);
+  const int channels = this->ChromaticAttenuation ? 3 : 1;
   const volillum::PointShading shading = this->Shading(grownVolume, bounds, lookups,
-    sphericalLookups, this->AllocateTransmittances(lights, channels, points), empty.get());
+    sphericalLookups, this->AllocateTransmittances(lights, channels, mine.NumberOfPoints()), empty);
   volillum::ShadePoints(shading, mine, rgb,
     [this](double fraction)
     {
       this->ReportProgress(0.5 + 0.5 * fraction);
       return true; // computed whole: the output is a piece of the others'
     });
-}
-
-//------------------------------------------------------------------------------
-void vtkFilteredVolumetricShadows::ShareCellsBeyond(vtkMultiProcessController* controller,
-  const volillum::VolumePiece& piece, const std::vector<volillum::ShadowLookup>& lookups,
-  const std::vector<volillum::SphericalLookup>& sphericalLookups, int channels,
-  const std::vector<int>& tableExtents)
-{
-  // The columns read: a Cartesian table's axis and the end toward the light, a spherical
-  // table's (u, v) columns toward the light; the same on every process (those of the first
-  // process with a piece: the others have no lights).
-  const int processes = controller->GetNumberOfProcesses();
-  const int local = controller->GetLocalProcessId();
-  int root = 0;
-  while (root < processes - 1 && volillum::ExtentPoints(&tableExtents[6 * root]) <= 0)
-  {
-    ++root;
-  }
-  std::vector<int> keys; // per key: spherical (1) or not, the table, the axis and the sign
-  for (const auto& l : lookups)
-  {
-    bool known = false;
-    for (size_t k = 0; k < keys.size(); k += 4)
-    {
-      known = known ||
-        (keys[k + 1] == static_cast<int>(l.Table) && keys[k + 2] == l.Axis &&
-          keys[k + 3] == l.Sign);
-    }
-    if (!known)
-    {
-      keys.insert(keys.end(), { 0, static_cast<int>(l.Table), l.Axis, l.Sign });
-    }
-  }
-  for (const auto& l : sphericalLookups)
-  {
-    keys.insert(keys.end(), { 1, static_cast<int>(l.Table), 2, -1 });
-  }
-  int count = static_cast<int>(keys.size());
-  controller->Broadcast(&count, 1, root);
-  keys.resize(count);
-  if (count > 0)
-  {
-    controller->Broadcast(keys.data(), count, root);
-  }
-  const bool lit = volillum::ExtentPoints(&tableExtents[6 * local]) > 0;
-  for (int k = 0; k < count; k += 4)
-  {
-    const bool spherical = keys[k] == 1;
-    const size_t table = static_cast<size_t>(keys[k + 1]);
-    const int axis = keys[k + 2], sign = keys[k + 3];
-    // Every process's window of the table.
-    int window[6] = { 0, 0, 0, 0, 0, 0 };
-    if (lit)
-    {
-      const volillum::TableWindow& w =
-        spherical ? this->SphericalTables[table].GetWindow() : this->Tables[table].GetWindow();
-      std::copy(w.First.begin(), w.First.end(), window);
-      std::copy(w.N.begin(), w.N.end(), window + 3);
-    }
-    std::vector<int> windows(6 * static_cast<size_t>(processes));
-    controller->AllGather(window, windows.data(), 6);
-    // The other processes whose windows share columns with this one's: the cells of one
-    // that lie beyond the other's grown block go to the other, which adds them up in the
-    // order of the processes.
-    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-    auto shared = [&](int p, int q, volillum::TableWindow& w)
-    {
-      for (int a : { u, v })
-      {
-        const int first = std::max(windows[6 * p + a], windows[6 * q + a]);
-        const int end = std::min(
-          windows[6 * p + a] + windows[6 * p + 3 + a], windows[6 * q + a] + windows[6 * q + 3 + a]);
-        w.First[a] = first;
-        w.N[a] = std::max(0, end - first);
-      }
-      return w.N[u] > 0 && w.N[v] > 0;
-    };
-    // Whether the window of q has cells beyond the window of p's first cell toward the
-    // light along the axis (sign > 0: a higher index), where p's grown block ends on a
-    // column: only then can it send p cells beyond that.
-    auto upwind = [&](int q, int p)
-    {
-      const int* wq = &windows[6 * q];
-      const int* wp = &windows[6 * p];
-      return sign > 0 ? wq[axis] + wq[3 + axis] - 1 > wp[axis]
-                      : wq[axis] < wp[axis] + wp[3 + axis] - 1;
-    };
-    std::vector<int> peers;
-    volillum::TableWindow common;
-    for (int q = 0; lit && q < processes; ++q)
-    {
-      if (q != local && volillum::ExtentPoints(&tableExtents[6 * q]) > 0 &&
-        shared(local, q, common) && (upwind(q, local) || upwind(local, q)))
-      {
-        peers.push_back(q);
-      }
-    }
-    const volillum::TableWindow* own = nullptr;
-    if (lit)
-    {
-      own =
-        spherical ? &this->SphericalTables[table].GetWindow() : &this->Tables[table].GetWindow();
-    }
-    std::vector<double> total(lit ? static_cast<size_t>(channels) * own->N[u] * own->N[v] : 0, 0.0);
-    std::vector<double> sums;
-    volillum::WithEachPeer(local, peers,
-      [&](size_t k, bool send)
-      {
-        const int q = peers[k];
-        const int from = send ? local : q, to = send ? q : local;
-        volillum::TableWindow w;
-        if (!upwind(from, to) || !shared(local, q, w))
-        {
-          return;
-        }
-        sums.assign(static_cast<size_t>(channels) * w.N[u] * w.N[v], 0.0);
-        const vtkIdType size = static_cast<vtkIdType>(sums.size());
-        if (!send)
-        {
-          controller->Receive(sums.data(), size, q, CellsBeyondTag);
-          for (int j = 0; j < w.N[v]; ++j)
-          {
-            const double* in = sums.data() + static_cast<size_t>(channels) * j * w.N[u];
-            double* out = total.data() +
-              static_cast<size_t>(channels) *
-                ((w.First[v] - own->First[v] + j) * own->N[u] + w.First[u] - own->First[u]);
-            for (int i = 0; i < channels * w.N[u]; ++i)
-            {
-              out[i] += in[i];
-            }
-          }
-          return;
-        }
-        // The other's grown block: its cells' points (the window's process's table extent).
-        const int* e = &tableExtents[6 * q];
-        volillum::VolumePiece other;
-        other.Whole = piece.Whole;
-        for (int a = 0; a < 3; ++a)
-        {
-          other.Offset[a] = other.FirstCell[a] = e[2 * a];
-          other.LastCell[a] = e[2 * a + 1] - 1;
-        }
-        if (spherical)
-        {
-          this->SphericalTables[table].AddCellsBeyond(piece, other, w, sums.data());
-        }
-        else
-        {
-          this->Tables[table].AddCellsBeyond(piece, other, w, axis, sign, sums.data());
-        }
-        controller->Send(sums.data(), size, q, CellsBeyondTag);
-        this->SentBytes += size * static_cast<long long>(sizeof(double));
-      });
-    if (lit && spherical)
-    {
-      this->SphericalTables[table].SetBeyond(total.data());
-    }
-    else if (lit)
-    {
-      this->Tables[table].SetBeyond(axis, sign, total.data());
-    }
-  }
 }
 
 //------------------------------------------------------------------------------

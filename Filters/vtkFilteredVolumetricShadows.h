@@ -160,15 +160,18 @@ private:
     const std::vector<volillum::ShadowLookup>& lookups,
     const std::vector<volillum::SphericalLookup>& sphericalLookups,
     std::vector<float*> transmittances, const volillum::EmptyBlocks* empty);
-  // Distributed tables: what each window lacks of the whole table beyond its cells
-  // (CartesianSAT and SphericalSAT::AddCellsBeyond of the other processes whose windows
-  // share its columns and reach past its first cell toward the light, sent to it pairwise
-  // and summed there in process order). Collective; `tableExtents`: the cells of every process's
-  // windows, as the data points that hold their centres (GatherExtents).
-  void ShareCellsBeyond(vtkMultiProcessController* controller, const volillum::VolumePiece& piece,
-    const std::vector<volillum::ShadowLookup>& lookups,
-    const std::vector<volillum::SphericalLookup>& sphericalLookups, int channels,
-    const std::vector<int>& tableExtents);
+  // The reach of a shadow's table reads around a point (`reach`) and the margin of a
+  // spherical table's samples around its cells' centres (`margin`), for tables of `cell`.
+  void TableReach(const volillum::GridGeometry& data, double cell,
+    const std::vector<volillum::SphericalLookup>& sphericalLookups, double& reach,
+    double& margin) const;
+  // The points of this process's extent `own` of the illumination grid shaded from its grown
+  // block and its tables' windows (`data`: the whole data grid).
+  void ShadeGrownBlock(const volillum::GridGeometry& data,
+    const volillum::ClassifiedVolume& grownVolume, const std::vector<volillum::ShadowLookup>& lookups,
+    const std::vector<volillum::SphericalLookup>& sphericalLookups,
+    const std::vector<volillum::LightState>& lights, const volillum::GridGeometry& target,
+    const int own[6], const volillum::EmptyBlocks* empty, float* rgb);
   // The per-light transmittance arrays (PerLightTransmittance), null for the others.
   std::vector<float*> AllocateTransmittances(
     const std::vector<volillum::LightState>& lights, int channels, long long points);

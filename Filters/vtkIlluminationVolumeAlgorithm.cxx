@@ -2,7 +2,10 @@
 
 #include "IlluminationClassify.h"
 #include "IlluminationLightingMacros.h"
-#include "IlluminationParallel.h"
+#include "ImageBlocks.h"
+#include "ImageExtents.h"
+#include "ParallelCollectives.h"
+#include "ParallelMessages.h"
 #include "LargeArrays.h"
 #include "RayMarchKernel.h"
 
@@ -299,7 +302,7 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
   // one is reported as in a serial run). Filters that light points independently compute
   // only this process's part of the illumination grid; the others share their sweeps out
   // and output the sums over the processes for this process's part.
-  vtkImageData* whole = this->Distributed->Image(controller, this, input);
+  vtkImageData* whole = this->Distributed->Image(controller, volillum::LitArrayName(this), input);
   volillum::GridGeometry data, target;
   if (!this->ValidGeometry(whole, data, target))
   {
@@ -477,17 +480,16 @@ void vtkIlluminationVolumeAlgorithm::FinishOutput(vtkImageData* output, const in
 }
 
 //------------------------------------------------------------------------------
-void vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessController* controller,
-  vtkInformation* inInfo, vtkImageData* input, vtkImageData* output)
+bool vtkIlluminationVolumeAlgorithm::DistributedShape(
+  vtkMultiProcessController* controller, vtkInformation* inInfo, vtkImageData* input,
+  vtkImageData* shape)
 {
-  const auto start = std::chrono::steady_clock::now();
   // The whole grid, from the pipeline information (the same on every process).
   int whole[6] = { 0, -1, 0, -1, 0, -1 };
   double origin[3] = { 0.0, 0.0, 0.0 }, spacing[3] = { 1.0, 1.0, 1.0 };
   inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
   inInfo->Get(vtkDataObject::ORIGIN(), origin);
   inInfo->Get(vtkDataObject::SPACING(), spacing);
-  vtkNew<vtkImageData> shape;
   shape->SetExtent(whole);
   shape->SetOrigin(origin);
   shape->SetSpacing(spacing);
@@ -502,34 +504,33 @@ void vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessContro
   if (!volillum::AgreeOnGeometry(controller, input, shape))
   {
     vtkErrorMacro("The pieces of the image differ in origin, spacing or orientation.");
-    return;
+    return false;
   }
-  volillum::GridGeometry data, target;
-  if (!this->ValidGeometry(shape, data, target))
-  {
-    return;
-  }
-  // This process takes the samples in the cells of its block of the data (the blocks share
-  // their boundary planes, so each cell is taken once). Where the pieces are not the blocks
-  // (another decomposition), each block's lit array is gathered from the pieces that hold it.
-  int block[6];
-  const bool piece = volillum::ProcessBlock(controller, whole, block);
-  bool ok = !piece || (input && volillum::ExtentHolds(input->GetExtent(), block));
-  if (!volillum::AllOk(controller, ok))
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkIlluminationVolumeAlgorithm::BlockOfInput(vtkMultiProcessController* controller,
+  vtkImageData* shape, const int* block, vtkImageData*& input)
+{
+  // Where the pieces are not the blocks (another decomposition), each block's lit array is
+  // gathered from the pieces that hold it.
+  const bool piece = block != nullptr;
+  std::string error;
+  if (!volillum::AllOk(controller, !piece || (input && volillum::ExtentHolds(input->GetExtent(), block))))
   {
     vtkImageData* const own = input && input->GetNumberOfPoints() > 0 ? input : nullptr;
     bool onCells = false;
-    std::string error;
     vtkAbstractArray* chosen = own ? volillum::ChooseScalars(this, own, onCells, error) : nullptr;
-    input = this->Blocks->Update(controller, shape, piece ? block : nullptr, own,
-      vtkDataArray::SafeDownCast(chosen), onCells, error);
+    input = this->Blocks->Update(
+      controller, shape, block, own, vtkDataArray::SafeDownCast(chosen), onCells, error);
     if (!error.empty())
     {
       vtkErrorMacro(<< error);
     }
     if (!volillum::AllOk(controller, !piece || input))
     {
-      return;
+      return false;
     }
   }
   else
@@ -540,40 +541,41 @@ void vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessContro
   // from its cells and the layer of the neighbours' around it (decided before any
   // conversion).
   bool onCells = false;
-  std::string error;
   vtkAbstractArray* chosen = piece ? volillum::ChooseScalars(this, input, onCells, error) : nullptr;
   // A block without the array: its process says why, and all stop.
-  ok = !piece || chosen;
-  if (!ok)
+  if (piece && !chosen)
   {
     vtkErrorMacro(<< error);
   }
-  if (!volillum::AllOk(controller, ok))
+  if (!volillum::AllOk(controller, !piece || chosen))
   {
-    return;
+    return false;
   }
-  if (!volillum::AllOk(controller, !onCells))
-  {
-    input = this->BlockScalars->Update(controller, whole, piece ? block : nullptr, input,
-      onCells ? vtkDataArray::SafeDownCast(chosen) : nullptr, this->ScalarComponent, error);
-    ok = !piece || input;
-    if (!volillum::AllOk(controller, ok))
-    {
-      if (!ok)
-      {
-        vtkErrorMacro(<< (error.empty() ? "The cell scalars cannot be made point scalars."
-                                        : error.c_str()));
-      }
-      return;
-    }
-  }
-  else
+  if (volillum::AllOk(controller, !onCells))
   {
     this->BlockScalars = std::make_unique<volillum::BlockPointScalars>(); // none kept
+    return true;
   }
+  input = this->BlockScalars->Update(controller, shape->GetExtent(), block, input,
+    onCells ? vtkDataArray::SafeDownCast(chosen) : nullptr, this->ScalarComponent,
+    volillum::CellScalarsToPoints, error);
+  const bool ok = !piece || input;
+  if (!ok)
+  {
+    vtkErrorMacro(<< (error.empty() ? "The cell scalars cannot be made point scalars."
+                                    : error.c_str()));
+  }
+  return volillum::AllOk(controller, ok);
+}
+
+//------------------------------------------------------------------------------
+bool vtkIlluminationVolumeAlgorithm::DistributedScalarRange(
+  vtkMultiProcessController* controller, vtkImageData* input, bool piece, double range[2])
+{
+  bool ok = true;
   if (piece)
   {
-    error.clear();
+    std::string error;
     this->Scalars = volillum::CheckScalarsAndLights(
       this, input, this->ScalarComponent, this->Scalars, this->Lights, error);
     ok = this->Scalars.Array != nullptr;
@@ -584,10 +586,10 @@ void vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessContro
   }
   if (!volillum::AllOk(controller, ok))
   {
-    return;
+    return false;
   }
   // The transfer functions span the scalar range of all pieces.
-  double local[2] = { VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX }, range[2];
+  double local[2] = { VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX };
   if (piece && !volillum::FiniteRange(this->Scalars.Array, 0, local))
   {
     local[0] = VTK_DOUBLE_MAX;
@@ -598,12 +600,38 @@ void vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessContro
   if (!(range[0] <= range[1]))
   {
     vtkErrorMacro("Cannot classify the input: the scalars have no finite values.");
+    return false;
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessController* controller,
+  vtkInformation* inInfo, vtkImageData* input, vtkImageData* output)
+{
+  const auto start = std::chrono::steady_clock::now();
+  vtkNew<vtkImageData> shape;
+  volillum::GridGeometry data, target;
+  if (!this->DistributedShape(controller, inInfo, input, shape) ||
+    !this->ValidGeometry(shape, data, target))
+  {
+    return;
+  }
+  // This process takes the samples in the cells of its block of the data (the blocks share
+  // their boundary planes, so each cell is taken once).
+  const int* whole = shape->GetExtent();
+  int block[6];
+  const bool piece = volillum::ProcessBlock(controller, whole, block);
+  double range[2];
+  if (!this->BlockOfInput(controller, shape, piece ? block : nullptr, input) ||
+    !this->DistributedScalarRange(controller, input, piece, range))
+  {
     return;
   }
   volillum::VolumePiece where;
   where.Whole = data;
   volillum::ClassifiedVolume none;
-  bool inputModified = false;
+  bool inputModified = false, ok = true;
   std::vector<volillum::LightState> lights;
   int extent[6];
   if (piece)
@@ -621,6 +649,9 @@ void vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessContro
     ok = this->UpdateClassification(own, inputModified, range);
     double bounds[6];
     data.GetBounds(bounds);
+    // The lights turn about the origin of the pipeline information.
+    double origin[3] = { 0.0, 0.0, 0.0 };
+    inInfo->Get(vtkDataObject::ORIGIN(), origin);
     lights = volillum::ForBounds(
       volillum::InImageFrame(this->GetLightStates(), input->GetDirectionMatrix(), origin), bounds);
     volillum::TargetPieceExtent(whole, target.Dimensions.data(), e, extent);
@@ -645,45 +676,6 @@ void vtkIlluminationVolumeAlgorithm::IlluminateDistributed(vtkMultiProcessContro
     this->FinishOutput(output, extent, target, input->GetDirectionMatrix(), illumination, report,
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   }
-}
-
-//------------------------------------------------------------------------------
-long long vtkIlluminationVolumeAlgorithm::GatherClassification(
-  vtkMultiProcessController* controller, const volillum::ClassifiedVolume& volume,
-  const volillum::VolumePiece& piece, const int wanted[6], volillum::ClassifiedVolume& into)
-{
-  into.Geometry = piece.Whole;
-  into.Channels = volume.Channels;
-  into.Scale = volume.Scale;
-  for (int a = 0; a < 3; ++a)
-  {
-    into.Geometry.Dimensions[a] = std::max(0, wanted[2 * a + 1] - wanted[2 * a] + 1);
-    into.Geometry.Origin[a] += wanted[2 * a] * piece.Whole.Spacing[a];
-  }
-  into.Properties.resize(into.Channels * static_cast<size_t>(volillum::ExtentPoints(wanted)));
-  return GatherClassificationValues(controller, volume, piece, wanted, into.Properties.data());
-}
-
-//------------------------------------------------------------------------------
-long long vtkIlluminationVolumeAlgorithm::GatherClassificationValues(
-  vtkMultiProcessController* controller, const volillum::ClassifiedVolume& volume,
-  const volillum::VolumePiece& piece, const int wanted[6], volillum::PackedValue* into)
-{
-  // This process's classification covers `held` (indices in the whole data grid); it sends the
-  // points of its block, less the boundary planes it shares with the blocks before it.
-  int held[6] = { 0, -1, 0, -1, 0, -1 }, owned[6] = { 0, -1, 0, -1, 0, -1 };
-  if (volume.Geometry.NumberOfPoints() > 0)
-  {
-    for (int a = 0; a < 3; ++a)
-    {
-      held[2 * a] = piece.Offset[a];
-      held[2 * a + 1] = piece.Offset[a] + volume.Geometry.Dimensions[a] - 1;
-      owned[2 * a] = piece.FirstCell[a] + (piece.FirstCell[a] > 0 ? 1 : 0);
-      owned[2 * a + 1] = piece.LastCell[a] + 1;
-    }
-  }
-  return volillum::ExchangeExtents<volillum::PackedValue>(
-    controller, held, owned, volume.Properties.data(), wanted, into, volume.Channels, false);
 }
 
 //------------------------------------------------------------------------------

@@ -237,21 +237,6 @@ protected:
     const std::vector<int>& extents, bool inputModified, float* rgb, UpdateReport& report);
 
   /**
-   * Collective, for ComputeDistributedIllumination: the classification of the points `wanted`
-   * of the whole data grid (index ranges; empty: none) into `into` (its geometry, channels,
-   * scales and values), each point from the process whose block owns it (`volume` and
-   * `piece`: this process's). Returns the bytes this process sent.
-   */
-  static long long GatherClassification(vtkMultiProcessController* controller,
-    const volillum::ClassifiedVolume& volume, const volillum::VolumePiece& piece,
-    const int wanted[6], volillum::ClassifiedVolume& into);
-  /// GatherClassification's values only: `into` holds the points of `wanted`, x fastest,
-  /// `volume`'s channels a point.
-  static long long GatherClassificationValues(vtkMultiProcessController* controller,
-    const volillum::ClassifiedVolume& volume, const volillum::VolumePiece& piece,
-    const int wanted[6], volillum::PackedValue* into);
-
-  /**
    * The sweeps this process runs: in a parallel run of a filter that does not light points
    * independently, its share of them (ComputeIllumination then propagates only those and
    * gives its units to OutputIllumination); otherwise all of them. Such a parallel run
@@ -306,6 +291,20 @@ private:
   // cell scalars become point scalars over the block (BlockScalars).
   void IlluminateDistributed(vtkMultiProcessController* controller, vtkInformation* inInfo,
     vtkImageData* input, vtkImageData* output);
+  // Collective, for IlluminateDistributed: `shape` gets the whole extent of `inInfo` and the
+  // geometry the pieces agree on; false (with an error) when they differ.
+  bool DistributedShape(vtkMultiProcessController* controller, vtkInformation* inInfo,
+    vtkImageData* input, vtkImageData* shape);
+  // Collective: `input` becomes this process's block (`block`; nullptr for none) of the image
+  // `shape` with point scalars to light, gathered from the pieces where they are not the
+  // blocks (Blocks) and converted from cell scalars (BlockScalars); false (with the reason)
+  // on every process when any cannot.
+  bool BlockOfInput(vtkMultiProcessController* controller, vtkImageData* shape,
+    const int* block, vtkImageData*& input);
+  // Collective: the scalars of every block checked (and the lights), and the range of all
+  // blocks' finite scalars, which the transfer functions span; false when any fails.
+  bool DistributedScalarRange(
+    vtkMultiProcessController* controller, vtkImageData* input, bool piece, double range[2]);
   // The end of a successful update: the output's geometry (the illumination grid `target`,
   // or its part `extent`), its arrays and the update's report.
   void FinishOutput(vtkImageData* output, const int extent[6], const volillum::GridGeometry& target,

@@ -208,33 +208,6 @@ private:
   void CommitUpdate(bool selective, const RecordPlan& plan,
     std::vector<volillum::PropagationTask>& remaining,
     const std::vector<volillum::LightState>& lights, bool distributed, UpdateReport& report);
-  // The processes of a parallel update over bands: those with a piece (Participants, in
-  // process order) and this one's place among them (-1: none).
-  struct Bands
-  {
-    vtkMultiProcessController* Controller = nullptr;
-    std::vector<int> Participants;
-    int Me = -1;
-  };
-  // Collective: the sweeps (of directional tasks) whose rows lie along `rowAxis`, over bands
-  // of those rows (see DistributedSweeps), their units added to this process's illumination
-  // over its extent `own`. Progress: the sweeps done (`swept`, counted up) and the fraction of
-  // the current one's slices, over `total` sweeps.
-  void SweepBands(const Bands& bands, int rowAxis, const volillum::ClassifiedVolume& volume,
-    const volillum::VolumePiece& piece, const volillum::GridGeometry& target,
-    const std::vector<std::vector<volillum::PropagationTask>>& sweeps, bool record,
-    const int own[6], size_t& swept, size_t total);
-  // Collective: the sweeps of one point or spot light each (TasksByLight; `groups`: their
-  // groups, agreed by all, as a process without a piece has no sweeps), each over wedges of
-  // the light's rays, one a process with a piece (SplitIntoWedges): a process gets the
-  // classification of its wedge slice by slice from the others' blocks, sweeps it alone, and
-  // its units go to the processes whose pieces hold them, slice by slice. Progress as
-  // SweepBands.
-  void SweepWedges(const Bands& bands, const volillum::ClassifiedVolume& volume,
-    const volillum::VolumePiece& piece, const volillum::GridGeometry& target,
-    const std::vector<std::vector<volillum::PropagationTask>>& sweeps,
-    const std::vector<int>& groups, bool record, const int own[6], size_t& swept, size_t total);
-
   // The accumulated illumination and the states it holds (with Pending still to do).
   volillum::FixedPointIllumination Illumination;
   volillum::LightChangeTracker Applied;

@@ -3,7 +3,10 @@
 #include "IlluminationClassify.h"
 #include "IlluminationFilterSupport.h"
 #include "IlluminationLightingMacros.h"
-#include "IlluminationParallel.h"
+#include "DistributedMesh.h"
+#include "NeighborhoodGrid.h"
+#include "ParallelCollectives.h"
+#include "ParallelMessages.h"
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
 #include "vtkCellData.h"
@@ -35,6 +38,7 @@
 #include <functional>
 #include <limits>
 #include <numeric>
+#include <sstream>
 
 vtkStandardNewMacro(vtkUnstructuredGridIllumination);
 volillumLightingImplementationMacro(vtkUnstructuredGridIllumination);
@@ -176,6 +180,26 @@ vtkSmartPointer<vtkUnstructuredGrid> SplitIntoTetrahedra(
   tetrahedra->GetPointData()->ShallowCopy(grid->GetPointData()); // global ids included
   return tetrahedra;
 }
+
+// The point ids of the tetrahedra of `tetrahedra`, 4 a tetrahedron (its other cells left out).
+std::vector<long long> TetrahedronPointIds(vtkUnstructuredGrid* tetrahedra)
+{
+  std::vector<long long> tets;
+  tets.reserve(4 * static_cast<size_t>(tetrahedra->GetNumberOfCells()));
+  auto cells = vtk::TakeSmartPointer(tetrahedra->GetCells()->NewIterator());
+  vtkIdType c = 0;
+  for (cells->GoToFirstCell(); !cells->IsDoneWithTraversal(); cells->GoToNextCell(), ++c)
+  {
+    vtkIdType n;
+    const vtkIdType* ids;
+    cells->GetCurrentCell(n, ids);
+    if (tetrahedra->GetCellType(c) == VTK_TETRA && n == 4)
+    {
+      tets.insert(tets.end(), ids, ids + 4);
+    }
+  }
+  return tets;
+}
 }
 
 //------------------------------------------------------------------------------
@@ -197,6 +221,48 @@ vtkUnstructuredGridIllumination::~vtkUnstructuredGridIllumination()
 
 //------------------------------------------------------------------------------
 vtkCxxSetObjectMacro(vtkUnstructuredGridIllumination, Controller, vtkMultiProcessController);
+
+//------------------------------------------------------------------------------
+vtkSmartPointer<vtkUnstructuredGrid> vtkUnstructuredGridIllumination::JoinedStructure(
+  vtkUnstructuredGrid* input, vtkUnsignedCharArray* ghosts)
+{
+  // Copies of a point (a file of several pieces holds one per piece on a cut) are one point,
+  // as the pieces of a parallel run are joined: the cells of every copy use the first, before
+  // any cell is split (so that both sides of a cut split their faces alike). Ghost cells
+  // (another piece's) are left out, as in a parallel run.
+  this->FirstAtPlace = volillum::FirstPointsAtTheirPlaces(input);
+  bool copies = false;
+  for (vtkIdType p = 0; p < input->GetNumberOfPoints() && !copies; ++p)
+  {
+    copies = this->FirstAtPlace[p] != p;
+  }
+  if (!copies)
+  {
+    this->FirstAtPlace.clear();
+  }
+  auto structure = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  if (!copies && !ghosts)
+  {
+    structure->CopyStructure(input);
+  }
+  else
+  {
+    structure->SetPoints(input->GetPoints());
+    structure->AllocateEstimate(input->GetNumberOfCells(), 4);
+    vtkNew<vtkIdList> cell;
+    for (vtkIdType c = 0; c < input->GetNumberOfCells(); ++c)
+    {
+      if (ghosts && (ghosts->GetValue(c) & vtkDataSetAttributes::DUPLICATECELL))
+      {
+        continue;
+      }
+      const int type = input->GetCellType(c);
+      CellWithMappedPoints(input, c, copies ? &this->FirstAtPlace : nullptr, cell);
+      structure->InsertNextCell(type, cell);
+    }
+  }
+  return structure;
+}
 
 //------------------------------------------------------------------------------
 bool vtkUnstructuredGridIllumination::PrepareMesh(vtkUnstructuredGrid* input, vtkIdType own)
@@ -230,41 +296,7 @@ bool vtkUnstructuredGridIllumination::PrepareMesh(vtkUnstructuredGrid* input, vt
     vtkErrorMacro("The input has no 3D cells to light.");
     return false;
   }
-  // Copies of a point (a file of several pieces holds one per piece on a cut) are one point,
-  // as the pieces of a parallel run are joined: the cells of every copy use the first, before
-  // any cell is split (so that both sides of a cut split their faces alike). Ghost cells
-  // (another piece's) are left out, as in a parallel run.
-  this->FirstAtPlace = volillum::FirstPointsAtTheirPlaces(input);
-  bool copies = false;
-  for (vtkIdType p = 0; p < input->GetNumberOfPoints() && !copies; ++p)
-  {
-    copies = this->FirstAtPlace[p] != p;
-  }
-  if (!copies)
-  {
-    this->FirstAtPlace.clear();
-  }
-  vtkNew<vtkUnstructuredGrid> structure;
-  if (!copies && !ghosts)
-  {
-    structure->CopyStructure(input);
-  }
-  else
-  {
-    structure->SetPoints(input->GetPoints());
-    structure->AllocateEstimate(input->GetNumberOfCells(), 4);
-    vtkNew<vtkIdList> cell;
-    for (vtkIdType c = 0; c < input->GetNumberOfCells(); ++c)
-    {
-      if (ghosts && (ghosts->GetValue(c) & vtkDataSetAttributes::DUPLICATECELL))
-      {
-        continue;
-      }
-      const int type = input->GetCellType(c);
-      CellWithMappedPoints(input, c, copies ? &this->FirstAtPlace : nullptr, cell);
-      structure->InsertNextCell(type, cell);
-    }
-  }
+  vtkSmartPointer<vtkUnstructuredGrid> structure = this->JoinedStructure(input, ghosts);
   std::string error;
   vtkSmartPointer<vtkUnstructuredGrid> tetrahedra = SplitIntoTetrahedra(structure, error);
   if (!tetrahedra)
@@ -278,20 +310,7 @@ bool vtkUnstructuredGridIllumination::PrepareMesh(vtkUnstructuredGrid* input, vt
   {
     input->GetPoint(p, points.data() + 3 * p);
   }
-  std::vector<long long> tets;
-  tets.reserve(4 * static_cast<size_t>(tetrahedra->GetNumberOfCells()));
-  auto cells = vtk::TakeSmartPointer(tetrahedra->GetCells()->NewIterator());
-  vtkIdType c = 0;
-  for (cells->GoToFirstCell(); !cells->IsDoneWithTraversal(); cells->GoToNextCell(), ++c)
-  {
-    vtkIdType n;
-    const vtkIdType* ids;
-    cells->GetCurrentCell(n, ids);
-    if (tetrahedra->GetCellType(c) == VTK_TETRA && n == 4)
-    {
-      tets.insert(tets.end(), ids, ids + 4);
-    }
-  }
+  const std::vector<long long> tets = TetrahedronPointIds(tetrahedra);
   if (!volillum::BuildTetrahedralMesh(std::move(points), tets, this->Mesh, error, own))
   {
     vtkErrorMacro("Cannot light the grid: " << error << ".");
@@ -310,7 +329,7 @@ bool vtkUnstructuredGridIllumination::PrepareDistributedMesh(
   vtkMultiProcessController* controller, vtkUnstructuredGrid* input)
 {
   // This piece's tetrahedra with the arrays that light them.
-  vtkSmartPointer<vtkUnstructuredGrid> own = volillum::PieceWithoutGhostCells(this, input);
+  vtkSmartPointer<vtkUnstructuredGrid> own = volillum::PieceWithoutGhostCells(volillum::LitArrayName(this), input);
   std::string error;
   if (own)
   {
@@ -331,6 +350,15 @@ bool vtkUnstructuredGridIllumination::PrepareDistributedMesh(
   }
   // Pieces whose coordinates or arrays cannot join the others' are refused before any cell
   // travels.
+  const vtkIdType bad = volillum::FirstBadCoordinate(
+    own && own->GetPoints() ? own->GetPoints()->GetData() : nullptr, volillum::MaximumCoordinate);
+  if (bad >= 0)
+  {
+    std::ostringstream message;
+    message << "Point " << bad << " of this process's piece has a coordinate that is not a "
+            << "finite number within +-" << volillum::MaximumCoordinate << ".";
+    error = message.str();
+  }
   if (!volillum::PiecesCanJoin(controller, own, error))
   {
     if (!error.empty())
@@ -349,117 +377,43 @@ bool vtkUnstructuredGridIllumination::PrepareDistributedMesh(
   // How deep the cells of other pieces are needed: a level-1 step from a point of the piece
   // walks one mean edge length. Estimated from the tetrahedra's edges, checked below with
   // the whole mesh's mean edge.
-  double edges[2] = { 0.0, 0.0 }, wholeEdges[2]; // sum of lengths, count (each tetrahedron's)
-  vtkNew<vtkIdList> cell;
-  for (vtkIdType c = 0; own && c < own->GetNumberOfCells(); ++c)
-  {
-    own->GetCellPoints(c, cell);
-    double x[4][3];
-    for (int i = 0; i < 4; ++i)
-    {
-      own->GetPoint(cell->GetId(i), x[i]);
-    }
-    for (int i = 0; i < 4; ++i)
-    {
-      for (int j = i + 1; j < 4; ++j)
-      {
-        edges[0] += std::sqrt(vtkMath::Distance2BetweenPoints(x[i], x[j]));
-        edges[1] += 1.0;
-      }
-    }
-  }
-  controller->AllReduce(edges, wholeEdges, 2, vtkCommunicator::SUM_OP);
-  if (wholeEdges[1] == 0.0)
+  const double meanEdge = volillum::MeanTetrahedronEdge(controller, own);
+  if (meanEdge < 0.0)
   {
     vtkErrorMacro("The input has no 3D cells to light.");
     return false;
   }
-  const auto reach = [](double meanEdge) { return 1.01 * meanEdge; };
-  double depth = 1.5 * reach(wholeEdges[0] / wholeEdges[1]);
+  const auto reach = [](double edge) { return 1.01 * edge; };
+  double depth = 1.5 * reach(meanEdge);
   for (;;)
   {
     vtkUnstructuredGrid* grid = this->Neighborhood->Build(controller, own, depth);
     if (!volillum::AllOk(
-          controller, this->PrepareMesh(grid, this->Neighborhood->GetNumberOfPieceCells())))
+          controller, this->PrepareMesh(grid, this->Neighborhood->GetNumberOfPieceCells())) ||
+      !volillum::AgreeOnWholeMesh(controller, this->Mesh, this->Neighborhood->GetOwned(), error))
     {
-      this->Neighborhood->Reset();
-      this->MeshKey = 0;
-      return false;
-    }
-    // The whole mesh's bounds (of all pieces' own usable tetrahedra: the level-0 grid spans
-    // them) and mean edge length (each point's edges counted by its owner).
-    volillum::TetrahedralMesh& mesh = this->Mesh;
-    const std::vector<unsigned char>& owned = this->Neighborhood->GetOwned();
-    double local[3] = { 0.0, 0.0, static_cast<double>(mesh.OwnTets) }, sums[3];
-    for (int p = 0; p < mesh.NumberOfPoints(); ++p)
-    {
-      for (int k = mesh.EdgeOffsets[p]; owned[p] && k < mesh.EdgeOffsets[p + 1]; ++k)
+      if (!error.empty())
       {
-        const double* x = mesh.Points.data() + 3 * static_cast<size_t>(p);
-        const double* y = mesh.Points.data() + 3 * static_cast<size_t>(mesh.EdgeNeighbors[k]);
-        local[0] += std::sqrt(vtkMath::Distance2BetweenPoints(x, y));
-        local[1] += 1.0;
+        vtkErrorMacro(<< error);
       }
-    }
-    controller->AllReduce(local, sums, 3, vtkCommunicator::SUM_OP);
-    double lows[3] = { mesh.Bounds[0], mesh.Bounds[2], mesh.Bounds[4] };
-    double highs[3] = { mesh.Bounds[1], mesh.Bounds[3], mesh.Bounds[5] };
-    double wholeLows[3], wholeHighs[3];
-    controller->AllReduce(lows, wholeLows, 3, vtkCommunicator::MIN_OP);
-    controller->AllReduce(highs, wholeHighs, 3, vtkCommunicator::MAX_OP);
-    if (sums[2] == 0.0)
-    {
-      vtkErrorMacro("Cannot light the grid: the mesh has no tetrahedron with a non-zero volume.");
       this->Neighborhood->Reset();
       this->MeshKey = 0;
       return false;
     }
-    for (int a = 0; a < 3; ++a)
+    if (reach(this->Mesh.MeanEdgeLength) > depth)
     {
-      mesh.Bounds[2 * a] = wholeLows[a];
-      mesh.Bounds[2 * a + 1] = wholeHighs[a];
-    }
-    volillum::SetMeanEdgeLength(mesh, sums[0] / std::max(sums[1], 1.0));
-    if (reach(mesh.MeanEdgeLength) > depth)
-    {
-      depth = 1.2 * reach(mesh.MeanEdgeLength); // the estimate fell short: gather deeper
+      depth = 1.2 * reach(this->Mesh.MeanEdgeLength); // the estimate fell short: gather deeper
       continue;
     }
-    // Colours as a single process gives them: this process colours the points it computes,
-    // in rounds between which the colours of the others come from their processes.
-    const std::vector<unsigned char>& computed = this->Neighborhood->GetComputed();
-    // Every round colours at least the first point of the global order still waiting (its
-    // earlier neighbours have their colours), unless a point's colour never comes from the
-    // process that holds it: a round that colours none on any process stops with an error
-    // instead of waiting for ever.
-    long long waitingBefore = -1;
-    bool stuck = false;
-    this->Coloring = volillum::ColorVertices(mesh, &computed,
-      [&](std::vector<int>& color)
-      {
-        this->Neighborhood->Exchange(color.data(), 1);
-        long long waiting = 0, all = 0;
-        for (int p = 0; p < mesh.NumberOfPoints(); ++p)
-        {
-          waiting += computed[p] && color[p] < 0 ? 1 : 0;
-        }
-        controller->AllReduce(&waiting, &all, 1, vtkCommunicator::SUM_OP);
-        stuck = all > 0 && all == waitingBefore;
-        waitingBefore = all;
-        return all > 0 && !stuck;
-      });
-    if (stuck)
+    // Colours as a single process gives them.
+    if (!volillum::ColorDistributedVertices(
+          controller, *this->Neighborhood, this->Mesh, this->Coloring, error))
     {
-      vtkErrorMacro("The pieces cannot be joined: a point a piece shares with another has "
-                    "no match there (seen with point global ids from Generate Global Ids).");
+      vtkErrorMacro(<< error);
       this->Neighborhood->Reset();
       this->MeshKey = 0;
       return false;
     }
-    // Every process scatters (and passes values) colour by colour: as many colours on all.
-    int colors = this->Coloring.NumberOfColors(), wholeColors = 0;
-    controller->AllReduce(&colors, &wholeColors, 1, vtkCommunicator::MAX_OP);
-    this->Coloring.Offsets.resize(wholeColors + 1, this->Coloring.Offsets.back());
     return true;
   }
 }

@@ -258,6 +258,11 @@ private:
   // The mesh of the tetrahedra of input (split from other cells); the first `own` of them
   // are its own (all when negative).
   bool PrepareMesh(vtkUnstructuredGrid* input, vtkIdType own = -1);
+  // The structure PrepareMesh splits into tetrahedra: the input's cells but its ghost cells
+  // (DUPLICATECELL in `ghosts`), every copy of a point replaced by the first at its place
+  // (FirstAtPlace, cleared where no point has a copy).
+  vtkSmartPointer<vtkUnstructuredGrid> JoinedStructure(
+    vtkUnstructuredGrid* input, vtkUnsignedCharArray* ghosts);
   bool Classify(vtkDataArray* scalars, const double* range);
   vtkSmartPointer<vtkUnsignedCharArray> ShadeVertices(
     vtkDataArray* scalars, const std::vector<float>& rgb, vtkIdType points);

@@ -1,7 +1,7 @@
 #include "vtkIlluminatedUnstructuredGridRepresentation.h"
 
 #include "IlluminationBackground.h"
-#include "IlluminationParallel.h"
+#include "ParallelCollectives.h"
 #include "IlluminationViewLights.h"
 #include "vtkAlgorithmOutput.h"
 #include "vtkColorTransferFunction.h"

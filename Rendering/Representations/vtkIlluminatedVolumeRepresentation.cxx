@@ -2,7 +2,7 @@
 
 #include "IlluminationBackground.h"
 #include "IlluminationFilterSupport.h"
-#include "IlluminationParallel.h"
+#include "ParallelCollectives.h"
 #include "IlluminationViewLights.h"
 #include "vtkAlgorithmOutput.h"
 #include "vtkColorTransferFunction.h"

@@ -1,0 +1,766 @@
+#include "NeighborhoodGrid.h"
+
+#include "ParallelCollectives.h"
+#include "TravellingPieces.h"
+#include "vtkCellData.h"
+#include "vtkCommunicator.h"
+#include "vtkDataSetAttributes.h"
+#include "vtkIdList.h"
+#include "vtkMultiProcessController.h"
+#include "vtkNew.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkUnstructuredGrid.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <set>
+#include <utility>
+
+namespace volillum
+{
+
+namespace
+{
+// Message tags of NeighborhoodGrid.
+constexpr int CellsTag = 8270, CountTag = 8271, KeysTag = 8272, ValuesTag = 8273, MaskTag = 8275;
+
+// Where the cells of the pieces lie: bins over the bounds of all pieces, about `depth`
+// wide (at most 64 a side), a bit per bin.
+class BinMask
+{
+public:
+  BinMask(const double bounds[6], double depth)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      const double extent = bounds[2 * a + 1] - bounds[2 * a];
+      this->Origin[a] = bounds[2 * a];
+      this->Bins[a] = extent > 0.0 && depth > 0.0
+        ? static_cast<int>(std::min(64.0, std::max(1.0, std::ceil(extent / depth))))
+        : 1;
+      this->Size[a] = extent > 0.0 ? extent / this->Bins[a] : 1.0;
+    }
+    this->Bits.assign((this->Count() + 7) / 8, 0);
+  }
+
+  size_t Count() const
+  {
+    return static_cast<size_t>(this->Bins[0]) * this->Bins[1] * this->Bins[2];
+  }
+
+  // Calls visit(bin) for each bin the box overlaps until it returns true; returns whether it
+  // did.
+  template <typename Visit>
+  bool AnyBin(const double box[6], Visit&& visit) const
+  {
+    int lo[3], hi[3];
+    for (int a = 0; a < 3; ++a)
+    {
+      const auto at = [&](double x)
+      {
+        const double f = std::floor((x - this->Origin[a]) / this->Size[a]);
+        return static_cast<int>(std::min(std::max(f, 0.0), this->Bins[a] - 1.0));
+      };
+      lo[a] = at(box[2 * a]);
+      hi[a] = at(box[2 * a + 1]);
+    }
+    for (int k = lo[2]; k <= hi[2]; ++k)
+    {
+      for (int j = lo[1]; j <= hi[1]; ++j)
+      {
+        for (int i = lo[0]; i <= hi[0]; ++i)
+        {
+          if (visit(this->Index(i, j, k)))
+          {
+            return true;
+          }
+        }
+      }
+    }
+    return false;
+  }
+
+  // Marks the bins the box overlaps.
+  void Mark(const double box[6])
+  {
+    this->AnyBin(box,
+      [this](size_t bin)
+      {
+        this->Bits[bin / 8] |= static_cast<unsigned char>(1u << (bin % 8));
+        return false;
+      });
+  }
+
+  // Whether the box grown by depth overlaps a bin marked in `bits` (another mask's).
+  bool Meets(const unsigned char* bits, const double box[6], double depth) const
+  {
+    const double grown[6] = { box[0] - depth, box[1] + depth, box[2] - depth, box[3] + depth,
+      box[4] - depth, box[5] + depth };
+    return this->AnyBin(grown, [bits](size_t bin) { return Marked(bits, bin); });
+  }
+
+  // The whole bins within depth along each axis.
+  std::array<int, 3> Reach(double depth) const
+  {
+    std::array<int, 3> reach;
+    for (int d = 0; d < 3; ++d)
+    {
+      reach[d] = static_cast<int>(std::ceil(depth / this->Size[d]));
+    }
+    return reach;
+  }
+
+  // The bin indices (lowest, highest along each axis) of the marked bins; lowest above
+  // highest when none is marked.
+  std::array<int, 6> MarkedBox() const
+  {
+    std::array<int, 6> box = { this->Bins[0], -1, this->Bins[1], -1, this->Bins[2], -1 };
+    for (int k = 0; k < this->Bins[2]; ++k)
+    {
+      for (int j = 0; j < this->Bins[1]; ++j)
+      {
+        for (int i = 0; i < this->Bins[0]; ++i)
+        {
+          if (this->Marked(this->Bits.data(), this->Index(i, j, k)))
+          {
+            const int at[3] = { i, j, k };
+            for (int d = 0; d < 3; ++d)
+            {
+              box[2 * d] = std::min(box[2 * d], at[d]);
+              box[2 * d + 1] = std::max(box[2 * d + 1], at[d]);
+            }
+          }
+        }
+      }
+    }
+    return box;
+  }
+
+  // The marked bins grown by `reach` bins along each axis (a box around each, one axis at a
+  // time): a bin of another mask lies within reach of a marked one exactly where the
+  // grown bits and the other's share a bit, the same answer seen from either mask.
+  std::vector<unsigned char> Grown(const std::array<int, 3>& reach) const
+  {
+    std::vector<unsigned char> bins(this->Count());
+    for (size_t b = 0; b < bins.size(); ++b)
+    {
+      bins[b] = this->Marked(this->Bits.data(), b);
+    }
+    std::vector<unsigned char> line;
+    for (int d = 0; d < 3; ++d)
+    {
+      // Lines along d: `stride` apart from bin to bin, starting at every bin of the other
+      // two axes.
+      const size_t stride = d == 0 ? 1 : d == 1 ? this->Bins[0] : this->Count() / this->Bins[2];
+      const int n = this->Bins[d];
+      line.resize(n);
+      for (size_t outer = 0; outer < this->Count(); outer += stride * n)
+      {
+        for (size_t first = outer; first < outer + stride; ++first)
+        {
+          for (int i = 0; i < n; ++i)
+          {
+            line[i] = bins[first + i * stride];
+          }
+          for (int i = 0; i < n; ++i)
+          {
+            unsigned char any = 0;
+            for (int m = std::max(0, i - reach[d]); m <= std::min(n - 1, i + reach[d]); ++m)
+            {
+              any |= line[m];
+            }
+            bins[first + i * stride] = any;
+          }
+        }
+      }
+    }
+    std::vector<unsigned char> bits(this->Bits.size(), 0);
+    for (size_t b = 0; b < bins.size(); ++b)
+    {
+      bits[b / 8] |= static_cast<unsigned char>(bins[b] << (b % 8));
+    }
+    return bits;
+  }
+
+  // Whether two bit masks share a marked bin.
+  static bool Share(const std::vector<unsigned char>& a, const unsigned char* b)
+  {
+    for (size_t i = 0; i < a.size(); ++i)
+    {
+      if (a[i] & b[i])
+      {
+        return true;
+      }
+    }
+    return false;
+  }
+
+  static bool Marked(const unsigned char* bits, size_t bin)
+  {
+    return ((bits[bin / 8] >> (bin % 8)) & 1) != 0;
+  }
+
+  size_t Index(int i, int j, int k) const
+  {
+    return i + static_cast<size_t>(this->Bins[0]) * (j + static_cast<size_t>(this->Bins[1]) * k);
+  }
+
+  double Origin[3];
+  double Size[3];
+  int Bins[3];
+  std::vector<unsigned char> Bits;
+};
+
+// The cells of grid whose bounding boxes grown by depth meet the bins marked in `bits`, with
+// their points and arrays.
+vtkSmartPointer<vtkUnstructuredGrid> CellsNear(
+  vtkUnstructuredGrid* grid, const BinMask& mask, const unsigned char* bits, double depth)
+{
+  auto near = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  near->SetPoints(points);
+  near->GetPointData()->CopyGlobalIdsOn();
+  near->GetPointData()->CopyAllocate(grid->GetPointData());
+  near->GetCellData()->CopyAllocate(grid->GetCellData());
+  std::vector<vtkIdType> ids(static_cast<size_t>(grid->GetNumberOfPoints()), -1);
+  vtkNew<vtkIdList> cell;
+  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
+  {
+    double bounds[6];
+    grid->GetCellBounds(c, bounds);
+    if (!mask.Meets(bits, bounds, depth))
+    {
+      continue;
+    }
+    grid->GetCellPoints(c, cell);
+    for (vtkIdType k = 0; k < cell->GetNumberOfIds(); ++k)
+    {
+      vtkIdType& id = ids[cell->GetId(k)];
+      if (id < 0)
+      {
+        id = points->InsertNextPoint(grid->GetPoint(cell->GetId(k)));
+        near->GetPointData()->CopyData(grid->GetPointData(), cell->GetId(k), id);
+      }
+      cell->SetId(k, id);
+    }
+    const vtkIdType added = near->InsertNextCell(grid->GetCellType(c), cell);
+    near->GetCellData()->CopyData(grid->GetCellData(), c, added);
+  }
+  near->Squeeze();
+  return near;
+}
+
+// A point's key: its global id (first value) or its coordinates.
+std::array<double, 3> PointKey(vtkDataSet* grid, vtkIdType i, bool byId)
+{
+  std::array<double, 3> key = { 0.0, 0.0, 0.0 };
+  if (byId)
+  {
+    key[0] = grid->GetPointData()->GetGlobalIds()->GetTuple1(i);
+  }
+  else
+  {
+    grid->GetPoint(i, key.data());
+  }
+  return key;
+}
+}
+
+//------------------------------------------------------------------------------
+vtkSmartPointer<vtkUnstructuredGrid> PieceWithoutGhostCells(
+  const char* litArray, vtkUnstructuredGrid* piece)
+{
+  if (!piece || piece->GetNumberOfCells() == 0)
+  {
+    return nullptr;
+  }
+  vtkNew<vtkUnstructuredGrid> travelling;
+  CopyLitArrays(litArray, piece, travelling);
+  auto own = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  own->SetPoints(piece->GetPoints());
+  own->GetPointData()->ShallowCopy(travelling->GetPointData());
+  own->GetCellData()->CopyAllocate(travelling->GetCellData());
+  own->AllocateEstimate(piece->GetNumberOfCells(), 4);
+  vtkUnsignedCharArray* ghosts = piece->GetCellGhostArray();
+  vtkNew<vtkIdList> cell;
+  for (vtkIdType c = 0; c < piece->GetNumberOfCells(); ++c)
+  {
+    if (ghosts && (ghosts->GetValue(c) & vtkDataSetAttributes::DUPLICATECELL))
+    {
+      continue; // owned by another piece
+    }
+    piece->GetCellPoints(c, cell);
+    const vtkIdType id = own->InsertNextCell(piece->GetCellType(c), cell);
+    own->GetCellData()->CopyData(travelling->GetCellData(), c, id);
+  }
+  own->Squeeze();
+  return own->GetNumberOfCells() > 0 ? own : nullptr;
+}
+
+//------------------------------------------------------------------------------
+std::vector<vtkIdType> FirstPointsAtTheirPlaces(vtkDataSet* grid)
+{
+  const vtkIdType n = grid ? grid->GetNumberOfPoints() : 0;
+  std::vector<vtkIdType> first(static_cast<size_t>(n));
+  vtkDataArray* ids = n > 0 ? grid->GetPointData()->GetGlobalIds() : nullptr;
+  vtkIdTypeArray* exact = vtkIdTypeArray::SafeDownCast(ids);
+  // The place: the global id (0 without ids) and the coordinates.
+  using Place = std::pair<long long, std::array<double, 3>>;
+  std::vector<Place> places(first.size());
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    places[i].first = exact ? exact->GetValue(i)
+      : ids                 ? static_cast<long long>(ids->GetComponent(i, 0))
+                            : 0;
+    grid->GetPoint(i, places[i].second.data());
+    first[i] = i;
+  }
+  // Ordered by place, then by id: a run of one place starts with its first point.
+  std::vector<vtkIdType> order(first);
+  std::sort(order.begin(), order.end(),
+    [&](vtkIdType a, vtkIdType b)
+    { return places[a] != places[b] ? places[a] < places[b] : a < b; });
+  for (size_t k = 1; k < order.size(); ++k)
+  {
+    if (places[order[k]] == places[order[k - 1]])
+    {
+      first[order[k]] = first[order[k - 1]];
+    }
+  }
+  return first;
+}
+
+//------------------------------------------------------------------------------
+bool PiecesCanJoin(
+  vtkMultiProcessController* controller, vtkUnstructuredGrid* piece, std::string& error)
+{
+  if (!AllOk(controller, error.empty()))
+  {
+    return false;
+  }
+  // The arrays' layout, as a fingerprint (of the pieces only: an empty process agrees).
+  std::uint64_t layout = 0;
+  for (int association : { vtkDataObject::POINT, vtkDataObject::CELL })
+  {
+    vtkDataSetAttributes* attributes = piece ? piece->GetAttributes(association) : nullptr;
+    for (int i = 0; attributes && i < attributes->GetNumberOfArrays(); ++i)
+    {
+      vtkAbstractArray* array = attributes->GetAbstractArray(i);
+      const std::string name = array->GetName() ? array->GetName() : "";
+      const int form[4] = { association, array->GetDataType(), array->GetNumberOfComponents(),
+        attributes->IsArrayAnAttribute(i) };
+      layout = HashBytes(form, sizeof(form), HashBytes(name.data(), name.size(), layout));
+    }
+  }
+  // The pieces' fingerprints (63 bits) agree when the smallest is the largest.
+  const long long mine[2] = { piece ? static_cast<long long>(layout >> 1)
+                                    : std::numeric_limits<long long>::max(),
+    piece ? static_cast<long long>(layout >> 1) : std::numeric_limits<long long>::min() };
+  long long lowest = 0, highest = 0;
+  controller->AllReduce(mine, &lowest, 1, vtkCommunicator::MIN_OP);
+  controller->AllReduce(mine + 1, &highest, 1, vtkCommunicator::MAX_OP);
+  if (lowest != std::numeric_limits<long long>::max() && lowest != highest)
+  {
+    error = "The pieces' arrays to illuminate differ between processes (in name, type, "
+            "components or association); every piece must carry the same arrays.";
+    return false;
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool NeighborhoodGrid::Changed(
+  vtkMultiProcessController* controller, vtkUnstructuredGrid* piece) const
+{
+  vtkNew<vtkUnstructuredGrid> empty;
+  int changed = !this->Grid || this->Fingerprint == 0 ||
+    volillum::Fingerprint(piece ? piece : empty.Get()) != this->Fingerprint;
+  int any = 0;
+  controller->AllReduce(&changed, &any, 1, vtkCommunicator::LOGICAL_OR_OP);
+  return any != 0;
+}
+
+//------------------------------------------------------------------------------
+vtkUnstructuredGrid* NeighborhoodGrid::Build(
+  vtkMultiProcessController* controller, vtkUnstructuredGrid* piece, double depth)
+{
+  this->Controller = controller;
+  const int local = controller->GetLocalProcessId();
+  const int processes = controller->GetNumberOfProcesses();
+  const bool has = piece && piece->GetNumberOfPoints() > 0;
+  vtkNew<vtkUnstructuredGrid> empty;
+  this->Fingerprint = volillum::Fingerprint(piece ? piece : empty.Get());
+  // Bins over the bounds of all pieces: where this piece's cells lie (a point in no cell
+  // needs none: its light comes from level 0).
+  double whole[6];
+  UnionOfBounds(controller, has ? piece : nullptr, whole);
+  BinMask mask(whole, depth);
+  for (vtkIdType c = 0; has && c < piece->GetNumberOfCells(); ++c)
+  {
+    double bounds[6];
+    piece->GetCellBounds(c, bounds);
+    mask.Mark(bounds);
+  }
+  // Candidates: the processes whose marked bins' box comes within reach of this piece's
+  // (one box of 6 bin indices a process travels to all). Only candidates exchange masks,
+  // and peers are the candidates with cells in bins within reach of this piece's: the
+  // same relation seen from both, so no process waits for a peer that does not count it
+  // as one.
+  const std::array<int, 3> reach = mask.Reach(depth);
+  const std::array<int, 6> box = mask.MarkedBox();
+  std::vector<int> boxes(6 * static_cast<size_t>(processes));
+  controller->AllGather(box.data(), boxes.data(), 6);
+  const auto marked = [](const int* b) { return b[0] <= b[1]; };
+  std::vector<int> candidates;
+  for (int q = 0; q < processes && has && marked(box.data()); ++q)
+  {
+    const int* other = boxes.data() + 6 * static_cast<size_t>(q);
+    bool near = q != local && marked(other);
+    for (int d = 0; d < 3 && near; ++d)
+    {
+      near = other[2 * d] <= box[2 * d + 1] + reach[d] && box[2 * d] <= other[2 * d + 1] + reach[d];
+    }
+    if (near)
+    {
+      candidates.push_back(q);
+    }
+  }
+  const size_t bytes = mask.Bits.size();
+  std::vector<unsigned char> masks(bytes * candidates.size());
+  WithEachPeer(local, candidates,
+    [&](size_t k, bool send)
+    {
+      if (send)
+      {
+        controller->Send(mask.Bits.data(), static_cast<vtkIdType>(bytes), candidates[k], MaskTag);
+      }
+      else
+      {
+        controller->Receive(
+          masks.data() + bytes * k, static_cast<vtkIdType>(bytes), candidates[k], MaskTag);
+      }
+    });
+  const std::vector<unsigned char> grown = mask.Grown(reach);
+  this->Peers.clear();
+  std::vector<const unsigned char*> peerMasks;
+  for (size_t k = 0; k < candidates.size(); ++k)
+  {
+    if (BinMask::Share(grown, masks.data() + bytes * k))
+    {
+      this->Peers.push_back(candidates[k]);
+      peerMasks.push_back(masks.data() + bytes * k);
+    }
+  }
+
+  // The cells of each peer near this piece.
+  std::vector<vtkSmartPointer<vtkUnstructuredGrid>> received(this->Peers.size());
+  WithEachPeer(local, this->Peers,
+    [&](size_t k, bool send)
+    {
+      const int q = this->Peers[k];
+      if (send)
+      {
+        controller->Send(CellsNear(piece, mask, peerMasks[k], depth), q, CellsTag);
+      }
+      else
+      {
+        received[k] = vtkSmartPointer<vtkUnstructuredGrid>::New();
+        controller->Receive(received[k], q, CellsTag);
+      }
+    });
+
+  // The piece, then the others' cells; a point of a later grid at the place (or with the
+  // global id) of an earlier one is that point.
+  this->Grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  this->PiecePoints = has ? piece->GetNumberOfPoints() : 0;
+  this->PieceCells = has ? piece->GetNumberOfCells() : 0;
+  this->Owned.clear();
+  vtkUnstructuredGrid* grid = this->Grid;
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  grid->SetPoints(points);
+  if (!has)
+  {
+    grid->AllocateEstimate(0, 4);
+    return this->Grid;
+  }
+  // The arrays by name: a grid that travelled may hold them in another order (the global ids
+  // first), and copying by index would mix them (the lit array taking the ids' values).
+  // Grids without points may have lost their arrays on the way: they add nothing.
+  vtkDataSetAttributes::FieldList pointFields, cellFields;
+  pointFields.IntersectFieldList(piece->GetPointData());
+  cellFields.IntersectFieldList(piece->GetCellData());
+  for (const auto& from : received)
+  {
+    if (from->GetNumberOfPoints() > 0)
+    {
+      pointFields.IntersectFieldList(from->GetPointData());
+      cellFields.IntersectFieldList(from->GetCellData());
+    }
+  }
+  grid->GetPointData()->CopyGlobalIdsOn();
+  grid->GetPointData()->CopyAllocate(pointFields);
+  grid->GetCellData()->CopyAllocate(cellFields);
+  const bool byId = piece->GetPointData()->GetGlobalIds() != nullptr;
+  std::map<std::array<double, 3>, vtkIdType> known;
+  std::vector<int> owner;
+  this->Reads.assign(this->Peers.size(), {});
+  vtkNew<vtkIdList> cell;
+  // A cell that two pieces hold (D3's "Duplicate cells" boundary mode gives the cells across a
+  // boundary to both pieces, unmarked) counts once, as the lowest process's: a cell is known
+  // by its type and its points' keys in order. Per cell that came from a peer: the lowest
+  // process that holds it, and whether the grid has it yet.
+  vtkNew<vtkIdList> keyed;
+  const auto cellKey = [&](vtkUnstructuredGrid* from, vtkIdType c)
+  {
+    from->GetCellPoints(c, keyed);
+    std::vector<std::array<double, 3>> keys(static_cast<size_t>(keyed->GetNumberOfIds()));
+    for (size_t k = 0; k < keys.size(); ++k)
+    {
+      keys[k] = PointKey(from, keyed->GetId(static_cast<vtkIdType>(k)), byId);
+    }
+    std::sort(keys.begin(), keys.end());
+    std::vector<double> key(1, static_cast<double>(from->GetCellType(c)));
+    for (const auto& k : keys)
+    {
+      key.insert(key.end(), k.begin(), k.end());
+    }
+    return key;
+  };
+  struct Holding
+  {
+    int Lowest;   // process
+    bool Present; // in the grid
+  };
+  using Held = std::map<std::vector<double>, Holding>;
+  Held held;
+  std::vector<std::vector<Held::iterator>> heldOf(this->Peers.size()); // per peer and cell
+  for (size_t k = 0; k < this->Peers.size(); ++k)
+  {
+    heldOf[k].reserve(static_cast<size_t>(received[k]->GetNumberOfCells()));
+    for (vtkIdType c = 0; c < received[k]->GetNumberOfCells(); ++c)
+    {
+      const auto entry = held.emplace(cellKey(received[k], c), Holding{ this->Peers[k], false });
+      entry.first->second.Lowest = std::min(entry.first->second.Lowest, this->Peers[k]);
+      heldOf[k].push_back(entry.first);
+    }
+  }
+  // Only a piece cell whose points are all among the peers' can be one of theirs.
+  std::vector<char> shared(static_cast<size_t>(piece->GetNumberOfPoints()), 0);
+  if (!held.empty())
+  {
+    std::set<std::array<double, 3>> peerPoints;
+    for (const auto& from : received)
+    {
+      for (vtkIdType i = 0; i < from->GetNumberOfPoints(); ++i)
+      {
+        peerPoints.insert(PointKey(from, i, byId));
+      }
+    }
+    for (vtkIdType i = 0; i < piece->GetNumberOfPoints(); ++i)
+    {
+      shared[i] = peerPoints.count(PointKey(piece, i, byId)) != 0;
+    }
+  }
+  const auto mayBeShared = [&](vtkIdType c)
+  {
+    piece->GetCellPoints(c, keyed);
+    for (vtkIdType k = 0; k < keyed->GetNumberOfIds(); ++k)
+    {
+      if (!shared[keyed->GetId(k)])
+      {
+        return false;
+      }
+    }
+    return true;
+  };
+  // `from`: the piece (peer -1) or the cells of peer k; `input`: its index in the field lists.
+  int input = 0;
+  const auto append = [&](vtkUnstructuredGrid* from, int process, int peer)
+  {
+    if (from->GetNumberOfPoints() == 0)
+    {
+      return;
+    }
+    std::vector<vtkIdType> ids(static_cast<size_t>(from->GetNumberOfPoints()));
+    std::vector<std::pair<std::array<double, 3>, vtkIdType>> added;
+    for (vtkIdType i = 0; i < from->GetNumberOfPoints(); ++i)
+    {
+      const auto key = PointKey(from, i, byId);
+      const auto found = process == local ? known.end() : known.find(key);
+      if (found != known.end())
+      {
+        ids[i] = found->second;
+        continue;
+      }
+      ids[i] = points->InsertNextPoint(from->GetPoint(i));
+      grid->GetPointData()->CopyData(pointFields, from->GetPointData(), input, i, ids[i]);
+      added.emplace_back(key, ids[i]);
+      if (peer >= 0)
+      {
+        this->Reads[peer].push_back(ids[i]); // a point of that peer's piece
+      }
+    }
+    known.insert(added.begin(), added.end()); // the first point at a place is kept
+    owner.resize(static_cast<size_t>(points->GetNumberOfPoints()), processes);
+    for (vtkIdType c = 0; c < from->GetNumberOfCells(); ++c)
+    {
+      if (peer >= 0)
+      {
+        Holding& holding = heldOf[peer][c]->second;
+        if (holding.Present)
+        {
+          continue; // already here
+        }
+        holding.Present = true;
+      }
+      else if (!held.empty() && mayBeShared(c))
+      {
+        const auto found = held.find(cellKey(piece, c));
+        if (found != held.end() && found->second.Lowest < local)
+        {
+          continue; // a lower process's cell
+        }
+        if (found != held.end())
+        {
+          found->second.Present = true;
+        }
+      }
+      from->GetCellPoints(c, cell);
+      for (vtkIdType k = 0; k < cell->GetNumberOfIds(); ++k)
+      {
+        cell->SetId(k, ids[cell->GetId(k)]);
+        owner[cell->GetId(k)] = std::min(owner[cell->GetId(k)], process);
+      }
+      const vtkIdType id = grid->InsertNextCell(from->GetCellType(c), cell);
+      grid->GetCellData()->CopyData(cellFields, from->GetCellData(), input, c, id);
+    }
+    ++input;
+  };
+  append(piece, local, -1);
+  this->PieceCells = grid->GetNumberOfCells();
+  // Points of the piece in none of its cells (those of its ghost cells, as D3 leaves them):
+  // where another piece's cells hold them, they are that piece's points.
+  const std::vector<int> inPieceCells(owner.begin(), owner.begin() + this->PiecePoints);
+  for (size_t k = 0; k < this->Peers.size(); ++k)
+  {
+    append(received[k], this->Peers[k], static_cast<int>(k));
+  }
+  received.clear();
+  grid->Squeeze();
+
+  // Computed here: the points of the piece's cells, and those in no cell (lit as serially);
+  // the piece's other points are read from the lowest process whose cells hold them (it
+  // computes them: all the cells around a point of a piece are here, so that process is
+  // known). Owned: computed here, and not of a lower process's piece.
+  const vtkIdType np = grid->GetNumberOfPoints();
+  this->Owned.assign(static_cast<size_t>(np), 0);
+  this->Computed.assign(static_cast<size_t>(np), 0);
+  for (vtkIdType p = 0; p < this->PiecePoints; ++p)
+  {
+    this->Computed[p] = inPieceCells[p] == local || owner[p] == processes;
+    this->Owned[p] = this->Computed[p] && owner[p] >= local;
+    if (!this->Computed[p])
+    {
+      const size_t k =
+        std::lower_bound(this->Peers.begin(), this->Peers.end(), owner[p]) - this->Peers.begin();
+      this->Reads[k].push_back(p);
+    }
+  }
+  this->Sends.assign(this->Peers.size(), {});
+  // Tell each peer which points of its piece are read here (by key), in the order of Reads.
+  WithEachPeer(local, this->Peers,
+    [&](size_t k, bool send)
+    {
+      const int q = this->Peers[k];
+      if (send)
+      {
+        std::vector<double> keys;
+        keys.reserve(3 * this->Reads[k].size());
+        for (vtkIdType p : this->Reads[k])
+        {
+          const auto key = PointKey(grid, p, byId);
+          keys.insert(keys.end(), key.begin(), key.end());
+        }
+        const vtkIdType count = static_cast<vtkIdType>(this->Reads[k].size());
+        controller->Send(&count, 1, q, CountTag);
+        controller->Send(keys.data(), 3 * count, q, KeysTag);
+        return;
+      }
+      vtkIdType count = 0;
+      controller->Receive(&count, 1, q, CountTag);
+      std::vector<double> keys(3 * static_cast<size_t>(count));
+      controller->Receive(keys.data(), 3 * count, q, KeysTag);
+      auto& sends = this->Sends[k];
+      sends.resize(static_cast<size_t>(count));
+      for (vtkIdType i = 0; i < count; ++i)
+      {
+        const std::array<double, 3> key = { keys[3 * i], keys[3 * i + 1], keys[3 * i + 2] };
+        const auto found = known.find(key);
+        sends[i] = found == known.end() ? -1 : found->second;
+      }
+    });
+  return this->Grid;
+}
+
+//------------------------------------------------------------------------------
+vtkUnstructuredGrid* NeighborhoodGrid::GetGrid() const
+{
+  return this->Grid;
+}
+
+//------------------------------------------------------------------------------
+template <typename T>
+void NeighborhoodGrid::ExchangeValues(T* values, int components) const
+{
+  if (!this->Controller)
+  {
+    return;
+  }
+  const int local = this->Controller->GetLocalProcessId();
+  std::vector<T> buffer;
+  WithEachPeer(local, this->Peers,
+    [&](size_t k, bool send)
+    {
+      const int q = this->Peers[k];
+      const auto& points = send ? this->Sends[k] : this->Reads[k];
+      buffer.assign(points.size() * components, T(0));
+      if (send)
+      {
+        for (size_t i = 0; i < points.size(); ++i)
+        {
+          if (points[i] >= 0)
+          {
+            std::copy_n(values + components * points[i], components, &buffer[components * i]);
+          }
+        }
+        this->Controller->Send(buffer.data(), static_cast<vtkIdType>(buffer.size()), q, ValuesTag);
+        return;
+      }
+      this->Controller->Receive(buffer.data(), static_cast<vtkIdType>(buffer.size()), q, ValuesTag);
+      for (size_t i = 0; i < points.size(); ++i)
+      {
+        std::copy_n(&buffer[components * i], components, values + components * points[i]);
+      }
+    });
+}
+
+//------------------------------------------------------------------------------
+void NeighborhoodGrid::Exchange(float* values, int components) const
+{
+  this->ExchangeValues(values, components);
+}
+
+//------------------------------------------------------------------------------
+void NeighborhoodGrid::Exchange(int* values, int components) const
+{
+  this->ExchangeValues(values, components);
+}
+
+}
