@@ -1,9 +1,9 @@
 #include "vtkFilteredVolumetricShadows.h"
 
-#include "FilteredShadowsKernel.h"
-#include "IlluminationFilterSupport.h"
 #include "DistributedClassification.h"
 #include "DistributedShadowTables.h"
+#include "FilteredShadowsKernel.h"
+#include "IlluminationFilterSupport.h"
 #include "ImageExtents.h"
 #include "ParallelCollectives.h"
 #include "vtkMultiProcessController.h"
@@ -211,8 +211,7 @@ void vtkFilteredVolumetricShadows::ComputeDistributedIllumination(
     volillum::GrownBlock(target, piece, own, reach, margin, tables, wanted);
   }
   volillum::ClassifiedVolume grownVolume;
-  this->SentBytes =
-    volillum::GatherClassification(controller, volume, piece, wanted, grownVolume);
+  this->SentBytes = volillum::GatherClassification(controller, volume, piece, wanted, grownVolume);
   this->GrownPoints = volillum::ExtentPoints(wanted);
   const std::vector<int> tableExtents = volillum::GatherExtents(controller, lit ? tables : nullptr);
   volillum::VolumePiece grown; // the tables' cells, in the grown block's volume
@@ -231,14 +230,15 @@ void vtkFilteredVolumetricShadows::ComputeDistributedIllumination(
     // beyond a face lie within its patch's reach across the light.
     this->UpdateTables(grownVolume, frames, sphericalLookups, cell, channels, inputModified,
       report.Passes, empty.get(), &grown,
-      volillum::CartesianSAT::LocalReach(cell, this->PatchFor(data.MinimumSpacing()).HalfWidth, 0.0));
+      volillum::CartesianSAT::LocalReach(
+        cell, this->PatchFor(data.MinimumSpacing()).HalfWidth, 0.0));
   }
   this->SentBytes += volillum::ShareCellsBeyond(controller, piece, lookups, sphericalLookups,
     channels, tableExtents, this->Tables, this->SphericalTables);
   if (lit)
   {
-    this->ShadeGrownBlock(data, grownVolume, lookups, sphericalLookups, lights, target, own,
-      empty.get(), rgb);
+    this->ShadeGrownBlock(
+      data, grownVolume, lookups, sphericalLookups, lights, target, own, empty.get(), rgb);
   }
 }
 

@@ -168,7 +168,8 @@ private:
   // The points of this process's extent `own` of the illumination grid shaded from its grown
   // block and its tables' windows (`data`: the whole data grid).
   void ShadeGrownBlock(const volillum::GridGeometry& data,
-    const volillum::ClassifiedVolume& grownVolume, const std::vector<volillum::ShadowLookup>& lookups,
+    const volillum::ClassifiedVolume& grownVolume,
+    const std::vector<volillum::ShadowLookup>& lookups,
     const std::vector<volillum::SphericalLookup>& sphericalLookups,
     const std::vector<volillum::LightState>& lights, const volillum::GridGeometry& target,
     const int own[6], const volillum::EmptyBlocks* empty, float* rgb);

@@ -4,9 +4,9 @@
 #include "IlluminationLightingMacros.h"
 #include "ImageBlocks.h"
 #include "ImageExtents.h"
+#include "LargeArrays.h"
 #include "ParallelCollectives.h"
 #include "ParallelMessages.h"
-#include "LargeArrays.h"
 #include "RayMarchKernel.h"
 
 #include "vtkColorTransferFunction.h"
@@ -480,9 +480,8 @@ void vtkIlluminationVolumeAlgorithm::FinishOutput(vtkImageData* output, const in
 }
 
 //------------------------------------------------------------------------------
-bool vtkIlluminationVolumeAlgorithm::DistributedShape(
-  vtkMultiProcessController* controller, vtkInformation* inInfo, vtkImageData* input,
-  vtkImageData* shape)
+bool vtkIlluminationVolumeAlgorithm::DistributedShape(vtkMultiProcessController* controller,
+  vtkInformation* inInfo, vtkImageData* input, vtkImageData* shape)
 {
   // The whole grid, from the pipeline information (the same on every process).
   int whole[6] = { 0, -1, 0, -1, 0, -1 };
@@ -517,7 +516,8 @@ bool vtkIlluminationVolumeAlgorithm::BlockOfInput(vtkMultiProcessController* con
   // gathered from the pieces that hold it.
   const bool piece = block != nullptr;
   std::string error;
-  if (!volillum::AllOk(controller, !piece || (input && volillum::ExtentHolds(input->GetExtent(), block))))
+  if (!volillum::AllOk(
+        controller, !piece || (input && volillum::ExtentHolds(input->GetExtent(), block))))
   {
     vtkImageData* const own = input && input->GetNumberOfPoints() > 0 ? input : nullptr;
     bool onCells = false;

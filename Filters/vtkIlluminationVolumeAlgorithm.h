@@ -299,8 +299,8 @@ private:
   // `shape` with point scalars to light, gathered from the pieces where they are not the
   // blocks (Blocks) and converted from cell scalars (BlockScalars); false (with the reason)
   // on every process when any cannot.
-  bool BlockOfInput(vtkMultiProcessController* controller, vtkImageData* shape,
-    const int* block, vtkImageData*& input);
+  bool BlockOfInput(vtkMultiProcessController* controller, vtkImageData* shape, const int* block,
+    vtkImageData*& input);
   // Collective: the scalars of every block checked (and the lights), and the range of all
   // blocks' finite scalars, which the transfer functions span; false when any fails.
   bool DistributedScalarRange(

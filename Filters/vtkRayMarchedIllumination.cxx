@@ -1,7 +1,7 @@
 #include "vtkRayMarchedIllumination.h"
 
-#include "IlluminationFilterSupport.h"
 #include "DistributedRayMarch.h"
+#include "IlluminationFilterSupport.h"
 #include "RayMarchKernel.h"
 #include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"

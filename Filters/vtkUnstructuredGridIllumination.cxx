@@ -1,9 +1,9 @@
 #include "vtkUnstructuredGridIllumination.h"
 
+#include "DistributedMesh.h"
 #include "IlluminationClassify.h"
 #include "IlluminationFilterSupport.h"
 #include "IlluminationLightingMacros.h"
-#include "DistributedMesh.h"
 #include "NeighborhoodGrid.h"
 #include "ParallelCollectives.h"
 #include "ParallelMessages.h"
@@ -329,7 +329,8 @@ bool vtkUnstructuredGridIllumination::PrepareDistributedMesh(
   vtkMultiProcessController* controller, vtkUnstructuredGrid* input)
 {
   // This piece's tetrahedra with the arrays that light them.
-  vtkSmartPointer<vtkUnstructuredGrid> own = volillum::PieceWithoutGhostCells(volillum::LitArrayName(this), input);
+  vtkSmartPointer<vtkUnstructuredGrid> own =
+    volillum::PieceWithoutGhostCells(volillum::LitArrayName(this), input);
   std::string error;
   if (own)
   {

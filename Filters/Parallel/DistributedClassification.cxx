@@ -8,9 +8,9 @@ namespace volillum
 {
 
 //------------------------------------------------------------------------------
-long long GatherClassification(
-  vtkMultiProcessController* controller, const ClassifiedVolume& volume,
-  const VolumePiece& piece, const int wanted[6], ClassifiedVolume& into)
+long long GatherClassification(vtkMultiProcessController* controller,
+  const ClassifiedVolume& volume, const VolumePiece& piece, const int wanted[6],
+  ClassifiedVolume& into)
 {
   into.Geometry = piece.Whole;
   into.Channels = volume.Channels;
@@ -25,9 +25,8 @@ long long GatherClassification(
 }
 
 //------------------------------------------------------------------------------
-long long GatherClassificationValues(
-  vtkMultiProcessController* controller, const ClassifiedVolume& volume,
-  const VolumePiece& piece, const int wanted[6], PackedValue* into)
+long long GatherClassificationValues(vtkMultiProcessController* controller,
+  const ClassifiedVolume& volume, const VolumePiece& piece, const int wanted[6], PackedValue* into)
 {
   // This process's classification covers `held` (indices in the whole data grid); it sends the
   // points of its block, less the boundary planes it shares with the blocks before it.

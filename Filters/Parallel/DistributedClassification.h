@@ -30,8 +30,7 @@ VOLILLUMPARALLEL_EXPORT long long GatherClassification(vtkMultiProcessController
 /// GatherClassification's values only: `into` holds the points of `wanted`, x fastest,
 /// `volume`'s channels a point.
 VOLILLUMPARALLEL_EXPORT long long GatherClassificationValues(vtkMultiProcessController* controller,
-  const ClassifiedVolume& volume, const VolumePiece& piece, const int wanted[6],
-  PackedValue* into);
+  const ClassifiedVolume& volume, const VolumePiece& piece, const int wanted[6], PackedValue* into);
 
 }
 

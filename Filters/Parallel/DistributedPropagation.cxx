@@ -83,9 +83,9 @@ struct WedgeLayout
 // Collective: the classification of a wedge's rows (dataFirst[a] to dataLast[a] of each
 // slice a along the layout's axis) gathered from the blocks, a chunk of slices at a time
 // (every process takes part in each chunk's exchange). Returns the bytes this process sent.
-long long GatherWedgeMaterial(vtkMultiProcessController* controller,
-  const ClassifiedVolume& volume, const VolumePiece& piece, const WedgeLayout& layout,
-  const std::vector<int>& dataFirst, const std::vector<int>& dataLast, WedgeVolume& material)
+long long GatherWedgeMaterial(vtkMultiProcessController* controller, const ClassifiedVolume& volume,
+  const VolumePiece& piece, const WedgeLayout& layout, const std::vector<int>& dataFirst,
+  const std::vector<int>& dataLast, WedgeVolume& material)
 {
   const GridGeometry& data = piece.Whole;
   const int axis = layout.Axis, b = layout.B;
@@ -240,8 +240,8 @@ void DistributedPropagation::Propagate(const ClassifiedVolume& volume, const Vol
     this->Controller->AllReduce(
       groups.data(), wedgeGroups.data(), agreed[4], vtkCommunicator::MAX_OP);
   }
-  Context context{ volume, piece, target, own, agreed[3] != 0, illumination, statistics, nullptr,
-    0, bandSweeps.size() + wedgeGroups.size() };
+  Context context{ volume, piece, target, own, agreed[3] != 0, illumination, statistics, nullptr, 0,
+    bandSweeps.size() + wedgeGroups.size() };
   context.Progress = [&context, &progress](double f)
   { progress((context.Swept + f) / context.Total); };
   for (const int rowAxis : { 2, 1 })
@@ -273,8 +273,8 @@ void DistributedPropagation::SweepBands(
   }
   // A band for each of the first processes with a piece.
   const int n = target.Dimensions[rowAxis];
-  const BandRows bands{ n,
-    std::max(1, std::min(static_cast<int>(this->Participants.size()), n)), halo };
+  const BandRows bands{ n, std::max(1, std::min(static_cast<int>(this->Participants.size()), n)),
+    halo };
   const int b = this->Me < bands.Count ? this->Me : -1;
   SweepBand band;
   int rows[6] = { 0, -1, 0, -1, 0, -1 };   // the band's extent of the illumination grid
@@ -321,8 +321,8 @@ void DistributedPropagation::SweepBands(
     { this->ExchangeLatticeRows(band, n, bands.Count, lattices, rowValues, firstRow); };
     for (const size_t i : mine)
     {
-      PropagateSweepBand(
-        slab, target, sweeps[i], band, units, exchange, context.Statistics, &empty, context.Progress);
+      PropagateSweepBand(slab, target, sweeps[i], band, units, exchange, context.Statistics, &empty,
+        context.Progress);
       ++context.Swept;
     }
   }
@@ -424,7 +424,8 @@ void DistributedPropagation::SweepWedges(Context& context,
     std::vector<int> dataFirst, dataLast, rowFirst, rowLast;
     if (layout.Sweeping)
     {
-      wedge = SplitIntoWedges(target, sweeps[i], static_cast<int>(this->Participants.size()))[this->Me];
+      wedge =
+        SplitIntoWedges(target, sweeps[i], static_cast<int>(this->Participants.size()))[this->Me];
       WedgeOfData(data, target, sweeps[i], wedge, dataFirst, dataLast);
       WedgeRows(target, sweeps[i], wedge, rowFirst, rowLast);
     }
@@ -437,7 +438,8 @@ void DistributedPropagation::SweepWedges(Context& context,
     long long points = 0;
     for (size_t k = 0; k < rowFirst.size(); ++k)
     {
-      points += static_cast<long long>(target.Dimensions[layout.B]) * (rowLast[k] - rowFirst[k] + 1);
+      points +=
+        static_cast<long long>(target.Dimensions[layout.B]) * (rowLast[k] - rowFirst[k] + 1);
     }
     FixedPointIllumination units;
     units.Reset(points, context.Illumination.Scale);
@@ -447,8 +449,8 @@ void DistributedPropagation::SweepWedges(Context& context,
     }
     if (layout.Sweeping)
     {
-      PropagateSweepWedge(material, target, sweeps[i], wedge, units, context.Statistics, &empty,
-        context.Progress);
+      PropagateSweepWedge(
+        material, target, sweeps[i], wedge, units, context.Statistics, &empty, context.Progress);
     }
     material = WedgeVolume();
     this->SentBytes += MoveWedgeUnits(this->Controller, target, layout, rowFirst, rowLast, units,

@@ -73,8 +73,8 @@ private:
   };
   // Collective: the sweeps (of directional tasks) whose rows lie along `rowAxis`, over bands
   // of those rows.
-  void SweepBands(Context& context, int rowAxis,
-    const std::vector<std::vector<PropagationTask>>& sweeps);
+  void SweepBands(
+    Context& context, int rowAxis, const std::vector<std::vector<PropagationTask>>& sweeps);
   // Collective: after a slice, each band's lattice rows sent to the bands whose windows (their
   // rows and `band.Halo` either side) meet them, and theirs received.
   void ExchangeLatticeRows(const SweepBand& band, int rows, int count,

@@ -49,6 +49,20 @@ std::vector<int> AgreeOnTableKeys(vtkMultiProcessController* controller, int roo
   return keys;
 }
 
+// Collective: every process's window (first cells, then cell counts; zeros for none).
+std::vector<int> GatherWindows(vtkMultiProcessController* controller, const TableWindow* own)
+{
+  int window[6] = { 0, 0, 0, 0, 0, 0 };
+  if (own)
+  {
+    std::copy(own->First.begin(), own->First.end(), window);
+    std::copy(own->N.begin(), own->N.end(), window + 3);
+  }
+  std::vector<int> windows(6 * static_cast<size_t>(controller->GetNumberOfProcesses()));
+  controller->AllGather(window, windows.data(), 6);
+  return windows;
+}
+
 // The columns of one table that the processes' windows (`windows`, first cell and cell
 // counts, 6 values a process) share, along `axis` toward `sign`.
 struct SharedColumns
@@ -72,6 +86,23 @@ struct SharedColumns
       w.N[a] = std::max(0, end - first);
     }
     return w.N[this->U] > 0 && w.N[this->V] > 0;
+  }
+
+  // The processes with windows (`tableExtents` not empty) whose columns and this process's
+  // (`local`) meet, where one of them has cells beyond the other's toward the light.
+  std::vector<int> Peers(int local, const std::vector<int>& tableExtents) const
+  {
+    std::vector<int> peers;
+    TableWindow common;
+    for (int q = 0; 6 * static_cast<size_t>(q) < tableExtents.size(); ++q)
+    {
+      if (q != local && ExtentPoints(&tableExtents[6 * q]) > 0 && this->Shared(local, q, common) &&
+        (this->Upwind(q, local) || this->Upwind(local, q)))
+      {
+        peers.push_back(q);
+      }
+    }
+    return peers;
   }
 
   // Whether the window of q has cells beyond the window of p's first cell toward the light
@@ -111,10 +142,9 @@ void GrownBlock(const GridGeometry& target, const VolumePiece& piece, const int 
   const GridGeometry& data = piece.Whole;
   for (int a = 0; a < 3; ++a)
   {
-    const double u[2] = {
-      (target.Origin[a] + own[2 * a] * target.Spacing[a] - data.Origin[a]) / data.Spacing[a],
-      (target.Origin[a] + own[2 * a + 1] * target.Spacing[a] - data.Origin[a]) / data.Spacing[a]
-    };
+    const double u[2] = { (target.Origin[a] + own[2 * a] * target.Spacing[a] - data.Origin[a]) /
+        data.Spacing[a],
+      (target.Origin[a] + own[2 * a + 1] * target.Spacing[a] - data.Origin[a]) / data.Spacing[a] };
     const double spacing = std::abs(data.Spacing[a]);
     const int halo = static_cast<int>(std::ceil(reach / spacing)) + 1;
     const int more = margin > 0.0 ? static_cast<int>(std::ceil(margin / spacing)) + 1 : 0;
@@ -150,27 +180,14 @@ long long ShareCellsBeyond(vtkMultiProcessController* controller, const VolumePi
     const int axis = keys[k + 2], sign = keys[k + 3];
     // Every process's window of the table.
     const TableWindow* own = nullptr;
-    int window[6] = { 0, 0, 0, 0, 0, 0 };
     if (lit)
     {
       own = isSpherical ? &spherical[table].GetWindow() : &tables[table].GetWindow();
-      std::copy(own->First.begin(), own->First.end(), window);
-      std::copy(own->N.begin(), own->N.end(), window + 3);
     }
-    std::vector<int> windows(6 * static_cast<size_t>(processes));
-    controller->AllGather(window, windows.data(), 6);
+    const std::vector<int> windows = GatherWindows(controller, own);
     const int u = (axis + 1) % 3, v = (axis + 2) % 3;
     const SharedColumns columns{ windows, axis, sign, u, v };
-    std::vector<int> peers;
-    TableWindow common;
-    for (int q = 0; lit && q < processes; ++q)
-    {
-      if (q != local && ExtentPoints(&tableExtents[6 * q]) > 0 &&
-        columns.Shared(local, q, common) && (columns.Upwind(q, local) || columns.Upwind(local, q)))
-      {
-        peers.push_back(q);
-      }
-    }
+    const std::vector<int> peers = lit ? columns.Peers(local, tableExtents) : std::vector<int>();
     std::vector<double> total(lit ? static_cast<size_t>(channels) * own->N[u] * own->N[v] : 0, 0.0);
     std::vector<double> sums;
     WithEachPeer(local, peers,

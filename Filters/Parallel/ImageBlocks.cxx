@@ -127,6 +127,51 @@ std::string NameOfFirst(vtkMultiProcessController* controller, vtkDataArray* arr
   }
   return name;
 }
+
+// Whether this process's `array` (nullptr: none) can be lit over its `piece` (nullptr: none):
+// a value for each of its points (or cells); else the reason in error.
+bool PieceArrayUsable(vtkImageData* piece, vtkDataArray* array, bool onCells, std::string& error)
+{
+  const long long tuples = !piece ? 0
+    : onCells                     ? piece->GetNumberOfCells()
+                                  : piece->GetNumberOfPoints();
+  if (piece && !array && error.empty())
+  {
+    error = "This process's piece has no numeric array to illuminate.";
+  }
+  else if (array && array->GetNumberOfTuples() != tuples)
+  {
+    error = "This process's array to illuminate does not have a value for every point or cell "
+            "of its piece.";
+  }
+  return error.empty();
+}
+
+// The origin, spacing and direction of `shape` set on `image`.
+void TakeGeometry(vtkImageData* shape, vtkImageData* image)
+{
+  image->SetOrigin(shape->GetOrigin());
+  image->SetSpacing(shape->GetSpacing());
+  image->SetDirectionMatrix(shape->GetDirectionMatrix()->GetData());
+}
+
+// An image of the cells `wanted` (given by their first points) with the cell array `values`
+// (bytes, of the type and components of `cells`), over the geometry of `input`.
+vtkSmartPointer<vtkImageData> CellsAround(const int wanted[6], vtkImageData* input,
+  vtkDataArray* cells, const std::vector<unsigned char>& values)
+{
+  auto around = vtkSmartPointer<vtkImageData>::New();
+  around->SetExtent(wanted[0], wanted[1] + 1, wanted[2], wanted[3] + 1, wanted[4], wanted[5] + 1);
+  around->SetOrigin(input->GetOrigin());
+  around->SetSpacing(input->GetSpacing());
+  auto gathered = vtk::TakeSmartPointer(cells->NewInstance());
+  gathered->SetName(cells->GetName());
+  gathered->SetNumberOfComponents(cells->GetNumberOfComponents());
+  gathered->SetNumberOfTuples(ExtentPoints(wanted));
+  std::memcpy(gathered->GetVoidPointer(0), values.data(), values.size());
+  around->GetCellData()->AddArray(gathered);
+  return around;
+}
 }
 
 //------------------------------------------------------------------------------
@@ -268,17 +313,9 @@ vtkImageData* BlockPointScalars::Update(vtkMultiProcessController* controller, c
   }
   // The cells around the block as an image of their own, converted as a serial run converts
   // the whole image's; its points of the block are the block's.
-  vtkNew<vtkImageData> around;
-  around->SetExtent(wanted[0], wanted[1] + 1, wanted[2], wanted[3] + 1, wanted[4], wanted[5] + 1);
-  around->SetOrigin(input->GetOrigin());
-  around->SetSpacing(input->GetSpacing());
-  auto gathered = vtk::TakeSmartPointer(cells->NewInstance());
-  gathered->SetName(cells->GetName());
-  gathered->SetNumberOfComponents(cells->GetNumberOfComponents());
-  gathered->SetNumberOfTuples(count);
-  std::memcpy(gathered->GetVoidPointer(0), values.data(), values.size());
-  around->GetCellData()->AddArray(gathered);
-  const vtkSmartPointer<vtkDataArray> converted = convert(around, gathered, component, error);
+  vtkSmartPointer<vtkImageData> around = CellsAround(wanted, input, cells, values);
+  const vtkSmartPointer<vtkDataArray> converted =
+    convert(around, around->GetCellData()->GetArray(0), component, error);
   if (!converted)
   {
     return nullptr;
@@ -324,29 +361,14 @@ vtkImageData* BlockOfPieces::Update(vtkMultiProcessController* controller, vtkIm
   {
     if (block)
     {
-      // (each a change only if it changed)
-      this->Block->SetOrigin(shape->GetOrigin());
-      this->Block->SetSpacing(shape->GetSpacing());
-      this->Block->SetDirectionMatrix(shape->GetDirectionMatrix()->GetData());
+      TakeGeometry(shape, this->Block); // (each a change only if it changed)
     }
     return block ? this->Block.Get() : nullptr;
   }
   this->Block = nullptr;
   this->Fingerprint = 0;
   std::copy_n(none, 6, this->Extent);
-  const long long tuples = !piece ? 0
-    : onCells                     ? piece->GetNumberOfCells()
-                                  : piece->GetNumberOfPoints();
-  if (piece && !array && error.empty())
-  {
-    error = "This process's piece has no numeric array to illuminate.";
-  }
-  else if (array && array->GetNumberOfTuples() != tuples)
-  {
-    error = "This process's array to illuminate does not have a value for every point or cell "
-            "of its piece.";
-  }
-  if (!AllOk(controller, error.empty()))
+  if (!AllOk(controller, PieceArrayUsable(piece, array, onCells, error)))
   {
     return nullptr;
   }
@@ -392,9 +414,7 @@ vtkImageData* BlockOfPieces::Update(vtkMultiProcessController* controller, vtkIm
   {
     this->Block = vtkSmartPointer<vtkImageData>::New();
     this->Block->SetExtent(const_cast<int*>(block));
-    this->Block->SetOrigin(shape->GetOrigin());
-    this->Block->SetSpacing(shape->GetSpacing());
-    this->Block->SetDirectionMatrix(shape->GetDirectionMatrix()->GetData());
+    TakeGeometry(shape, this->Block);
     this->Block->GetAttributes(form[2] == 1 ? vtkDataObject::CELL : vtkDataObject::POINT)
       ->SetScalars(values);
   }

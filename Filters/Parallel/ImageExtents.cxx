@@ -229,12 +229,15 @@ long long ExchangeExtents(vtkMultiProcessController* controller, const int held[
   return sent;
 }
 
-template VOLILLUMPARALLEL_EXPORT long long ExchangeExtents<unsigned char>(vtkMultiProcessController*,
-  const int*, const int*, const unsigned char*, const int*, unsigned char*, int, bool);
-template VOLILLUMPARALLEL_EXPORT long long ExchangeExtents<std::uint16_t>(vtkMultiProcessController*,
-  const int*, const int*, const std::uint16_t*, const int*, std::uint16_t*, int, bool);
-template VOLILLUMPARALLEL_EXPORT long long ExchangeExtents<std::uint32_t>(vtkMultiProcessController*,
-  const int*, const int*, const std::uint32_t*, const int*, std::uint32_t*, int, bool);
+template VOLILLUMPARALLEL_EXPORT long long ExchangeExtents<unsigned char>(
+  vtkMultiProcessController*, const int*, const int*, const unsigned char*, const int*,
+  unsigned char*, int, bool);
+template VOLILLUMPARALLEL_EXPORT long long ExchangeExtents<std::uint16_t>(
+  vtkMultiProcessController*, const int*, const int*, const std::uint16_t*, const int*,
+  std::uint16_t*, int, bool);
+template VOLILLUMPARALLEL_EXPORT long long ExchangeExtents<std::uint32_t>(
+  vtkMultiProcessController*, const int*, const int*, const std::uint32_t*, const int*,
+  std::uint32_t*, int, bool);
 
 //------------------------------------------------------------------------------
 bool AgreeOnGeometry(

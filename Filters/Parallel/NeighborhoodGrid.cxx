@@ -386,32 +386,19 @@ bool NeighborhoodGrid::Changed(
   return any != 0;
 }
 
-//------------------------------------------------------------------------------
-vtkUnstructuredGrid* NeighborhoodGrid::Build(
-  vtkMultiProcessController* controller, vtkUnstructuredGrid* piece, double depth)
+namespace
 {
-  this->Controller = controller;
+// Collective: the processes whose pieces' cells lie within reach of this piece's (`mask`:
+// where its cells lie; `has`: whether it has points), in increasing order, with their masks.
+// Candidates are the processes whose marked bins' box comes within reach of this piece's (one
+// box of 6 bin indices a process travels to all). Only candidates exchange masks, and peers
+// are the candidates with cells in bins within reach of this piece's: the same relation seen
+// from both, so no process waits for a peer that does not count it as one.
+std::vector<int> FindPeers(vtkMultiProcessController* controller, const BinMask& mask, double depth,
+  bool has, std::vector<std::vector<unsigned char>>& peerMasks)
+{
   const int local = controller->GetLocalProcessId();
   const int processes = controller->GetNumberOfProcesses();
-  const bool has = piece && piece->GetNumberOfPoints() > 0;
-  vtkNew<vtkUnstructuredGrid> empty;
-  this->Fingerprint = volillum::Fingerprint(piece ? piece : empty.Get());
-  // Bins over the bounds of all pieces: where this piece's cells lie (a point in no cell
-  // needs none: its light comes from level 0).
-  double whole[6];
-  UnionOfBounds(controller, has ? piece : nullptr, whole);
-  BinMask mask(whole, depth);
-  for (vtkIdType c = 0; has && c < piece->GetNumberOfCells(); ++c)
-  {
-    double bounds[6];
-    piece->GetCellBounds(c, bounds);
-    mask.Mark(bounds);
-  }
-  // Candidates: the processes whose marked bins' box comes within reach of this piece's
-  // (one box of 6 bin indices a process travels to all). Only candidates exchange masks,
-  // and peers are the candidates with cells in bins within reach of this piece's: the
-  // same relation seen from both, so no process waits for a peer that does not count it
-  // as one.
   const std::array<int, 3> reach = mask.Reach(depth);
   const std::array<int, 6> box = mask.MarkedBox();
   std::vector<int> boxes(6 * static_cast<size_t>(processes));
@@ -447,219 +434,348 @@ vtkUnstructuredGrid* NeighborhoodGrid::Build(
       }
     });
   const std::vector<unsigned char> grown = mask.Grown(reach);
-  this->Peers.clear();
-  std::vector<const unsigned char*> peerMasks;
+  std::vector<int> peers;
+  peerMasks.clear();
   for (size_t k = 0; k < candidates.size(); ++k)
   {
     if (BinMask::Share(grown, masks.data() + bytes * k))
     {
-      this->Peers.push_back(candidates[k]);
-      peerMasks.push_back(masks.data() + bytes * k);
+      peers.push_back(candidates[k]);
+      peerMasks.emplace_back(masks.begin() + bytes * k, masks.begin() + bytes * (k + 1));
     }
   }
+  return peers;
+}
 
-  // The cells of each peer near this piece.
-  std::vector<vtkSmartPointer<vtkUnstructuredGrid>> received(this->Peers.size());
-  WithEachPeer(local, this->Peers,
+// Collective: the cells of each peer near this piece (each peer's mask in `peerMasks`).
+std::vector<vtkSmartPointer<vtkUnstructuredGrid>> ExchangeCellsNear(
+  vtkMultiProcessController* controller, vtkUnstructuredGrid* piece, const BinMask& mask,
+  const std::vector<int>& peers, const std::vector<std::vector<unsigned char>>& peerMasks,
+  double depth)
+{
+  std::vector<vtkSmartPointer<vtkUnstructuredGrid>> received(peers.size());
+  WithEachPeer(controller->GetLocalProcessId(), peers,
     [&](size_t k, bool send)
     {
-      const int q = this->Peers[k];
       if (send)
       {
-        controller->Send(CellsNear(piece, mask, peerMasks[k], depth), q, CellsTag);
+        controller->Send(CellsNear(piece, mask, peerMasks[k].data(), depth), peers[k], CellsTag);
       }
       else
       {
         received[k] = vtkSmartPointer<vtkUnstructuredGrid>::New();
-        controller->Receive(received[k], q, CellsTag);
+        controller->Receive(received[k], peers[k], CellsTag);
       }
     });
+  return received;
+}
 
-  // The piece, then the others' cells; a point of a later grid at the place (or with the
-  // global id) of an earlier one is that point.
-  this->Grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
-  this->PiecePoints = has ? piece->GetNumberOfPoints() : 0;
-  this->PieceCells = has ? piece->GetNumberOfCells() : 0;
-  this->Owned.clear();
-  vtkUnstructuredGrid* grid = this->Grid;
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToDouble();
-  grid->SetPoints(points);
-  if (!has)
+// Joins a piece and the cells its peers sent into one grid: a point of a later grid at the
+// place (or with the global id) of an earlier one is that point, and a cell that two pieces
+// hold (D3's "Duplicate cells" boundary mode gives the cells across a boundary to both
+// pieces, unmarked) counts once, as the lowest process's: a cell is known by its type and its
+// points' keys in order.
+class GridJoiner
+{
+public:
+  GridJoiner(vtkUnstructuredGrid* grid, vtkUnstructuredGrid* piece,
+    const std::vector<vtkSmartPointer<vtkUnstructuredGrid>>& received,
+    const std::vector<int>& peers, int local, int processes,
+    std::vector<std::vector<vtkIdType>>& reads)
+    : ById(piece->GetPointData()->GetGlobalIds() != nullptr)
+    , Grid(grid)
+    , Piece(piece)
+    , Local(local)
+    , Processes(processes)
+    , Reads(reads)
   {
-    grid->AllocateEstimate(0, 4);
-    return this->Grid;
+    // The arrays by name: a grid that travelled may hold them in another order (the global
+    // ids first), and copying by index would mix them (the lit array taking the ids'
+    // values). Grids without points may have lost their arrays on the way: they add nothing.
+    this->PointFields.IntersectFieldList(piece->GetPointData());
+    this->CellFields.IntersectFieldList(piece->GetCellData());
+    for (const auto& from : received)
+    {
+      if (from->GetNumberOfPoints() > 0)
+      {
+        this->PointFields.IntersectFieldList(from->GetPointData());
+        this->CellFields.IntersectFieldList(from->GetCellData());
+      }
+    }
+    grid->GetPointData()->CopyGlobalIdsOn();
+    grid->GetPointData()->CopyAllocate(this->PointFields);
+    grid->GetCellData()->CopyAllocate(this->CellFields);
+    this->IndexPeerCells(received, peers);
+    this->MarkSharedPoints(received);
   }
-  // The arrays by name: a grid that travelled may hold them in another order (the global ids
-  // first), and copying by index would mix them (the lit array taking the ids' values).
-  // Grids without points may have lost their arrays on the way: they add nothing.
-  vtkDataSetAttributes::FieldList pointFields, cellFields;
-  pointFields.IntersectFieldList(piece->GetPointData());
-  cellFields.IntersectFieldList(piece->GetCellData());
-  for (const auto& from : received)
-  {
-    if (from->GetNumberOfPoints() > 0)
-    {
-      pointFields.IntersectFieldList(from->GetPointData());
-      cellFields.IntersectFieldList(from->GetCellData());
-    }
-  }
-  grid->GetPointData()->CopyGlobalIdsOn();
-  grid->GetPointData()->CopyAllocate(pointFields);
-  grid->GetCellData()->CopyAllocate(cellFields);
-  const bool byId = piece->GetPointData()->GetGlobalIds() != nullptr;
-  std::map<std::array<double, 3>, vtkIdType> known;
-  std::vector<int> owner;
-  this->Reads.assign(this->Peers.size(), {});
-  vtkNew<vtkIdList> cell;
-  // A cell that two pieces hold (D3's "Duplicate cells" boundary mode gives the cells across a
-  // boundary to both pieces, unmarked) counts once, as the lowest process's: a cell is known
-  // by its type and its points' keys in order. Per cell that came from a peer: the lowest
-  // process that holds it, and whether the grid has it yet.
-  vtkNew<vtkIdList> keyed;
-  const auto cellKey = [&](vtkUnstructuredGrid* from, vtkIdType c)
-  {
-    from->GetCellPoints(c, keyed);
-    std::vector<std::array<double, 3>> keys(static_cast<size_t>(keyed->GetNumberOfIds()));
-    for (size_t k = 0; k < keys.size(); ++k)
-    {
-      keys[k] = PointKey(from, keyed->GetId(static_cast<vtkIdType>(k)), byId);
-    }
-    std::sort(keys.begin(), keys.end());
-    std::vector<double> key(1, static_cast<double>(from->GetCellType(c)));
-    for (const auto& k : keys)
-    {
-      key.insert(key.end(), k.begin(), k.end());
-    }
-    return key;
-  };
+
+  // Appends `from`: the piece (peer -1) or the cells of peer `peer` (process `process`).
+  void Append(vtkUnstructuredGrid* from, int process, int peer);
+
+  bool ById;
+  std::map<std::array<double, 3>, vtkIdType> Known; // the point at each key
+  std::vector<int> Owner; // per point: the lowest process whose cells hold it (Processes: none)
+
+private:
+  // A cell's key: its type and its points' keys in order.
+  std::vector<double> CellKey(vtkUnstructuredGrid* from, vtkIdType c);
+  // Per cell that came from a peer: the lowest process that holds it.
+  void IndexPeerCells(const std::vector<vtkSmartPointer<vtkUnstructuredGrid>>& received,
+    const std::vector<int>& peers);
+  // Which points of the piece are among the peers' (only a piece cell whose points all are
+  // can be one of theirs).
+  void MarkSharedPoints(const std::vector<vtkSmartPointer<vtkUnstructuredGrid>>& received);
+  bool MayBeShared(vtkIdType c);
+  // The ids in the grid of the points of `from`, each added where no earlier one has its key.
+  std::vector<vtkIdType> AppendPoints(vtkUnstructuredGrid* from, int process, int peer);
+  // Whether cell c of `from` is left out: a peer's cell already here, or a piece cell that a
+  // lower process holds too.
+  bool SkipCell(vtkUnstructuredGrid* from, vtkIdType c, int peer);
+
   struct Holding
   {
     int Lowest;   // process
     bool Present; // in the grid
   };
   using Held = std::map<std::vector<double>, Holding>;
-  Held held;
-  std::vector<std::vector<Held::iterator>> heldOf(this->Peers.size()); // per peer and cell
-  for (size_t k = 0; k < this->Peers.size(); ++k)
+
+  vtkUnstructuredGrid* Grid;
+  vtkUnstructuredGrid* Piece;
+  int Local;
+  int Processes;
+  std::vector<std::vector<vtkIdType>>& Reads;
+  vtkDataSetAttributes::FieldList PointFields, CellFields;
+  Held HeldCells;
+  std::vector<std::vector<Held::iterator>> HeldOf; // per peer and cell
+  std::vector<char> Shared;
+  int Input = 0; // the index of the grid appended next in the field lists
+  vtkNew<vtkIdList> Keyed, Cell;
+};
+
+//------------------------------------------------------------------------------
+std::vector<double> GridJoiner::CellKey(vtkUnstructuredGrid* from, vtkIdType c)
+{
+  from->GetCellPoints(c, this->Keyed);
+  std::vector<std::array<double, 3>> keys(static_cast<size_t>(this->Keyed->GetNumberOfIds()));
+  for (size_t k = 0; k < keys.size(); ++k)
   {
-    heldOf[k].reserve(static_cast<size_t>(received[k]->GetNumberOfCells()));
+    keys[k] = PointKey(from, this->Keyed->GetId(static_cast<vtkIdType>(k)), this->ById);
+  }
+  std::sort(keys.begin(), keys.end());
+  std::vector<double> key(1, static_cast<double>(from->GetCellType(c)));
+  for (const auto& k : keys)
+  {
+    key.insert(key.end(), k.begin(), k.end());
+  }
+  return key;
+}
+
+//------------------------------------------------------------------------------
+void GridJoiner::IndexPeerCells(
+  const std::vector<vtkSmartPointer<vtkUnstructuredGrid>>& received, const std::vector<int>& peers)
+{
+  this->HeldOf.resize(peers.size());
+  for (size_t k = 0; k < peers.size(); ++k)
+  {
+    this->HeldOf[k].reserve(static_cast<size_t>(received[k]->GetNumberOfCells()));
     for (vtkIdType c = 0; c < received[k]->GetNumberOfCells(); ++c)
     {
-      const auto entry = held.emplace(cellKey(received[k], c), Holding{ this->Peers[k], false });
-      entry.first->second.Lowest = std::min(entry.first->second.Lowest, this->Peers[k]);
-      heldOf[k].push_back(entry.first);
+      const auto entry =
+        this->HeldCells.emplace(this->CellKey(received[k], c), Holding{ peers[k], false });
+      entry.first->second.Lowest = std::min(entry.first->second.Lowest, peers[k]);
+      this->HeldOf[k].push_back(entry.first);
     }
   }
-  // Only a piece cell whose points are all among the peers' can be one of theirs.
-  std::vector<char> shared(static_cast<size_t>(piece->GetNumberOfPoints()), 0);
-  if (!held.empty())
+}
+
+//------------------------------------------------------------------------------
+void GridJoiner::MarkSharedPoints(const std::vector<vtkSmartPointer<vtkUnstructuredGrid>>& received)
+{
+  this->Shared.assign(static_cast<size_t>(this->Piece->GetNumberOfPoints()), 0);
+  if (this->HeldCells.empty())
   {
-    std::set<std::array<double, 3>> peerPoints;
-    for (const auto& from : received)
-    {
-      for (vtkIdType i = 0; i < from->GetNumberOfPoints(); ++i)
-      {
-        peerPoints.insert(PointKey(from, i, byId));
-      }
-    }
-    for (vtkIdType i = 0; i < piece->GetNumberOfPoints(); ++i)
-    {
-      shared[i] = peerPoints.count(PointKey(piece, i, byId)) != 0;
-    }
+    return;
   }
-  const auto mayBeShared = [&](vtkIdType c)
+  std::set<std::array<double, 3>> peerPoints;
+  for (const auto& from : received)
   {
-    piece->GetCellPoints(c, keyed);
-    for (vtkIdType k = 0; k < keyed->GetNumberOfIds(); ++k)
-    {
-      if (!shared[keyed->GetId(k)])
-      {
-        return false;
-      }
-    }
-    return true;
-  };
-  // `from`: the piece (peer -1) or the cells of peer k; `input`: its index in the field lists.
-  int input = 0;
-  const auto append = [&](vtkUnstructuredGrid* from, int process, int peer)
-  {
-    if (from->GetNumberOfPoints() == 0)
-    {
-      return;
-    }
-    std::vector<vtkIdType> ids(static_cast<size_t>(from->GetNumberOfPoints()));
-    std::vector<std::pair<std::array<double, 3>, vtkIdType>> added;
     for (vtkIdType i = 0; i < from->GetNumberOfPoints(); ++i)
     {
-      const auto key = PointKey(from, i, byId);
-      const auto found = process == local ? known.end() : known.find(key);
-      if (found != known.end())
-      {
-        ids[i] = found->second;
-        continue;
-      }
-      ids[i] = points->InsertNextPoint(from->GetPoint(i));
-      grid->GetPointData()->CopyData(pointFields, from->GetPointData(), input, i, ids[i]);
-      added.emplace_back(key, ids[i]);
-      if (peer >= 0)
-      {
-        this->Reads[peer].push_back(ids[i]); // a point of that peer's piece
-      }
+      peerPoints.insert(PointKey(from, i, this->ById));
     }
-    known.insert(added.begin(), added.end()); // the first point at a place is kept
-    owner.resize(static_cast<size_t>(points->GetNumberOfPoints()), processes);
-    for (vtkIdType c = 0; c < from->GetNumberOfCells(); ++c)
+  }
+  for (vtkIdType i = 0; i < this->Piece->GetNumberOfPoints(); ++i)
+  {
+    this->Shared[i] = peerPoints.count(PointKey(this->Piece, i, this->ById)) != 0;
+  }
+}
+
+//------------------------------------------------------------------------------
+bool GridJoiner::MayBeShared(vtkIdType c)
+{
+  this->Piece->GetCellPoints(c, this->Keyed);
+  for (vtkIdType k = 0; k < this->Keyed->GetNumberOfIds(); ++k)
+  {
+    if (!this->Shared[this->Keyed->GetId(k)])
     {
-      if (peer >= 0)
-      {
-        Holding& holding = heldOf[peer][c]->second;
-        if (holding.Present)
-        {
-          continue; // already here
-        }
-        holding.Present = true;
-      }
-      else if (!held.empty() && mayBeShared(c))
-      {
-        const auto found = held.find(cellKey(piece, c));
-        if (found != held.end() && found->second.Lowest < local)
-        {
-          continue; // a lower process's cell
-        }
-        if (found != held.end())
-        {
-          found->second.Present = true;
-        }
-      }
-      from->GetCellPoints(c, cell);
-      for (vtkIdType k = 0; k < cell->GetNumberOfIds(); ++k)
-      {
-        cell->SetId(k, ids[cell->GetId(k)]);
-        owner[cell->GetId(k)] = std::min(owner[cell->GetId(k)], process);
-      }
-      const vtkIdType id = grid->InsertNextCell(from->GetCellType(c), cell);
-      grid->GetCellData()->CopyData(cellFields, from->GetCellData(), input, c, id);
+      return false;
     }
-    ++input;
-  };
-  append(piece, local, -1);
-  this->PieceCells = grid->GetNumberOfCells();
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+std::vector<vtkIdType> GridJoiner::AppendPoints(vtkUnstructuredGrid* from, int process, int peer)
+{
+  vtkPoints* points = this->Grid->GetPoints();
+  std::vector<vtkIdType> ids(static_cast<size_t>(from->GetNumberOfPoints()));
+  std::vector<std::pair<std::array<double, 3>, vtkIdType>> added;
+  for (vtkIdType i = 0; i < from->GetNumberOfPoints(); ++i)
+  {
+    const auto key = PointKey(from, i, this->ById);
+    const auto found = process == this->Local ? this->Known.end() : this->Known.find(key);
+    if (found != this->Known.end())
+    {
+      ids[i] = found->second;
+      continue;
+    }
+    ids[i] = points->InsertNextPoint(from->GetPoint(i));
+    this->Grid->GetPointData()->CopyData(
+      this->PointFields, from->GetPointData(), this->Input, i, ids[i]);
+    added.emplace_back(key, ids[i]);
+    if (peer >= 0)
+    {
+      this->Reads[peer].push_back(ids[i]); // a point of that peer's piece
+    }
+  }
+  this->Known.insert(added.begin(), added.end()); // the first point at a place is kept
+  this->Owner.resize(static_cast<size_t>(points->GetNumberOfPoints()), this->Processes);
+  return ids;
+}
+
+//------------------------------------------------------------------------------
+bool GridJoiner::SkipCell(vtkUnstructuredGrid* from, vtkIdType c, int peer)
+{
+  if (peer >= 0)
+  {
+    Holding& holding = this->HeldOf[peer][c]->second;
+    if (holding.Present)
+    {
+      return true; // already here
+    }
+    holding.Present = true;
+  }
+  else if (!this->HeldCells.empty() && this->MayBeShared(c))
+  {
+    const auto found = this->HeldCells.find(this->CellKey(from, c));
+    if (found != this->HeldCells.end() && found->second.Lowest < this->Local)
+    {
+      return true; // a lower process's cell
+    }
+    if (found != this->HeldCells.end())
+    {
+      found->second.Present = true;
+    }
+  }
+  return false;
+}
+
+//------------------------------------------------------------------------------
+void GridJoiner::Append(vtkUnstructuredGrid* from, int process, int peer)
+{
+  if (from->GetNumberOfPoints() == 0)
+  {
+    return;
+  }
+  const std::vector<vtkIdType> ids = this->AppendPoints(from, process, peer);
+  for (vtkIdType c = 0; c < from->GetNumberOfCells(); ++c)
+  {
+    if (this->SkipCell(from, c, peer))
+    {
+      continue;
+    }
+    from->GetCellPoints(c, this->Cell);
+    for (vtkIdType k = 0; k < this->Cell->GetNumberOfIds(); ++k)
+    {
+      this->Cell->SetId(k, ids[this->Cell->GetId(k)]);
+      this->Owner[this->Cell->GetId(k)] = std::min(this->Owner[this->Cell->GetId(k)], process);
+    }
+    const vtkIdType id = this->Grid->InsertNextCell(from->GetCellType(c), this->Cell);
+    this->Grid->GetCellData()->CopyData(this->CellFields, from->GetCellData(), this->Input, c, id);
+  }
+  ++this->Input;
+}
+}
+
+//------------------------------------------------------------------------------
+vtkUnstructuredGrid* NeighborhoodGrid::Build(
+  vtkMultiProcessController* controller, vtkUnstructuredGrid* piece, double depth)
+{
+  this->Controller = controller;
+  const int local = controller->GetLocalProcessId();
+  const int processes = controller->GetNumberOfProcesses();
+  const bool has = piece && piece->GetNumberOfPoints() > 0;
+  vtkNew<vtkUnstructuredGrid> empty;
+  this->Fingerprint = volillum::Fingerprint(piece ? piece : empty.Get());
+  // Bins over the bounds of all pieces: where this piece's cells lie (a point in no cell
+  // needs none: its light comes from level 0).
+  double whole[6];
+  UnionOfBounds(controller, has ? piece : nullptr, whole);
+  BinMask mask(whole, depth);
+  for (vtkIdType c = 0; has && c < piece->GetNumberOfCells(); ++c)
+  {
+    double bounds[6];
+    piece->GetCellBounds(c, bounds);
+    mask.Mark(bounds);
+  }
+  std::vector<std::vector<unsigned char>> peerMasks;
+  this->Peers = FindPeers(controller, mask, depth, has, peerMasks);
+  std::vector<vtkSmartPointer<vtkUnstructuredGrid>> received =
+    ExchangeCellsNear(controller, piece, mask, this->Peers, peerMasks, depth);
+
+  // The piece, then the others' cells.
+  this->Grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  this->PiecePoints = has ? piece->GetNumberOfPoints() : 0;
+  this->PieceCells = has ? piece->GetNumberOfCells() : 0;
+  this->Owned.clear();
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  this->Grid->SetPoints(points);
+  if (!has)
+  {
+    this->Grid->AllocateEstimate(0, 4);
+    return this->Grid;
+  }
+  this->Reads.assign(this->Peers.size(), {});
+  GridJoiner joiner(this->Grid, piece, received, this->Peers, local, processes, this->Reads);
+  joiner.Append(piece, local, -1);
+  this->PieceCells = this->Grid->GetNumberOfCells();
   // Points of the piece in none of its cells (those of its ghost cells, as D3 leaves them):
   // where another piece's cells hold them, they are that piece's points.
-  const std::vector<int> inPieceCells(owner.begin(), owner.begin() + this->PiecePoints);
+  const std::vector<int> inPieceCells(
+    joiner.Owner.begin(), joiner.Owner.begin() + this->PiecePoints);
   for (size_t k = 0; k < this->Peers.size(); ++k)
   {
-    append(received[k], this->Peers[k], static_cast<int>(k));
+    joiner.Append(received[k], this->Peers[k], static_cast<int>(k));
   }
   received.clear();
-  grid->Squeeze();
+  this->Grid->Squeeze();
+  this->AssignComputed(joiner.Owner, inPieceCells);
+  this->AgreeOnSends(joiner.Known, joiner.ById);
+  return this->Grid;
+}
 
+//------------------------------------------------------------------------------
+void NeighborhoodGrid::AssignComputed(
+  const std::vector<int>& owner, const std::vector<int>& inPieceCells)
+{
   // Computed here: the points of the piece's cells, and those in no cell (lit as serially);
   // the piece's other points are read from the lowest process whose cells hold them (it
   // computes them: all the cells around a point of a piece are here, so that process is
   // known). Owned: computed here, and not of a lower process's piece.
-  const vtkIdType np = grid->GetNumberOfPoints();
+  const int local = this->Controller->GetLocalProcessId();
+  const int processes = this->Controller->GetNumberOfProcesses();
+  const vtkIdType np = this->Grid->GetNumberOfPoints();
   this->Owned.assign(static_cast<size_t>(np), 0);
   this->Computed.assign(static_cast<size_t>(np), 0);
   for (vtkIdType p = 0; p < this->PiecePoints; ++p)
@@ -673,9 +789,16 @@ vtkUnstructuredGrid* NeighborhoodGrid::Build(
       this->Reads[k].push_back(p);
     }
   }
-  this->Sends.assign(this->Peers.size(), {});
+}
+
+//------------------------------------------------------------------------------
+void NeighborhoodGrid::AgreeOnSends(
+  const std::map<std::array<double, 3>, vtkIdType>& known, bool byId)
+{
   // Tell each peer which points of its piece are read here (by key), in the order of Reads.
-  WithEachPeer(local, this->Peers,
+  vtkMultiProcessController* controller = this->Controller;
+  this->Sends.assign(this->Peers.size(), {});
+  WithEachPeer(controller->GetLocalProcessId(), this->Peers,
     [&](size_t k, bool send)
     {
       const int q = this->Peers[k];
@@ -685,7 +808,7 @@ vtkUnstructuredGrid* NeighborhoodGrid::Build(
         keys.reserve(3 * this->Reads[k].size());
         for (vtkIdType p : this->Reads[k])
         {
-          const auto key = PointKey(grid, p, byId);
+          const auto key = PointKey(this->Grid, p, byId);
           keys.insert(keys.end(), key.begin(), key.end());
         }
         const vtkIdType count = static_cast<vtkIdType>(this->Reads[k].size());
@@ -706,7 +829,6 @@ vtkUnstructuredGrid* NeighborhoodGrid::Build(
         sends[i] = found == known.end() ? -1 : found->second;
       }
     });
-  return this->Grid;
 }
 
 //------------------------------------------------------------------------------

@@ -11,7 +11,9 @@
 #include "vtkSmartPointer.h"
 #include "vtkType.h"
 
+#include <array>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -107,6 +109,12 @@ public:
 private:
   template <typename T>
   void ExchangeValues(T* values, int components) const;
+  // Build's last steps: which points of the grid this process computes and owns (`owner`:
+  // per point, the lowest process whose cells hold it, the number of processes for none;
+  // `inPieceCells`: the same for the piece's cells alone), and the points of its piece each
+  // peer reads (Sends; by key, global id or coordinates, `known` giving the point of a key).
+  void AssignComputed(const std::vector<int>& owner, const std::vector<int>& inPieceCells);
+  void AgreeOnSends(const std::map<std::array<double, 3>, vtkIdType>& known, bool byId);
 
   vtkMultiProcessController* Controller = nullptr;
   vtkSmartPointer<vtkUnstructuredGrid> Grid;

@@ -76,7 +76,6 @@ std::uint64_t HashArray(vtkAbstractArray* array, std::uint64_t hash)
   return HashBytes(array->GetVoidPointer(0), values * array->GetDataTypeSize(), hash);
 }
 
-
 //------------------------------------------------------------------------------
 std::uint64_t Fingerprint(vtkDataSet* travelling)
 {
