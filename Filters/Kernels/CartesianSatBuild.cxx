@@ -210,33 +210,10 @@ void ColumnRun(const CellCentres& centres, const PieceTest& test, int axis, long
     },
     first, last);
 }
-}
 
-void CartesianSAT::Build(const ClassifiedVolume& data, const SatFrame& frame, double cellSize,
-  int channels, const EmptyBlocks* empty, const VolumePiece* piece, double margin)
+// The cells of the grid g whose centres a table samples: the piece's, or all the grid's.
+VolumePiece SampledCells(const GridGeometry& g, const VolumePiece* piece)
 {
-  this->Frame = frame;
-  this->H = cellSize;
-  // The grid whose bounds the table covers and in which samples find their cells.
-  const GridGeometry& g = piece ? piece->Whole : data.Geometry;
-  this->Cells = Layout(g, frame, cellSize, piece, this->WholeOrigin, margin);
-  const std::array<int, 3>& n = this->Cells.N;
-  const std::array<int, 3>& firstCell = this->Cells.First;
-  for (int a = 0; a < 3; ++a)
-  {
-    this->Origin[a] = this->WholeOrigin[a] + firstCell[a] * cellSize;
-  }
-  for (auto& beyond : this->Beyond)
-  {
-    beyond = RunningIntegralTable();
-  }
-  this->Table.Allocate(n, channels);
-
-  // Cell integrals: extinction at the cell centre (zero outside the data) times volume. The
-  // centres of a row along the frame's first axis share the other axes' terms of their world
-  // positions, and their cell along each data axis the row does not move along.
-  const CellCentres centres(g, frame, this->WholeOrigin, cellSize);
-  // The cells whose centres are sampled: the piece's, or all the grid's.
   VolumePiece taken;
   if (piece)
   {
@@ -250,12 +227,156 @@ void CartesianSAT::Build(const ClassifiedVolume& data, const SatFrame& frame, do
       taken.LastCell[a] = std::max(0, g.Dimensions[a] - 2);
     }
   }
+  return taken;
+}
+
+// A Cartesian table's cell integrals (CartesianSAT::Build): extinction at the cell centre
+// (zero outside the data) times volume. The centres of a row along the frame's first axis
+// share the other axes' terms of their world positions, and their cell along each data axis
+// the row does not move along.
+struct CellIntegrals
+{
+  CellIntegrals(const ClassifiedVolume& data, const CellCentres& centres, const PieceTest& taking,
+    const VolumePiece* piece, const EmptyBlocks* empty, const TableWindow& cells, int channels,
+    double cellSize, RunningIntegralTable& table)
+    : Data(data)
+    , Centres(centres)
+    , Taking(taking)
+    , Piece(piece)
+    , Empty(empty)
+    , Cells(cells)
+    , Channels(channels)
+    , Volume(cellSize * cellSize * cellSize)
+    , Chromatic(channels == 3 && data.IsChromatic())
+    , Layout(data.Geometry, data.Channels)
+    , Table(table)
+  {
+  }
+
+  // The cells of row (j, k) of the table's window.
+  void Row(long long j, long long k) const
+  {
+    const SatFrame& frame = this->Centres.Frame;
+    const std::array<int, 3>& firstCell = this->Cells.First;
+    const double qy = this->Centres.Coordinate(1, firstCell[1] + j);
+    const double qz = this->Centres.Coordinate(2, firstCell[2] + k);
+    const double ty[3] = { qy * frame.Axes[1][0], qy * frame.Axes[1][1], qy * frame.Axes[1][2] };
+    const double tz[3] = { qz * frame.Axes[2][0], qz * frame.Axes[2][1], qz * frame.Axes[2][2] };
+    const double rowX = this->Centres.Coordinate(0, firstCell[0]);
+    long long begin, end;
+    this->SampledRun(j, k, begin, end);
+    TrilinearCell cell;
+    bool rowInside = true;
+    for (int a = 0; a < 3; ++a)
+    {
+      if (frame.Axes[0][a] == 0.0)
+      {
+        rowInside =
+          this->Centres.Locate(a, this->Centres.Position(a, rowX, ty, tz), cell) && rowInside;
+      }
+    }
+    for (long long i = begin; i < end; ++i)
+    {
+      bool inside = rowInside;
+      for (int a = 0; a < 3; ++a)
+      {
+        if (frame.Axes[0][a] != 0.0)
+        {
+          const double tx = this->Centres.Coordinate(0, firstCell[0] + i);
+          inside = this->Centres.Locate(a, this->Centres.Position(a, tx, ty, tz), cell) && inside;
+        }
+      }
+      this->SetCell(i, j, k, cell, inside);
+    }
+  }
+
+  // Only the centres the piece takes are sampled, a run [begin, end) along row (j, k); the
+  // others' cells are set to 0.
+  void SampledRun(long long j, long long k, long long& begin, long long& end) const
+  {
+    const std::array<int, 3>& n = this->Cells.N;
+    const std::array<int, 3>& firstCell = this->Cells.First;
+    long long row[3] = { 0, firstCell[1] + j, firstCell[2] + k };
+    int first, last;
+    ColumnRun(this->Centres, this->Taking, 0, row, this->Cells.Whole[0], first, last);
+    begin = std::min<long long>(n[0], std::max(0, first - firstCell[0]));
+    end = std::max(begin, std::min<long long>(n[0], last + 1LL - firstCell[0]));
+    for (long long i = 0; i < n[0]; ++i)
+    {
+      for (int c = 0; c < this->Channels && (i < begin || i >= end); ++c)
+      {
+        this->Table.SetCell(c, i, j, k, 0.0);
+      }
+    }
+  }
+
+  // The integral of cell (i, j, k), whose centre lies in the data's cell `at` (inside: within
+  // the grid's bounds; a copy, whose index the piece's test moves into the piece's volume).
+  void SetCell(long long i, long long j, long long k, TrilinearCell at, bool inside) const
+  {
+    inside = inside && (!this->Piece || this->Piece->Takes(at));
+    if (!inside || (this->Empty && this->Empty->ContainsCell(at.Index)))
+    {
+      for (int c = 0; c < this->Channels; ++c)
+      {
+        this->Table.SetCell(c, i, j, k, 0.0);
+      }
+      return;
+    }
+    const long long dx = this->Layout.Corner[0], dy = this->Layout.Corner[1],
+                    dz = this->Layout.Corner[2];
+    const PackedValue* q = this->Data.Properties.data() + this->Layout.Offset(at.Index);
+    const auto& f = at.Fraction;
+    const double sigma =
+      TrilinearInCellSkippingZeros(q, dx, dy, dz, f[0], f[1], f[2]) * this->Data.Scale[0];
+    for (int c = 0; c < this->Channels; ++c)
+    {
+      const double absorb = this->Chromatic
+        ? TrilinearInCellSkippingZeros(q + 1 + c, dx, dy, dz, f[0], f[1], f[2]) *
+          static_cast<double>(this->Data.Scale[1 + c])
+        : 1.0;
+      this->Table.SetCell(c, i, j, k, sigma * absorb * this->Volume);
+    }
+  }
+
+  const ClassifiedVolume& Data;
+  const CellCentres& Centres;
+  const PieceTest& Taking;
+  const VolumePiece* Piece;
+  const EmptyBlocks* Empty;
+  const TableWindow& Cells;
+  const int Channels;
+  const double Volume;
+  const bool Chromatic;
+  const FieldLayout Layout;
+  RunningIntegralTable& Table;
+};
+}
+
+void CartesianSAT::Build(const ClassifiedVolume& data, const SatFrame& frame, double cellSize,
+  int channels, const EmptyBlocks* empty, const VolumePiece* piece, double margin)
+{
+  this->Frame = frame;
+  this->H = cellSize;
+  // The grid whose bounds the table covers and in which samples find their cells.
+  const GridGeometry& g = piece ? piece->Whole : data.Geometry;
+  this->Cells = Layout(g, frame, cellSize, piece, this->WholeOrigin, margin);
+  const std::array<int, 3>& n = this->Cells.N;
+  for (int a = 0; a < 3; ++a)
+  {
+    this->Origin[a] = this->WholeOrigin[a] + this->Cells.First[a] * cellSize;
+  }
+  for (auto& beyond : this->Beyond)
+  {
+    beyond = RunningIntegralTable();
+  }
+  this->Table.Allocate(n, channels);
+
+  const CellCentres centres(g, frame, this->WholeOrigin, cellSize);
+  const VolumePiece taken = SampledCells(g, piece);
   const PieceTest taking(taken, true);
-  const double volume = cellSize * cellSize * cellSize;
-  const PackedValue* field = data.Properties.data();
-  const bool chromatic = channels == 3 && data.IsChromatic();
-  const FieldLayout layout(data.Geometry, data.Channels);
-  const long long dx = layout.Corner[0], dy = layout.Corner[1], dz = layout.Corner[2];
+  const CellIntegrals integrals(
+    data, centres, taking, piece, empty, this->Cells, channels, cellSize, this->Table);
   vtkSMPTools::For(0, static_cast<long long>(n[2]),
     [&](long long k0, long long k1)
     {
@@ -263,72 +384,7 @@ void CartesianSAT::Build(const ClassifiedVolume& data, const SatFrame& frame, do
       {
         for (long long j = 0; j < n[1]; ++j)
         {
-          const double qy = centres.Coordinate(1, firstCell[1] + j);
-          const double qz = centres.Coordinate(2, firstCell[2] + k);
-          const double ty[3] = { qy * frame.Axes[1][0], qy * frame.Axes[1][1],
-            qy * frame.Axes[1][2] };
-          const double tz[3] = { qz * frame.Axes[2][0], qz * frame.Axes[2][1],
-            qz * frame.Axes[2][2] };
-          const double rowX = centres.Coordinate(0, firstCell[0]);
-          // Only the centres the piece takes are sampled (a run along the row).
-          long long begin = 0, end = n[0];
-          {
-            long long row[3] = { 0, firstCell[1] + j, firstCell[2] + k };
-            int first, last;
-            ColumnRun(centres, taking, 0, row, this->Cells.Whole[0], first, last);
-            begin = std::min<long long>(n[0], std::max(0, first - firstCell[0]));
-            end = std::max(begin, std::min<long long>(n[0], last + 1LL - firstCell[0]));
-            for (long long i = 0; i < n[0]; ++i)
-            {
-              for (int c = 0; c < channels && (i < begin || i >= end); ++c)
-              {
-                this->Table.SetCell(c, i, j, k, 0.0);
-              }
-            }
-          }
-          TrilinearCell cell;
-          bool rowInside = true;
-          for (int a = 0; a < 3; ++a)
-          {
-            if (frame.Axes[0][a] == 0.0)
-            {
-              rowInside = centres.Locate(a, centres.Position(a, rowX, ty, tz), cell) && rowInside;
-            }
-          }
-          for (long long i = begin; i < end; ++i)
-          {
-            bool inside = rowInside;
-            for (int a = 0; a < 3; ++a)
-            {
-              if (frame.Axes[0][a] != 0.0)
-              {
-                const double tx = centres.Coordinate(0, firstCell[0] + i);
-                inside = centres.Locate(a, centres.Position(a, tx, ty, tz), cell) && inside;
-              }
-            }
-            TrilinearCell at = cell; // in data's grid
-            inside = inside && (!piece || piece->Takes(at));
-            if (!inside || (empty && empty->ContainsCell(at.Index)))
-            {
-              for (int c = 0; c < channels; ++c)
-              {
-                this->Table.SetCell(c, i, j, k, 0.0);
-              }
-              continue;
-            }
-            const PackedValue* q = field + layout.Offset(at.Index);
-            const auto& f = at.Fraction;
-            const double sigma =
-              TrilinearInCellSkippingZeros(q, dx, dy, dz, f[0], f[1], f[2]) * data.Scale[0];
-            for (int c = 0; c < channels; ++c)
-            {
-              const double absorb = chromatic
-                ? TrilinearInCellSkippingZeros(q + 1 + c, dx, dy, dz, f[0], f[1], f[2]) *
-                  static_cast<double>(data.Scale[1 + c])
-                : 1.0;
-              this->Table.SetCell(c, i, j, k, sigma * absorb * volume);
-            }
-          }
+          integrals.Row(j, k);
         }
       }
     });
