@@ -200,6 +200,40 @@ std::vector<long long> TetrahedronPointIds(vtkUnstructuredGrid* tetrahedra)
   }
   return tets;
 }
+
+// A piece's tetrahedra (SplitIntoTetrahedra), nullptr when it has none to light (points in no
+// 3D cell are lit as serially) or, with the reason in error, cannot be split.
+vtkSmartPointer<vtkUnstructuredGrid> PieceTetrahedra(
+  vtkSmartPointer<vtkUnstructuredGrid> piece, std::string& error)
+{
+  if (!piece)
+  {
+    return nullptr;
+  }
+  error = volillum::CheckPointIds(piece);
+  piece = error.empty() ? SplitIntoTetrahedra(piece, error) : nullptr;
+  if (!error.empty() || (piece->GetNumberOfCells() == 0 && piece->GetNumberOfPoints() == 0))
+  {
+    return nullptr;
+  }
+  return piece;
+}
+
+// Why a piece's points cannot join the others' ("" when they can).
+std::string BadCoordinate(vtkUnstructuredGrid* piece)
+{
+  const vtkIdType bad = volillum::FirstBadCoordinate(
+    piece && piece->GetPoints() ? piece->GetPoints()->GetData() : nullptr,
+    volillum::MaximumCoordinate);
+  if (bad < 0)
+  {
+    return std::string();
+  }
+  std::ostringstream message;
+  message << "Point " << bad << " of this process's piece has a coordinate that is not a "
+          << "finite number within +-" << volillum::MaximumCoordinate << ".";
+  return message.str();
+}
 }
 
 //------------------------------------------------------------------------------
@@ -328,38 +362,20 @@ bool vtkUnstructuredGridIllumination::PrepareMesh(vtkUnstructuredGrid* input, vt
 bool vtkUnstructuredGridIllumination::PrepareDistributedMesh(
   vtkMultiProcessController* controller, vtkUnstructuredGrid* input)
 {
-  // This piece's tetrahedra with the arrays that light them.
-  vtkSmartPointer<vtkUnstructuredGrid> own =
-    volillum::PieceWithoutGhostCells(volillum::LitArrayName(this), input);
+  // This piece's tetrahedra with the arrays that light them. Pieces whose coordinates or
+  // arrays cannot join the others' are refused before any cell travels.
   std::string error;
-  if (own)
+  vtkSmartPointer<vtkUnstructuredGrid> own =
+    PieceTetrahedra(volillum::PieceWithoutGhostCells(volillum::LitArrayName(this), input), error);
+  if (!error.empty())
   {
-    error = volillum::CheckPointIds(own);
-    own = error.empty() ? SplitIntoTetrahedra(own, error) : nullptr;
-    if (!error.empty())
-    {
-      vtkErrorMacro(<< error);
-    }
-    else if (own->GetNumberOfCells() == 0 && own->GetNumberOfPoints() == 0)
-    {
-      own = nullptr; // nothing to light here (points in no 3D cell are lit as serially)
-    }
+    vtkErrorMacro(<< error);
   }
   if (!volillum::AllOk(controller, error.empty()))
   {
     return false;
   }
-  // Pieces whose coordinates or arrays cannot join the others' are refused before any cell
-  // travels.
-  const vtkIdType bad = volillum::FirstBadCoordinate(
-    own && own->GetPoints() ? own->GetPoints()->GetData() : nullptr, volillum::MaximumCoordinate);
-  if (bad >= 0)
-  {
-    std::ostringstream message;
-    message << "Point " << bad << " of this process's piece has a coordinate that is not a "
-            << "finite number within +-" << volillum::MaximumCoordinate << ".";
-    error = message.str();
-  }
+  error = BadCoordinate(own);
   if (!volillum::PiecesCanJoin(controller, own, error))
   {
     if (!error.empty())
