@@ -155,7 +155,7 @@ public:
   /**
    * The processes of a parallel run (default: the global controller). With more than one
    * process, each process outputs the illumination points that cover its own piece (see
-   * IlluminationParallel.h) and the result equals a serial run's: filters that light
+   * Documentation/parallel.md) and the result equals a serial run's: filters that light
    * distributed pieces (LightsDistributedPieces) light the block of the input each process
    * holds (gathered from the pieces where they are not the blocks) and combine the parts of
    * the light; the others assemble the whole input on every process

@@ -20,7 +20,7 @@
  * (pvserver or pvbatch under MPI, rendered on the server) the processes light the pieces
  * they render together as each render starts: ParaView gives each process whole cells for
  * ordered compositing, and the solver, with the global controller, gets from the other
- * processes only their cells near the piece (see IlluminationParallel.h). A process without
+ * processes only their cells near the piece (see Documentation/parallel.md). A process without
  * cells takes part.
  *
  * The coloured array is a point or cell array; an array of several components is lit by

@@ -11,7 +11,7 @@
  * illumination filter (IlluminationMethod: multi-light propagation, filtered shadows or
  * the ray-marched reference) on the piece this process renders, and draws the volume
  * with vtkIlluminatedVolumeMapper. In parallel (pvserver or pvbatch under MPI) the filter
- * lights the pieces where they are with the global controller (see IlluminationParallel.h;
+ * lights the pieces where they are with the global controller (see Documentation/parallel.md;
  * ParaView gives a representation vtkExtentTranslator's pieces, the blocks the filter
  * reads), every process together as each render starts (ParaView renders on every process
  * then; the decisions to light or keep the illumination are agreed by reductions), and each
