@@ -136,6 +136,10 @@ void SampleOutside(
   }
 }
 
+// Kept whole (issue 45): the per-vertex inner loop of the level-1 solver, a walk through the
+// tetrahedra toward the light; its exits (finishAtLevel0, finish) share the walk's state (dep,
+// depth, the tetrahedron and distance walked), so helpers would cost a call and that state
+// per vertex and step of the walk.
 Departure FindDeparture(const TetrahedralMesh& mesh, const std::vector<float>& extinction, int nc,
   const Level0Grid& grid, const std::vector<float>& level0, int vertex, const Vec3& toLight,
   double length, bool reachesLight)
@@ -240,13 +244,10 @@ Departure FindDeparture(const TetrahedralMesh& mesh, const std::vector<float>& e
   finishAtLevel0(t0, false);
   return finish();
 }
-}
 
-//------------------------------------------------------------------------------
-void PropagateLevel1(const TetrahedralMesh& mesh, const std::vector<float>& extinction,
-  const Level0Grid& grid, const std::vector<float>& level0, const LightState& light,
-  double stepLength, int iterations, std::vector<float>& rho,
-  const std::function<void(std::vector<float>& rho)>& afterStep)
+// The level-0 light at the mesh's vertices (rho: Channels values a vertex).
+void SampleLevel0AtVertices(const TetrahedralMesh& mesh, const Level0Grid& grid,
+  const std::vector<float>& level0, std::vector<float>& rho)
 {
   const int np = mesh.NumberOfPoints();
   const int nc = grid.Channels;
@@ -261,18 +262,23 @@ void PropagateLevel1(const TetrahedralMesh& mesh, const std::vector<float>& exti
           rho.data() + nc * static_cast<size_t>(p));
       }
     });
-  if (iterations <= 0)
-  {
-    return;
-  }
-  const double s = stepLength > 0.0 ? stepLength : mesh.MeanEdgeLength;
-  // Interior vertices take the steps, and so do vertices on a face without a neighbour where
-  // the light enters the mesh there (their value is the light outside: the inflow boundary);
-  // the other boundary vertices (the light has crossed the mesh to them) keep the level-0
-  // light. A semi-Lagrangian step would interpolate the level-0 light linearly across the
-  // tetrahedra upstream, worse than level 0 itself where they are larger than its cells (on a
-  // box of 10-unit tetrahedra under a 1.3-unit level-0 grid, 0.14 RMS relative to the exact
-  // transmittance on the faces the light leaves through instead of 0.04).
+}
+
+// Every vertex's departure point for steps of length s toward the light.
+//
+// Interior vertices take the steps, and so do vertices on a face without a neighbour where
+// the light enters the mesh there (their value is the light outside: the inflow boundary);
+// the other boundary vertices (the light has crossed the mesh to them) keep the level-0
+// light. A semi-Lagrangian step would interpolate the level-0 light linearly across the
+// tetrahedra upstream, worse than level 0 itself where they are larger than its cells (on a
+// box of 10-unit tetrahedra under a 1.3-unit level-0 grid, 0.14 RMS relative to the exact
+// transmittance on the faces the light leaves through instead of 0.04).
+std::vector<Departure> FindDepartures(const TetrahedralMesh& mesh,
+  const std::vector<float>& extinction, const Level0Grid& grid, const std::vector<float>& level0,
+  const LightState& light, double s)
+{
+  const int np = mesh.NumberOfPoints();
+  const int nc = grid.Channels;
   std::vector<Departure> departures(np);
   vtkSMPTools::For(0, np,
     [&](int begin, int end)
@@ -290,37 +296,63 @@ void PropagateLevel1(const TetrahedralMesh& mesh, const std::vector<float>& exti
           reachesLight ? inc.Distance : s, reachesLight);
       }
     });
+  return departures;
+}
+
+// One semi-Lagrangian step: each stepping vertex's light (next) from the light at its departure
+// point (rho interpolated there, or fixed) times the transmittance to it; the others keep theirs.
+void StepFromDepartures(const TetrahedralMesh& mesh, const std::vector<Departure>& departures,
+  int nc, const std::vector<float>& rho, std::vector<float>& next)
+{
+  vtkSMPTools::For(0, mesh.NumberOfPoints(),
+    [&](int begin, int end)
+    {
+      for (int p = begin; p < end; ++p)
+      {
+        float* out = next.data() + nc * static_cast<size_t>(p);
+        if (!mesh.Interior[p] && !departures[p].Inflow)
+        {
+          std::copy_n(rho.data() + nc * static_cast<size_t>(p), nc, out);
+          continue;
+        }
+        const Departure& dep = departures[p];
+        for (int c = 0; c < nc; ++c)
+        {
+          float value = dep.Fixed[c];
+          if (dep.Tet >= 0)
+          {
+            const int* v = mesh.Tets.data() + 4 * dep.Tet;
+            value = 0.0f;
+            for (int i = 0; i < 4; ++i)
+            {
+              value += dep.Weights[i] * rho[nc * static_cast<size_t>(v[i]) + c];
+            }
+          }
+          out[c] = value * dep.Transmittance[c];
+        }
+      }
+    });
+}
+}
+
+//------------------------------------------------------------------------------
+void PropagateLevel1(const TetrahedralMesh& mesh, const std::vector<float>& extinction,
+  const Level0Grid& grid, const std::vector<float>& level0, const LightState& light,
+  double stepLength, int iterations, std::vector<float>& rho,
+  const std::function<void(std::vector<float>& rho)>& afterStep)
+{
+  SampleLevel0AtVertices(mesh, grid, level0, rho);
+  if (iterations <= 0)
+  {
+    return;
+  }
+  const double s = stepLength > 0.0 ? stepLength : mesh.MeanEdgeLength;
+  const std::vector<Departure> departures =
+    FindDepartures(mesh, extinction, grid, level0, light, s);
   std::vector<float> next(rho.size());
   for (int n = 0; n < iterations; ++n)
   {
-    vtkSMPTools::For(0, np,
-      [&](int begin, int end)
-      {
-        for (int p = begin; p < end; ++p)
-        {
-          float* out = next.data() + nc * static_cast<size_t>(p);
-          if (!mesh.Interior[p] && !departures[p].Inflow)
-          {
-            std::copy_n(rho.data() + nc * static_cast<size_t>(p), nc, out);
-            continue;
-          }
-          const Departure& dep = departures[p];
-          for (int c = 0; c < nc; ++c)
-          {
-            float value = dep.Fixed[c];
-            if (dep.Tet >= 0)
-            {
-              const int* v = mesh.Tets.data() + 4 * dep.Tet;
-              value = 0.0f;
-              for (int i = 0; i < 4; ++i)
-              {
-                value += dep.Weights[i] * rho[nc * static_cast<size_t>(v[i]) + c];
-              }
-            }
-            out[c] = value * dep.Transmittance[c];
-          }
-        }
-      });
+    StepFromDepartures(mesh, departures, grid.Channels, rho, next);
     rho.swap(next);
     if (afterStep)
     {
@@ -328,5 +360,4 @@ void PropagateLevel1(const TetrahedralMesh& mesh, const std::vector<float>& exti
     }
   }
 }
-
 }

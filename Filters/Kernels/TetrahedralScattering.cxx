@@ -62,11 +62,10 @@ std::uint64_t CoordinateHash(const double* x)
   }
   return h;
 }
-}
 
-//------------------------------------------------------------------------------
-VertexColoring ColorVertices(const TetrahedralMesh& mesh, const std::vector<unsigned char>* owned,
-  const std::function<bool(std::vector<int>& color)>& exchange)
+// The order in which ColorVertices colours the vertices: by a hash of their coordinates, then
+// the coordinates, then the ids of coincident vertices.
+std::vector<int> ColoringOrder(const TetrahedralMesh& mesh)
 {
   const int np = mesh.NumberOfPoints();
   const double* x = mesh.Points.data();
@@ -91,59 +90,50 @@ VertexColoring ColorVertices(const TetrahedralMesh& mesh, const std::vector<unsi
       return std::lexicographical_compare(x + 3 * a, x + 3 * a + 3, x + 3 * b, x + 3 * b + 3) ||
         (std::equal(x + 3 * a, x + 3 * a + 3, x + 3 * b) && a < b);
     });
-  std::vector<int> position(np);
-  for (int k = 0; k < np; ++k)
-  {
-    position[visit[k]] = k;
-  }
-  // The vertices to colour here, in order; each round colours those whose earlier
-  // neighbours all have their colours.
-  std::vector<int> pending;
-  pending.reserve(np);
-  for (int p : visit)
-  {
-    if (!owned || (*owned)[p])
-    {
-      pending.push_back(p);
-    }
-  }
-  const std::vector<int> mine = pending;
-  std::vector<int> color(np, -1);
+  return visit;
+}
+
+// One round of the colouring: each pending vertex whose earlier neighbours (by position in
+// the order) all have their colours gets the smallest colour none of them has (colors: the
+// number of colours used, updated); the others stay pending, in order.
+void ColorReadyVertices(const TetrahedralMesh& mesh, const std::vector<int>& position,
+  std::vector<int>& pending, std::vector<int>& color, int& colors)
+{
   std::vector<char> taken;
-  int colors = 0;
-  for (bool more = true; more;)
+  size_t waiting = 0;
+  for (int p : pending)
   {
-    size_t waiting = 0;
-    for (int p : pending)
+    taken.assign(colors + 1, 0);
+    bool ready = true;
+    for (int k = mesh.EdgeOffsets[p]; k < mesh.EdgeOffsets[p + 1] && ready; ++k)
     {
-      taken.assign(colors + 1, 0);
-      bool ready = true;
-      for (int k = mesh.EdgeOffsets[p]; k < mesh.EdgeOffsets[p + 1] && ready; ++k)
+      const int q = mesh.EdgeNeighbors[k];
+      if (position[q] < position[p])
       {
-        const int q = mesh.EdgeNeighbors[k];
-        if (position[q] < position[p])
+        ready = color[q] >= 0;
+        if (ready)
         {
-          ready = color[q] >= 0;
-          if (ready)
-          {
-            // Another process's vertex may have a colour this one has not used yet.
-            taken.resize(std::max(taken.size(), static_cast<size_t>(color[q]) + 2), 0);
-            taken[color[q]] = 1;
-          }
+          // Another process's vertex may have a colour this one has not used yet.
+          taken.resize(std::max(taken.size(), static_cast<size_t>(color[q]) + 2), 0);
+          taken[color[q]] = 1;
         }
       }
-      if (!ready)
-      {
-        pending[waiting++] = p;
-        continue;
-      }
-      const int c = static_cast<int>(std::find(taken.begin(), taken.end(), 0) - taken.begin());
-      color[p] = c;
-      colors = std::max(colors, c + 1);
     }
-    pending.resize(waiting);
-    more = exchange ? exchange(color) : false;
+    if (!ready)
+    {
+      pending[waiting++] = p;
+      continue;
+    }
+    const int c = static_cast<int>(std::find(taken.begin(), taken.end(), 0) - taken.begin());
+    color[p] = c;
+    colors = std::max(colors, c + 1);
   }
+  pending.resize(waiting);
+}
+
+// The vertices `mine` grouped by their colours (of `colors`), in their order.
+VertexColoring GroupByColor(const std::vector<int>& mine, const std::vector<int>& color, int colors)
+{
   VertexColoring coloring;
   coloring.Offsets.assign(colors + 1, 0);
   // (A vertex the exchange stopped before it was coloured is left out.)
@@ -162,6 +152,40 @@ VertexColoring ColorVertices(const TetrahedralMesh& mesh, const std::vector<unsi
     }
   }
   return coloring;
+}
+}
+
+//------------------------------------------------------------------------------
+VertexColoring ColorVertices(const TetrahedralMesh& mesh, const std::vector<unsigned char>* owned,
+  const std::function<bool(std::vector<int>& color)>& exchange)
+{
+  const int np = mesh.NumberOfPoints();
+  const std::vector<int> visit = ColoringOrder(mesh);
+  std::vector<int> position(np);
+  for (int k = 0; k < np; ++k)
+  {
+    position[visit[k]] = k;
+  }
+  // The vertices to colour here, in order; each round colours those whose earlier
+  // neighbours all have their colours.
+  std::vector<int> pending;
+  pending.reserve(np);
+  for (int p : visit)
+  {
+    if (!owned || (*owned)[p])
+    {
+      pending.push_back(p);
+    }
+  }
+  const std::vector<int> mine = pending;
+  std::vector<int> color(np, -1);
+  int colors = 0;
+  for (bool more = true; more;)
+  {
+    ColorReadyVertices(mesh, position, pending, color, colors);
+    more = exchange ? exchange(color) : false;
+  }
+  return GroupByColor(mine, color, colors);
 }
 
 //------------------------------------------------------------------------------
