@@ -237,17 +237,11 @@ std::vector<std::string> HeadLines(const std::string& path)
   return lines;
 }
 
-// NRRD: "NRRD000N", then "field: value" lines and comments up to a blank line (or the end of
-// a detached header); vtkNrrdReader takes a first axis of 9 or fewer samples (all of them in
-// 4D, or one with no spacing) as the components of a vector.
-void CheckNrrd(Header& h)
+// The fields of a NRRD header's lines after the first (h.Fields, and h.Rest: the data files
+// listed after 'data file: LIST'); returns the 'dimension' field's value (0 when there is
+// none).
+size_t ReadNrrdFields(Header& h, const std::vector<std::string>& lines)
 {
-  const std::vector<std::string> lines = HeadLines(h.Path);
-  if (lines.empty() || lines[0].size() != 8 || lines[0].compare(0, 4, "NRRD") != 0 ||
-    lines[0].find_first_not_of("0123456789", 4) != std::string::npos)
-  {
-    h.Refuse("the first line " + Quote(lines.empty() ? "" : lines[0]) + " is not NRRD000N");
-  }
   // The number of axes vtkNrrdReader expects in a per-axis field: the dimension, 3 after a
   // 'space' field or that of a 'space dimension'.
   size_t axes = 0, declared = 0;
@@ -296,6 +290,12 @@ void CheckNrrd(Header& h)
       break; // the names of the data files run to the end of the header
     }
   }
+  return declared;
+}
+
+// A NRRD header's sample type, encoding and byte order, as vtkNrrdReader reads them.
+void CheckNrrdEncoding(Header& h)
+{
   const std::string& type = h.Require("type");
   if (!OneOf(type, NrrdTypes))
   {
@@ -311,7 +311,12 @@ void CheckNrrd(Header& h)
   {
     h.Refuse("endian " + Quote(*endian) + " is not little or big");
   }
-  h.Require("dimension");
+}
+
+// A NRRD header's sizes (the first axis as vector components or not, 2 or 3 spatial axes;
+// declared: the dimension) and its data files.
+void CheckNrrdAxesAndData(Header& h, size_t declared)
+{
   const std::vector<long long> sizes = h.Sizes("sizes", declared);
   const std::string* spacings = h.Find("spacings");
   const std::string* directions = h.Find("space directions");
@@ -339,6 +344,23 @@ void CheckNrrd(Header& h)
   {
     h.Refuse("no 'data file' field in a detached header");
   }
+}
+
+// NRRD: "NRRD000N", then "field: value" lines and comments up to a blank line (or the end of
+// a detached header); vtkNrrdReader takes a first axis of 9 or fewer samples (all of them in
+// 4D, or one with no spacing) as the components of a vector.
+void CheckNrrd(Header& h)
+{
+  const std::vector<std::string> lines = HeadLines(h.Path);
+  if (lines.empty() || lines[0].size() != 8 || lines[0].compare(0, 4, "NRRD") != 0 ||
+    lines[0].find_first_not_of("0123456789", 4) != std::string::npos)
+  {
+    h.Refuse("the first line " + Quote(lines.empty() ? "" : lines[0]) + " is not NRRD000N");
+  }
+  const size_t declared = ReadNrrdFields(h, lines);
+  CheckNrrdEncoding(h);
+  h.Require("dimension");
+  CheckNrrdAxesAndData(h, declared);
 }
 
 // MetaImage: "Key = Value" lines up to ElementDataFile, the last field.

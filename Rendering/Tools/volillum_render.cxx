@@ -328,6 +328,46 @@ void WritePNG(vtkImageData* picture, const std::string& output)
     Fail("cannot write " + output);
   }
 }
+
+// The volume drawn: coloured by the transfer functions, interpolated linearly and unshaded
+// (the illumination lights it).
+vtkSmartPointer<vtkVolume> MakeVolume(
+  vtkColorTransferFunction* ctf, vtkPiecewiseFunction* otf, double unitDistance)
+{
+  vtkNew<vtkVolumeProperty> property;
+  property->SetColor(ctf);
+  property->SetScalarOpacity(otf);
+  property->SetScalarOpacityUnitDistance(unitDistance);
+  property->SetInterpolationTypeToLinear();
+  property->ShadeOff();
+  vtkSmartPointer<vtkVolume> volume = vtkSmartPointer<vtkVolume>::New();
+  volume->SetProperty(property);
+  return volume;
+}
+
+// The image's width and height in pixels ("image_size", 16 to 8192 a side).
+std::vector<double> ImageSize(const json& config)
+{
+  const json size =
+    config.contains("image_size") ? config["image_size"] : json::array({ 512, 512 });
+  const auto wh = Numbers(size, 2, "image_size");
+  if (!(wh[0] >= 16 && wh[1] >= 16 && wh[0] <= 8192 && wh[1] <= 8192))
+  {
+    Fail("image_size must be between 16 and 8192 pixels per side");
+  }
+  return wh;
+}
+
+// The label of the globally illuminated half of a side-by-side image `height` pixels high.
+void AddGlobalLabel(vtkTextActor* label, vtkRenderer* renderer, double height)
+{
+  label->SetInput("global illumination");
+  label->GetTextProperty()->SetFontSize(std::max(12, static_cast<int>(height / 22)));
+  label->GetTextProperty()->SetColor(1.0, 1.0, 1.0);
+  label->GetTextProperty()->ShadowOn();
+  label->SetDisplayPosition(static_cast<int>(height / 40), static_cast<int>(height / 40));
+  renderer->AddActor2D(label);
+}
 }
 
 int Run(int argc, char* argv[])
@@ -356,27 +396,14 @@ int Run(int argc, char* argv[])
   }
   const auto lights = BuildLights(config, bounds);
 
-  vtkNew<vtkVolumeProperty> property;
-  property->SetColor(ctf);
-  property->SetScalarOpacity(otf);
-  property->SetScalarOpacityUnitDistance(unitDistance);
-  property->SetInterpolationTypeToLinear();
-  property->ShadeOff();
-  vtkNew<vtkVolume> volume;
-  volume->SetProperty(property);
+  vtkSmartPointer<vtkVolume> volume = MakeVolume(ctf, otf, unitDistance);
   const std::string method = image ? Text(config, "method", "propagation") : "two-level";
   const double illuminationSeconds = image
     ? LightImage(config, method, image, lights, ctf, otf, unitDistance, volume)
     : LightGrid(
         config, vtkUnstructuredGrid::SafeDownCast(data), lights, ctf, otf, unitDistance, volume);
 
-  const json size =
-    config.contains("image_size") ? config["image_size"] : json::array({ 512, 512 });
-  const auto wh = Numbers(size, 2, "image_size");
-  if (!(wh[0] >= 16 && wh[1] >= 16 && wh[0] <= 8192 && wh[1] <= 8192))
-  {
-    Fail("image_size must be between 16 and 8192 pixels per side");
-  }
+  const std::vector<double> wh = ImageSize(config);
   vtkSmartPointer<vtkRenderer> renderer = MakeRenderer(config, volume, data, otf);
   vtkNew<vtkRenderWindow> window;
   window->SetOffScreenRendering(1);
@@ -386,12 +413,7 @@ int Run(int argc, char* argv[])
   vtkNew<vtkTextActor> label;
   if (sideBySide && Flag(config, "labels", true))
   {
-    label->SetInput("global illumination");
-    label->GetTextProperty()->SetFontSize(std::max(12, static_cast<int>(wh[1] / 22)));
-    label->GetTextProperty()->SetColor(1.0, 1.0, 1.0);
-    label->GetTextProperty()->ShadowOn();
-    label->SetDisplayPosition(static_cast<int>(wh[1] / 40), static_cast<int>(wh[1] / 40));
-    renderer->AddActor2D(label);
+    AddGlobalLabel(label, renderer, wh[1]);
   }
   // The image is taken from the very first frame: it must already be lit.
   const double firstFrameSeconds = TimeFrame(window);
