@@ -377,6 +377,19 @@ void LightingCosts::Record(const BackgroundLighting::Result& result)
 }
 
 //------------------------------------------------------------------------------
+void ShownLighting::KeepFinal(
+  const BackgroundLighting::Result& result, UpdateReport& report, double& seconds)
+{
+  if (result.Final)
+  {
+    this->LastFinal = result.Data;
+    report = result.Report;
+    seconds = result.Seconds;
+    this->Costs.Record(result);
+  }
+}
+
+//------------------------------------------------------------------------------
 LightingCosts::Plan LightingCosts::Choose(int kind, double points) const
 {
   auto measured = this->SecondsPerPoint.find(kind);

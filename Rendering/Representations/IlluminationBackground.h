@@ -201,6 +201,22 @@ private:
   std::map<int, double> SecondsPerPoint;
 };
 
+/**
+ * What a representation shows of its background lighting: the last final result it took,
+ * whether the one it draws is final, and what its lightings cost.
+ */
+struct ShownLighting
+{
+  vtkSmartPointer<vtkDataObject> LastFinal; // the last final result taken
+  bool Final = true;                        // the drawn result is a final one
+  LightingCosts Costs;
+
+  /// A final result taken for drawing becomes LastFinal, its report and time become the
+  /// representation's (`report`, `seconds`) and its cost is recorded; a coarse result changes
+  /// none of them.
+  void KeepFinal(const BackgroundLighting::Result& result, UpdateReport& report, double& seconds);
+};
+
 }
 
 #endif

@@ -1,8 +1,8 @@
 #include "vtkIlluminatedUnstructuredGridRepresentation.h"
 
 #include "IlluminationBackground.h"
-#include "ParallelCollectives.h"
 #include "IlluminationViewLights.h"
+#include "ParallelCollectives.h"
 #include "vtkAlgorithmOutput.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkDataArray.h"
@@ -83,9 +83,7 @@ struct vtkIlluminatedUnstructuredGridRepresentation::vtkInternals
   GridRequest Submitted;
   bool HasSubmitted = false;
   volillum::JobCopies Copies;
-  vtkSmartPointer<vtkDataObject> LastFinal; // the last final lighting taken
-  bool ShownFinal = true;
-  volillum::LightingCosts Costs;
+  volillum::ShownLighting Shown;
 
   /// Nothing to light or draw any more: stop the lighting, drop what it left to draw.
   void Forget()
@@ -93,7 +91,7 @@ struct vtkIlluminatedUnstructuredGridRepresentation::vtkInternals
     this->Background.Cancel();
     this->Background.Discard();
     this->HasSubmitted = false;
-    this->ShownFinal = true;
+    this->Shown.Final = true;
   }
   void Light(vtkUnstructuredGridIllumination* filter, const GridRequest& request,
     volillum::BackgroundLighting::Job& job);
@@ -287,7 +285,7 @@ bool vtkIlluminatedUnstructuredGridRepresentation::LightSerially(vtkPVRenderView
     scalars->GetRange(component);
   }
   vtkUnstructuredGridIllumination* filter = this->Illumination;
-  const auto plan = internals.Costs.Choose(r.Kind, grid->GetNumberOfPoints());
+  const auto plan = internals.Shown.Costs.Choose(r.Kind, grid->GetNumberOfPoints());
   const bool changed = !internals.HasSubmitted || !r.SameAs(internals.Submitted);
   // A screenshot shows the final lighting: its render waits for it.
   if (!this->AsynchronousLighting || volillum::InScreenshot(view) ||
@@ -308,7 +306,7 @@ bool vtkIlluminatedUnstructuredGridRepresentation::LightSerially(vtkPVRenderView
     internals.Background.Start([&internals, filter, r](volillum::BackgroundLighting::Job& job)
       { internals.Light(filter, r, job); });
   }
-  else if (!internals.Background.Busy() && !internals.ShownFinal)
+  else if (!internals.Background.Busy() && !internals.Shown.Final)
   {
     // Cancelled after the level-0 stage: back to the last finished lighting.
     this->DrawLastFinal();
@@ -363,13 +361,13 @@ bool vtkIlluminatedUnstructuredGridRepresentation::ShowFinishedLighting()
   }
   if (result.Unchanged)
   {
-    if (!internals.ShownFinal || !internals.Lit)
+    if (!internals.Shown.Final || !internals.Lit)
     {
       this->DrawLastFinal(); // the last final lighting holds; another is drawn meanwhile
     }
     return internals.Lit;
   }
-  internals.ShownFinal = result.Final;
+  internals.Shown.Final = result.Final;
   internals.Lit = result.Data != nullptr;
   if (internals.Lit)
   {
@@ -377,13 +375,7 @@ bool vtkIlluminatedUnstructuredGridRepresentation::ShowFinishedLighting()
     this->LitMapper->SetInputData(internals.LitGrid);
   }
   this->MeanTime = vtkTimeStamp();
-  if (result.Final)
-  {
-    internals.LastFinal = result.Data;
-    this->Report = result.Report;
-    this->UpdateSeconds = result.Seconds;
-    internals.Costs.Record(result);
-  }
+  internals.Shown.KeepFinal(result, this->Report, this->UpdateSeconds);
   return internals.Lit;
 }
 
@@ -391,13 +383,13 @@ bool vtkIlluminatedUnstructuredGridRepresentation::ShowFinishedLighting()
 void vtkIlluminatedUnstructuredGridRepresentation::DrawLastFinal()
 {
   auto& internals = *this->Internals;
-  internals.Lit = internals.LastFinal != nullptr; // none yet: drawn unlit
+  internals.Lit = internals.Shown.LastFinal != nullptr; // none yet: drawn unlit
   if (internals.Lit)
   {
-    internals.LitGrid->ShallowCopy(internals.LastFinal);
+    internals.LitGrid->ShallowCopy(internals.Shown.LastFinal);
     this->LitMapper->SetInputData(internals.LitGrid);
   }
-  internals.ShownFinal = true;
+  internals.Shown.Final = true;
   this->MeanTime = vtkTimeStamp();
 }
 
@@ -415,7 +407,7 @@ void vtkIlluminatedUnstructuredGridRepresentation::SetVisibility(bool visible)
 int vtkIlluminatedUnstructuredGridRepresentation::GetIlluminationPending()
 {
   const auto& internals = *this->Internals;
-  return internals.Background.Busy() || internals.Background.Ready() || !internals.ShownFinal;
+  return internals.Background.Busy() || internals.Background.Ready() || !internals.Shown.Final;
 }
 
 //------------------------------------------------------------------------------

@@ -2,8 +2,8 @@
 
 #include "IlluminationBackground.h"
 #include "IlluminationFilterSupport.h"
-#include "ParallelCollectives.h"
 #include "IlluminationViewLights.h"
+#include "ParallelCollectives.h"
 #include "vtkAlgorithmOutput.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkDataSetAttributes.h"
@@ -96,9 +96,7 @@ struct vtkIlluminatedVolumeRepresentation::vtkInternals
   LightingRequest Submitted; // the last request handed to a job
   bool HasSubmitted = false;
   volillum::JobCopies Copies;
-  vtkSmartPointer<vtkDataObject> LastFinal; // the last final illumination taken
-  bool ShownFinal = true;                   // the mapper draws a final illumination
-  volillum::LightingCosts Costs;
+  volillum::ShownLighting Shown; // what the mapper draws
 
   // A multi-component coloured array, the one-component array that stands for it in the
   // rendered data, and the component its values were made from (-1: the magnitude).
@@ -118,7 +116,7 @@ struct vtkIlluminatedVolumeRepresentation::vtkInternals
     this->Background.Cancel();
     this->Background.Discard();
     this->HasSubmitted = false;
-    this->ShownFinal = true;
+    this->Shown.Final = true;
   }
   LightingRequest MakeRequest(vtkIlluminatedVolumeRepresentation* self, vtkPVRenderView* view,
     vtkImageData* image, const volillum::ColouredArray& coloured);
@@ -589,7 +587,7 @@ void vtkIlluminatedVolumeRepresentation::LightSerially(
   volillum::ColouredScalars(this, image, coloured);
   LightingRequest request = internals.MakeRequest(this, view, image, coloured);
   const double scale = request.Scale;
-  const auto plan = internals.Costs.Choose(
+  const auto plan = internals.Shown.Costs.Choose(
     request.Kind, request.Input->GetNumberOfPoints() * scale * scale * scale);
   const bool changed = !internals.HasSubmitted || !request.SameAs(internals.Submitted);
   // A screenshot shows the final illumination: its render waits for it.
@@ -606,11 +604,11 @@ void vtkIlluminatedVolumeRepresentation::LightSerially(
   }
   if (!changed)
   {
-    if (!internals.Background.Busy() && !internals.ShownFinal)
+    if (!internals.Background.Busy() && !internals.Shown.Final)
     {
       // Cancelled after a coarse stage: back to the last finished illumination.
-      mapper->SetIlluminationData(vtkImageData::SafeDownCast(internals.LastFinal));
-      internals.ShownFinal = true;
+      mapper->SetIlluminationData(vtkImageData::SafeDownCast(internals.Shown.LastFinal));
+      internals.Shown.Final = true;
       this->MeanTime = vtkTimeStamp(); // the mean of what is drawn now
     }
   }
@@ -640,29 +638,23 @@ void vtkIlluminatedVolumeRepresentation::ShowFinishedLighting()
     return;
   }
   vtkIlluminatedVolumeMapper* mapper = this->GetIlluminatedMapper();
-  internals.ShownFinal = result.Final;
+  internals.Shown.Final = result.Final;
   if (result.Unchanged)
   {
     // The last final illumination holds (a coarse one, or none, may be drawn meanwhile).
-    mapper->SetIlluminationData(vtkImageData::SafeDownCast(internals.LastFinal));
+    mapper->SetIlluminationData(vtkImageData::SafeDownCast(internals.Shown.LastFinal));
     return;
   }
   mapper->SetIlluminationData(vtkImageData::SafeDownCast(result.Data));
   this->MeanTime = vtkTimeStamp();
-  if (result.Final)
-  {
-    internals.LastFinal = result.Data;
-    this->Report = result.Report;
-    this->UpdateSeconds = result.Seconds;
-    internals.Costs.Record(result);
-  }
+  internals.Shown.KeepFinal(result, this->Report, this->UpdateSeconds);
 }
 
 //------------------------------------------------------------------------------
 int vtkIlluminatedVolumeRepresentation::GetIlluminationPending()
 {
   const auto& internals = *this->Internals;
-  return internals.Background.Busy() || internals.Background.Ready() || !internals.ShownFinal;
+  return internals.Background.Busy() || internals.Background.Ready() || !internals.Shown.Final;
 }
 
 //------------------------------------------------------------------------------

@@ -2,8 +2,8 @@
 // (directional) lights, never overflows; too bright lights, inconsistent scalars and
 // absurd geometry are refused with an error and an empty output; a tiny opacity unit
 // distance still gives finite illumination.
-#include "ParallelMessages.h"
 #include "IlluminationTestUtilities.h"
+#include "ParallelMessages.h"
 #include "vtkFilteredVolumetricShadows.h"
 #include "vtkIlluminationPhantomSource.h"
 #include "vtkMultiLightIlluminationVolume.h"
