@@ -23,19 +23,10 @@ import time
 
 from paraview.simple import *
 
-from IlluminatedVolumeTestUtilities import illumination_status, lighting_flags  # PYTHONPATH
+from IlluminatedVolumeTestUtilities import (illumination_status, lighting_pending,  # PYTHONPATH
+                                             write_lines_and_exit)
 
 lines = []
-
-
-def write_and_exit():
-    with open(os.environ["VOLILLUM_OUTPUT"], "w") as f:
-        f.write("\n".join(lines) + "\n")
-    os._exit(0)
-
-
-def pending(status):
-    return any(lighting_flags(status))
 
 
 try:
@@ -93,7 +84,7 @@ try:
     def start_next():
         run["index"] += 1
         if run["index"] >= len(plan):
-            write_and_exit()
+            write_lines_and_exit(os.environ["VOLILLUM_OUTPUT"], lines)
         mode, name, action = plan[run["index"]]
         if name == actions[0][0]:
             rep.AsynchronousLighting = 0
@@ -111,7 +102,7 @@ try:
         now = time.perf_counter()
         run["gap"] = max(run["gap"], now - run["last"])
         run["last"] = now
-        if pending(status) and now - run["start"] < 300:
+        if lighting_pending(status) and now - run["start"] < 300:
             return
         mode, name, _ = plan[run["index"]]
         lines.append("%s %s %.3f %.3f %.3f" % ("async" if mode else "sync", name, run["render"],
@@ -135,4 +126,4 @@ try:
     interactor.CreateRepeatingTimer(20)
 except Exception as error:
     lines.append("error %s" % str(error).replace("\n", " "))
-    write_and_exit()
+    write_lines_and_exit(os.environ["VOLILLUM_OUTPUT"], lines)

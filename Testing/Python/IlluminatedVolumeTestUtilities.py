@@ -74,6 +74,19 @@ def lighting_flags(status):
             status.GetProperty("IlluminationReady").GetElement(0) != 0)
 
 
+def lighting_pending(status):
+    """Whether a lighting runs, is queued or waits to be drawn (lighting_flags)."""
+    return any(lighting_flags(status))
+
+
+def write_lines_and_exit(path, lines):
+    """For a script run inside the GUI (paraview --script): the lines written to `path`, then
+    the GUI ends at once (os._exit), as run_gui_script expects."""
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    os._exit(0)
+
+
 def render_final(view):
     """Render until the view shows its final illumination; returns whether a lighting ran in
     the background meanwhile. With Asynchronous Lighting on (the GUI's default) a render

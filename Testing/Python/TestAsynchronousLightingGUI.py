@@ -19,20 +19,15 @@ import time
 from paraview.simple import *
 
 # On PYTHONPATH: run_gui_script.
-from IlluminatedVolumeTestUtilities import illumination_status, info, lighting_flags
+from IlluminatedVolumeTestUtilities import (illumination_status, info, lighting_pending,
+                                             write_lines_and_exit)
 
 out = os.environ["VOLILLUM_OUTPUT"]
 results = []
 
 
 def finish():
-    with open(os.path.join(out, "async_result.txt"), "w") as f:
-        f.write("\n".join(results) + "\n")
-    os._exit(0)
-
-
-def pending(status):
-    return any(lighting_flags(status))
+    write_lines_and_exit(os.path.join(out, "async_result.txt"), results)
 
 
 try:
@@ -72,7 +67,7 @@ try:
         now = time.perf_counter()
         state["gap"] = max(state["gap"], now - state["last"])
         state["last"] = now
-        if not pending(status):
+        if not lighting_pending(status):
             results.append("final_frame_s %.3f" % (now - start))
             results.append("largest_timer_delay_s %.3f" % state["gap"])
             results.append("pending_at_the_end %d" % info(rep, "IlluminationPending")[0])

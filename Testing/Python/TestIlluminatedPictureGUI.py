@@ -17,7 +17,8 @@ import os
 
 from paraview.simple import *
 
-from IlluminatedVolumeTestUtilities import render_final  # on PYTHONPATH: run_gui_script
+from IlluminatedVolumeTestUtilities import (render_final,  # on PYTHONPATH: run_gui_script
+                                             write_lines_and_exit)
 from vtkmodules.vtkIOImage import vtkPNGWriter
 from vtkmodules.vtkRenderingCore import vtkWindowToImageFilter
 
@@ -69,6 +70,4 @@ try:
     results.append("representation %s" % str(rep.Representation).strip("'").replace(" ", "_"))
 except Exception as error:  # reported to the driver, which fails the test
     results.append("error %s" % str(error).replace("\n", " "))
-with open(os.path.join(out, "picture_result.txt"), "w") as f:
-    f.write("\n".join(results) + "\n")
-os._exit(0)
+write_lines_and_exit(os.path.join(out, "picture_result.txt"), results)
