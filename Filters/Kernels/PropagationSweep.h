@@ -191,6 +191,9 @@ struct SweepSource
   /// followed, -1 while there is none, and the number of rays along each slice axis.
   int Anchor = -1;
   int RaysB = 0, RaysC = 0;
+  /// Point and spot sources: where ray (0, 0) leaves an anchor slice, along B and C (the
+  /// rays reach beyond the box on the light's side: RaysBeside).
+  double RayOriginB = 0.0, RayOriginC = 0.0;
   /// Point and spot sources: the rows of rays the buffers (and Norms) hold, RayRows from
   /// RayFirst on: every row, or those of a band's cone at any anchor (ConeRows).
   int RayFirst = 0, RayRows = 0;
@@ -314,6 +317,29 @@ void RowSegments(const SweepContext& s, const double p[3], double spacing, int c
 // SegmentTransmittance for `count` rays of a point or spot source equally spaced along axis B.
 void DivergingRowSegments(const SweepContext& s, const double* p, const double* d,
   const double* length, int count, float* out);
+
+// A row of segments of a point or spot source's rays (LightRowTransmittance): ray i (from
+// index 0 of its row) ends at Near + i StepB e_B, all at the same coordinates along the
+// sweep axis and C, and runs back toward the light over the part Fraction of its way.
+struct LightRow
+{
+  double Light[3];
+  double Near[3];
+  double StepB;
+  double Fraction;
+
+  // Near end of ray i.
+  void NearEnd(int i, double p[3], int b) const
+  {
+    std::copy_n(this->Near, 3, p);
+    p[b] += i * this->StepB;
+  }
+};
+
+// SegmentTransmittance (one value a ray: no chromatic attenuation) of rays first to
+// first + count - 1 of `row`, whose distances from the light are distance[0 .. count - 1].
+void LightRowTransmittance(const SweepContext& s, const LightRow& row, int first, int count,
+  const double* distance, float* out);
 
 // Point and spot sources' rays (PointLightRays.cxx).
 

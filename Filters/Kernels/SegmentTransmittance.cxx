@@ -550,5 +550,183 @@ void DivergingRowSegments(const SweepContext& s, const double* p, const double* 
     first = last + 1;
   }
 }
+namespace
+{
+// Most values of the extinction along B that AddLightRowSamples keeps for a run of rays: rays
+// at most two of the volume's cells apart.
+constexpr int MaximumLine = 2 * MaximumDivergingRays + 2;
+
+// Grid coordinate along axis a of the point a fraction t of the way from the light to the
+// near end of ray 0 of `row`.
+inline double RowCoordinate(const GridGeometry& g, const LightRow& row, double t, int a)
+{
+  return (row.Light[a] + t * (row.Near[a] - row.Light[a]) - g.Origin[a]) / g.Spacing[a];
+}
+
+// Adds the extinction at the samples a fraction t of the way from the light to the near ends
+// of rays first to first + count - 1 of `row` (all inside the volume's grid, at most
+// MaximumDivergingRays) to their depths (depth[0] for ray first). The samples share their
+// coordinates along the sweep axis and C, so the extinction is interpolated along those once,
+// at the points of the volume along B the rays pass (`line`), and each ray interpolates that
+// along B: fewer reads than a trilinear sample a ray while rays are at most two cells apart
+// (beyond, they sample their cells directly). Ray i's coordinate along B is ray 0's plus
+// i times the rays' spacing, so its result does not depend on the run it is summed in.
+void AddLightRowSamples(
+  const SweepContext& s, const LightRow& row, double t, int first, int count, float* depth)
+{
+  const GridGeometry& g = s.Volume.Geometry;
+  const int b = s.B;
+  const double origin = RowCoordinate(g, row, t, b); // ray 0's
+  const double spacing = t * row.StepB / g.Spacing[b];
+  double u[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    u[a] = a == b ? origin + first * spacing : RowCoordinate(g, row, t, a);
+  }
+  const TrilinearCell cell = CellAt(g, u);
+  const int low = cell.Index[b];
+  const int high =
+    std::min(static_cast<int>(origin + (first + count - 1) * spacing), g.Dimensions[b] - 2);
+  if (s.Empty && RowCellsEmpty(s, cell.Index, low, high))
+  {
+    return;
+  }
+  int start[3] = { cell.Index[0], cell.Index[1], cell.Index[2] };
+  start[b] = 0;
+  long long corner[3], strideB;
+  const PackedValue* q = CellValues(s, start, corner, &strideB);
+  if (spacing > 2.0 || high - low + 2 > MaximumLine)
+  {
+    for (int i = 0; i < count; ++i)
+    {
+      const double v = origin + (first + i) * spacing;
+      const int x = static_cast<int>(v);
+      float f[3] = { cell.Fraction[0], cell.Fraction[1], cell.Fraction[2] };
+      f[b] = static_cast<float>(v - x);
+      const PackedValue* r = q + x * strideB;
+      const float sigma = corner[0] == 1
+        ? TrilinearInPackedCell(r, corner[1], corner[2], f[0], f[1], f[2])
+        : TrilinearInCell(r, corner[0], corner[1], corner[2], f[0], f[1], f[2]);
+      depth[i] += sigma > 0.0f ? sigma : 0.0f;
+    }
+    return;
+  }
+  const float fa = cell.Fraction[s.Axis], fc = cell.Fraction[s.C];
+  const long long da = corner[s.Axis], dc = corner[s.C];
+  float line[MaximumLine];
+  for (int x = low; x <= high + 1; ++x)
+  {
+    const PackedValue* r = q + x * strideB;
+    const float c0 = Unpack(r[0]) + fa * (Unpack(r[da]) - Unpack(r[0]));
+    const float c1 = Unpack(r[dc]) + fa * (Unpack(r[dc + da]) - Unpack(r[dc]));
+    line[x - low] = c0 + fc * (c1 - c0);
+  }
+  for (int i = 0; i < count; ++i)
+  {
+    const double v = origin + (first + i) * spacing;
+    const int x = std::min(static_cast<int>(v), high) - low;
+    const float f = static_cast<float>(v - (x + low));
+    const float sigma = line[x] + f * (line[x + 1] - line[x]);
+    depth[i] += sigma > 0.0f ? sigma : 0.0f;
+  }
+}
+
+// The rays [first, last] of `row` (among first to first + count - 1) whose both ends lie
+// inside the grid, as DivergingRowSegments requires of a run; none: first > last.
+void RaysInsideGrid(const SweepContext& s, const LightRow& row, int& first, int& last)
+{
+  const GridGeometry& g = s.Volume.Geometry;
+  for (const double t : { 1.0, 1.0 - row.Fraction })
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      const double end = g.Dimensions[a] - 1;
+      const double origin = RowCoordinate(g, row, t, a);
+      if (a != s.B)
+      {
+        const double tolerance = 2.0 * FaceTolerance(s.Bounds, a) / g.Spacing[a];
+        if (origin < -tolerance || origin > end + tolerance)
+        {
+          last = first - 1;
+        }
+        continue;
+      }
+      const double spacing = t * row.StepB / g.Spacing[a];
+      const double high = end - GeometricTolerance * end;
+      if (!(spacing > 0.0))
+      {
+        last = origin >= 0.0 && origin < high ? last : first - 1;
+        continue;
+      }
+      const double lowest = std::ceil(-origin / spacing);
+      const double highest = std::ceil((high - origin) / spacing) - 1.0;
+      first = static_cast<int>(std::max<double>(first, std::min<double>(lowest, last + 1)));
+      last = static_cast<int>(std::min<double>(last, std::max<double>(highest, first - 1)));
+      // The divisions' rounding must not let a ray out.
+      while (first <= last && origin + first * spacing < 0.0)
+      {
+        ++first;
+      }
+      while (last >= first && origin + last * spacing >= high)
+      {
+        --last;
+      }
+    }
+  }
+}
+}
+
+// DivergingRowSegments for the rays of a row (LightRow): those inside the volume's grid
+// summed a run of equal step counts at a time (AddLightRowSamples), without per-ray
+// positions, directions or tests; the others integrated one by one.
+void LightRowTransmittance(const SweepContext& s, const LightRow& row, int first, int count,
+  const double* distance, float* out)
+{
+  int inFirst = first, inLast = first + count - 1;
+  RaysInsideGrid(s, row, inFirst, inLast);
+  for (int i = first; i < first + count; ++i)
+  {
+    if (i < inFirst || i > inLast)
+    {
+      double p[3], d[3];
+      row.NearEnd(i, p, s.B);
+      for (int a = 0; a < 3; ++a)
+      {
+        d[a] = (p[a] - row.Light[a]) / distance[i - first];
+      }
+      SegmentTransmittance(s, p, d, distance[i - first] * row.Fraction, out + (i - first));
+    }
+  }
+  if (inFirst > inLast)
+  {
+    return;
+  }
+  // Runs of rays with the same number of steps, each summed sample by sample.
+  int steps[MaximumDivergingRays];
+  float depth[MaximumDivergingRays];
+  for (int i = inFirst - first; i <= inLast - first; ++i)
+  {
+    steps[i] = SegmentSteps(s, distance[i] * row.Fraction);
+    depth[i] = 0.0f;
+  }
+  for (int r = inFirst - first; r <= inLast - first;)
+  {
+    int end = r + 1;
+    while (end <= inLast - first && steps[end] == steps[r])
+    {
+      ++end;
+    }
+    const int n = steps[r];
+    for (int m = 0; m < n; ++m)
+    {
+      AddLightRowSamples(s, row, 1.0 - (m + 0.5) * row.Fraction / n, first + r, end - r, depth + r);
+    }
+    r = end;
+  }
+  for (int i = inFirst - first; i <= inLast - first; ++i)
+  {
+    ApplyDepth(1, s.Volume.ScaledStep(distance[i] * row.Fraction / steps[i]) * depth[i], out + i);
+  }
+}
 }
 }

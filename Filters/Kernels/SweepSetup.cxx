@@ -81,6 +81,40 @@ void PrepareDeposits(const SweepContext& s, const std::vector<PropagationTask>& 
   }
 }
 
+namespace
+{
+// The rays a point or spot source keeps beside the box along axis c (B or C of the sweep s),
+// before its first point (low) and after its last (high), in rays: on the light's side, as
+// far as the rays of the box's points reach at an anchor until the next, so that every
+// point reads its light from the rays instead of integrating its path from where it entered
+// the box. A ray crosses its anchor at least 1 / AnchorSpread of the way from the light to
+// its point, so at most 1 - 1 / AnchorSpread of the light's distance beyond the face (and two
+// spacings more: the slice that makes the next anchor, and the rounding); no farther than
+// the box's extent (points beyond integrate their paths). None where the grid is coarser
+// than the volume's along B or C (a resolution scale below 1): the rays are then farther
+// apart than the volume's cells, and reading them instead of integrating those paths raised
+// the material RMS of the engine's point light at scale 0.5 from 4.49 % to 5.25 % (bound
+// 5 %); at the volume's resolution from 0.85 % to 1.04 %.
+void RaysBeside(const SweepContext& s, const double light[3], int c, int& low, int& high)
+{
+  const double first = s.Origin[c], last = s.Origin[c] + (s.N[c] - 1) * s.Spacing[c];
+  const double* data = s.Volume.Geometry.Spacing.data();
+  const bool fine = s.Spacing[s.B] <= data[s.B] * (1.0 + GeometricTolerance) &&
+    s.Spacing[s.C] <= data[s.C] * (1.0 + GeometricTolerance);
+  auto rays = [&](double beyond)
+  {
+    if (!fine || !(beyond > 0.0))
+    {
+      return 0;
+    }
+    const double reach = (1.0 - 1.0 / AnchorSpread) * beyond + 2.0 * s.Spacing[c];
+    return static_cast<int>(std::ceil(AnchorSpread * std::min(reach, last - first) / s.Spacing[c]));
+  };
+  low = rays(first - light[c]);
+  high = rays(light[c] - last);
+}
+}
+
 // The read and write slice buffers of each source of a sweep (s); returns the bytes of
 // every buffer of the sweep, the threads' row buffers included.
 size_t AllocateSliceBuffers(const SweepContext& s, std::vector<SweepSource>& prepared,
@@ -99,8 +133,13 @@ size_t AllocateSliceBuffers(const SweepContext& s, std::vector<SweepSource>& pre
     if (!sweep.Source.Directional)
     {
       // The rays leaving an anchor, AnchorSpread times denser than its points.
-      sweep.RaysB = static_cast<int>(std::ceil((nb - 1) * AnchorSpread)) + 1;
-      sweep.RaysC = static_cast<int>(std::ceil((nc - 1) * AnchorSpread)) + 1;
+      int lowB, highB, lowC, highC;
+      RaysBeside(s, sweep.Source.Position, s.B, lowB, highB);
+      RaysBeside(s, sweep.Source.Position, s.C, lowC, highC);
+      sweep.RaysB = lowB + static_cast<int>(std::ceil((nb - 1) * AnchorSpread)) + 1 + highB;
+      sweep.RaysC = lowC + static_cast<int>(std::ceil((nc - 1) * AnchorSpread)) + 1 + highC;
+      sweep.RayOriginB = s.Origin[s.B] - lowB * (s.Spacing[s.B] / AnchorSpread);
+      sweep.RayOriginC = s.Origin[s.C] - lowC * (s.Spacing[s.C] / AnchorSpread);
       int first = 0, last = sweep.RaysC - 1;
       if (!sweep.ConeLow.empty())
       {

@@ -824,6 +824,74 @@ TEST(Kernels, PropagationThroughASlabAndSelectiveRemovalIsExact)
     [](std::uint32_t v) { return v == 0; }));
 }
 
+// A point light beside a cube of uniform extinction (beyond three of its faces): the rays of
+// most points enter the cube across a face along which no sweep runs, and a point's light is
+// read from the anchored rays, those beside the cube included, or (its ray entering just
+// before it) integrated from the face. Every point's light is exp(-sigma x the length of its
+// ray inside the cube), to 0.8 % (the interpolation between rays; measured 0.60 %) and
+// 0.06 % RMS (measured 0.045 %).
+TEST(Kernels, PointLightBesideACubeIsItsAnalyticTransmittance)
+{
+  constexpr int n = 40;
+  constexpr double sigma = 5.0 / 256.0; // stored exactly
+  ClassifiedVolume cube;
+  cube.Geometry.Dimensions = { { n, n, n } };
+  cube.Channels = 1;
+  cube.Store(std::vector<float>(static_cast<size_t>(n) * n * n, static_cast<float>(sigma)));
+  double bounds[6];
+  cube.Geometry.GetBounds(bounds);
+  LightState light;
+  light.Kind = LightKind::Point;
+  light.Position = { { 65.0, 58.0, 60.0 } };
+  FixedPointIllumination illumination;
+  illumination.Reset(cube.Geometry.NumberOfPoints(), FixedPointIllumination::ScaleFor(1.0));
+  std::vector<PropagationTask> remaining;
+  PropagationStatistics statistics;
+  ASSERT_TRUE(PropagateTasks(cube, cube.Geometry, TasksForLight(light, +1, bounds), true, 0,
+    illumination, remaining, statistics, nullptr));
+  std::vector<float> rgb(3 * static_cast<size_t>(cube.Geometry.NumberOfPoints()));
+  illumination.ToFloat(rgb.data());
+  double worst = 0.0, squares = 0.0;
+  int sideways = 0; // points whose rays enter across a face along x or y
+  for (int k = 0; k < n; ++k)
+  {
+    for (int j = 0; j < n; ++j)
+    {
+      for (int i = 0; i < n; ++i)
+      {
+        const double p[3] = { double(i), double(j), double(k) };
+        // The part of the way to the light where the ray leaves the cube: the nearest face.
+        double leave = 1.0;
+        int face = -1;
+        for (int a = 0; a < 3; ++a)
+        {
+          const double t = (n - 1 - p[a]) / (light.Position[a] - p[a]);
+          if (t < leave)
+          {
+            leave = t;
+            face = a;
+          }
+        }
+        sideways += face < 2 ? 1 : 0;
+        const double length = leave *
+          std::sqrt(std::pow(light.Position[0] - p[0], 2) + std::pow(light.Position[1] - p[1], 2) +
+            std::pow(light.Position[2] - p[2], 2));
+        const double expected = std::exp(-sigma * length);
+        const double error = std::abs(rgb[3 * (i + n * (j + n * k))] - expected) / expected;
+        worst = std::max(worst, error);
+        squares += error * error;
+      }
+    }
+  }
+  const double rms = std::sqrt(squares / (n * n * n));
+  std::cout << "point light beside a cube: largest relative error " << worst << ", RMS " << rms
+            << "; " << sideways << " of " << n * n * n << " points lit across a face along x or y"
+            << std::endl;
+  EXPECT_GT(sideways, n * n * n / 2);
+  EXPECT_LE(worst, 0.008);
+  EXPECT_LE(rms, 0.0006);
+}
+
 namespace
 {
 // The points [first, last] along `axis` of a volume, a volume of their own.

@@ -381,7 +381,9 @@ TEST(MultiLightIlluminationVolume, BrightenedLightsKeepTheFixedPointExact)
 // The row kernels (a directional light's segments along a row of the illumination grid,
 // sampled in cells found once per row, at the data's resolution a whole row summed at once;
 // the steps of a point or spot light's rays and points along a row of a slice, summed a run
-// of equal step counts at a time) against every segment integrated on its own: the same
+// of equal step counts at a time from the extinction interpolated once along the row, and
+// the points' reads of the rays a run at a time) against every segment integrated and every
+// point read on its own (the former formulation of point and spot lights): the same
 // illumination to 1e-6 of its largest value, with and without chromatic attenuation, at the
 // data's resolution and at half of it (the rays 39 / 19 = 2.05 data cells apart), with
 // point lights outside (their rays entering through every side face) and one inside the
