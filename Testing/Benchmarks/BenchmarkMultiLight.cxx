@@ -246,20 +246,30 @@ json PerVoxel(const Volume& v)
   const double points = static_cast<double>(v.Image->GetNumberOfPoints());
   std::cout << "\nFull update, " << v.Name << " at scale 1, oblique lights (ns per voxel)\n"
             << std::left << std::setw(14) << "light" << std::right << std::setw(14) << "first light"
-            << std::setw(14) << "each added"
+            << std::setw(14) << "each added" << std::setw(18) << "first / dir." << std::setw(16)
+            << "added / dir."
             << "\n";
   json rows = json::array();
+  double directional[2] = { 0.0, 0.0 };
   for (const std::string kind : { "directional", "point", "spot" })
   {
     const double one = FullUpdate(v, 1.0, ObliqueLights(kind, 1, bounds), true);
     const double four = FullUpdate(v, 1.0, ObliqueLights(kind, 4, bounds), true);
     json r;
     r["light"] = kind;
-    r["first_light_ns_per_voxel"] = 1e9 * one / points;
-    r["added_light_ns_per_voxel"] = 1e9 * (four - one) / 3.0 / points;
-    std::cout << std::left << std::setw(14) << kind << std::right << std::setw(14)
-              << r["first_light_ns_per_voxel"].get<double>() << std::setw(14)
-              << r["added_light_ns_per_voxel"].get<double>() << "\n";
+    const double first = 1e9 * one / points, added = 1e9 * (four - one) / 3.0 / points;
+    if (kind == "directional")
+    {
+      directional[0] = first;
+      directional[1] = added;
+    }
+    r["first_light_ns_per_voxel"] = first;
+    r["added_light_ns_per_voxel"] = added;
+    r["first_light_over_directional"] = first / directional[0];
+    r["added_light_over_directional"] = added / directional[1];
+    std::cout << std::left << std::setw(14) << kind << std::right << std::setw(14) << first
+              << std::setw(14) << added << std::setw(18) << first / directional[0] << std::setw(16)
+              << added / directional[1] << "\n";
     rows.push_back(r);
   }
   return rows;
