@@ -9,16 +9,12 @@
 #include "vtkObjectFactory.h"
 
 #include <algorithm>
+#include <iterator>
 
 vtkStandardNewMacro(vtkMultiLightIlluminationVolume);
 
 namespace
 {
-long long LightPropagations(const std::vector<volillum::PropagationTask>& tasks)
-{
-  return static_cast<long long>(tasks.size());
-}
-
 // Largest channel radiance summed over the lights that are on: a bound on the illumination
 // they give any point.
 double RadianceBound(const std::vector<volillum::LightState>& lights)
@@ -44,20 +40,39 @@ int vtkMultiLightIlluminationVolume::GetNumberOfPendingPasses() const
 
 //------------------------------------------------------------------------------
 bool vtkMultiLightIlluminationVolume::ChooseSelective(
-  const std::vector<volillum::PropagationTask>& selective,
-  const std::vector<volillum::PropagationTask>& full, size_t changed, size_t lights) const
+  const std::vector<volillum::PropagationTask>& selective, const RecordPlan& plan,
+  const std::vector<volillum::PropagationTask>& full, size_t changed, size_t lights, bool dragged)
 {
   if (this->CostEstimate == ChangedLightFraction)
   {
     return 2 * changed <= lights;
   }
-  const int selectiveSweeps = volillum::CountSweeps(selective, this->CoherentPropagation);
-  const int fullSweeps = volillum::CountSweeps(full, this->CoherentPropagation);
-  if (selectiveSweeps != fullSweeps)
+  namespace cost = volillum::PropagationCost;
+  double record = 0.0;
+  if (plan.Subtracted >= 0)
   {
-    return selectiveSweeps < fullSweeps;
+    record += cost::SubtractRecord;
   }
-  return LightPropagations(selective) <= LightPropagations(full);
+  if (plan.Record >= 0)
+  {
+    record += this->RecordedLight >= 0 ? cost::ReusedRecord : cost::NewRecord;
+  }
+  this->LastSelectiveCost =
+    volillum::EstimatePropagationCost(selective, this->CoherentPropagation) + record;
+  this->LastFullCost =
+    volillum::EstimatePropagationCost(full, this->CoherentPropagation) + cost::Clear;
+  if (dragged && plan.Record >= 0 && plan.Subtracted < 0)
+  {
+    // A light changed alone twice in a row is being dragged: a record started now makes each
+    // of the drag's later updates subtract it and add the new state only.
+    std::vector<volillum::PropagationTask> added;
+    std::copy_if(selective.begin(), selective.end(), std::back_inserter(added),
+      [](const volillum::PropagationTask& task) { return task.Recorded; });
+    return volillum::EstimatePropagationCost(added, this->CoherentPropagation) +
+      cost::SubtractRecord <=
+      this->LastFullCost;
+  }
+  return this->LastSelectiveCost <= this->LastFullCost;
 }
 
 //------------------------------------------------------------------------------
@@ -161,11 +176,15 @@ bool vtkMultiLightIlluminationVolume::PrepareUpdate(const std::vector<volillum::
   }
   const auto& applied = this->Applied.GetApplied();
   bool selective = false;
+  this->LastSelectiveCost = this->LastFullCost = -1.0;
+  const std::vector<int> changed = this->Applied.ChangedLights(lights);
+  const int alone = changed.size() == 1 ? changed[0] : -1;
+  const bool dragged = alone >= 0 && alone == this->LoneLight;
+  this->LoneLight = alone;
   if (!mustRecompute)
   {
     // Remove the applied states of the changed lights and add their new states, after the
     // work an earlier update left pending (see RecordPlan for the recorded light).
-    const std::vector<int> changed = this->Applied.ChangedLights(lights);
     plan = this->PlanRecord(changed, lights.size());
     std::vector<volillum::PropagationTask> changes;
     for (int i : changed)
@@ -187,8 +206,8 @@ bool vtkMultiLightIlluminationVolume::PrepareUpdate(const std::vector<volillum::
     }
     work = this->Pending;
     work.insert(work.end(), changes.begin(), changes.end());
-    selective =
-      this->ChooseSelective(work, full, changed.size(), std::max(lights.size(), applied.size()));
+    selective = this->ChooseSelective(
+      work, plan, full, changed.size(), std::max(lights.size(), applied.size()), dragged);
   }
   this->Valid = false;
   if (!selective)

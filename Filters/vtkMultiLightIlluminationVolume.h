@@ -14,8 +14,17 @@
  * the unit distance, the attenuation mode or the resolution forces a full update. Which of
  * the two runs is decided by CostEstimate:
  * - ChangedLightFraction: selective when at most half of the lights changed;
- * - PropagationPasses (default): selective when it needs fewer sweeps than a full update
- *   (on a tie, fewer light propagations).
+ * - PropagationPasses (default): selective unless it is estimated to cost more than a full
+ *   update (volillum::EstimatePropagationCost): the sweeps each would run (lights sharing a
+ *   sweep's group once per sweep, as it runs them; a removal and an addition of the same rays,
+ *   a colour change, one propagation), the light geometries each sweep propagates (a point
+ *   or spot light's rays cost more than a directional light's), their deposits, and the
+ *   record's bookkeeping (a record started, its deposits, one subtracted) against clearing
+ *   the illumination. So with two lights a light moved once is recomputed with the other
+ *   (three sweeps either way, and no record to start), with more lights it is removed and
+ *   added. A light changed alone twice in a row is taken as dragged: it is recorded when
+ *   adding its new state alone (what each later update of the drag does, subtracting the
+ *   record) costs no more than a full update, and a recorded light only adds its new state.
  * UpdateMode (0 full, 1 selective) and PropagationPasses (sweeps done) in the output's field
  * data report the choice. The illumination is kept in 32-bit fixed point (a unit chosen from
  * the lights' summed radiance, see FixedPointIllumination), so a selective update cancels
@@ -149,6 +158,15 @@ public:
   /// The light whose contribution is recorded (see above), -1 when none is.
   int GetRecordedLight() const { return this->RecordedLight; }
 
+  /**
+   * The estimated costs (volillum::PropagationCost: nanoseconds per illumination point) of
+   * the selective and of the full update that the last update chose between with
+   * PropagationPasses; -1 where it had no choice (a full update was needed, or another
+   * CostEstimate).
+   */
+  double GetLastSelectiveCost() const { return this->LastSelectiveCost; }
+  double GetLastFullCost() const { return this->LastFullCost; }
+
 protected:
   vtkMultiLightIlluminationVolume() = default;
   ~vtkMultiLightIlluminationVolume() override = default;
@@ -175,9 +193,6 @@ private:
   vtkMultiLightIlluminationVolume(const vtkMultiLightIlluminationVolume&) = delete;
   void operator=(const vtkMultiLightIlluminationVolume&) = delete;
 
-  bool ChooseSelective(const std::vector<volillum::PropagationTask>& selective,
-    const std::vector<volillum::PropagationTask>& full, size_t changed, size_t lights) const;
-
   // What a selective update does with the record (RecordEditedLight). When the recorded light
   // changes (with others or not), its old state leaves by subtracting the record (Subtracted)
   // and its new state is recorded (Record); otherwise a light changed alone is recorded
@@ -189,6 +204,14 @@ private:
     int Kept = -1;
   };
   RecordPlan PlanRecord(const std::vector<int>& changed, size_t lights) const;
+  // Whether the selective update (its tasks and record plan) runs instead of the full one
+  // (CostEstimate); sets LastSelectiveCost and LastFullCost. dragged: the light changed
+  // alone was also the one changed alone by the update before.
+  bool ChooseSelective(const std::vector<volillum::PropagationTask>& selective,
+    const RecordPlan& plan, const std::vector<volillum::PropagationTask>& full, size_t changed,
+    size_t lights, bool dragged);
+  double LastSelectiveCost = -1.0, LastFullCost = -1.0;
+  int LoneLight = -1; // the light the last update found changed alone, -1: none
   // Subtracts, starts or drops the record as planned, before the propagation.
   void StartRecord(const RecordPlan& plan);
   // Sets RecordedLight after the propagation (or drops the record) and clears the Recorded

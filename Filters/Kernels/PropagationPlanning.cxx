@@ -105,6 +105,28 @@ int CountSweeps(const std::vector<PropagationTask>& tasks, bool coherent)
   return static_cast<int>(groups.size());
 }
 
+double EstimatePropagationCost(const std::vector<PropagationTask>& tasks, bool coherent)
+{
+  std::vector<PropagationTask> remaining;
+  double cost = 0.0;
+  for (const auto& sweep : PlanSweeps(tasks, coherent, 0, remaining))
+  {
+    cost += PropagationCost::Sweep;
+    std::vector<RaySource> sources;
+    for (const auto& task : sweep)
+    {
+      const RaySource source = SourceOf(task);
+      if (std::find(sources.begin(), sources.end(), source) == sources.end())
+      {
+        sources.push_back(source);
+        cost += source.Directional ? PropagationCost::DirectionalRays : PropagationCost::PointRays;
+      }
+      cost += PropagationCost::Deposit + (task.Recorded ? PropagationCost::RecordedDeposit : 0.0);
+    }
+  }
+  return cost;
+}
+
 std::vector<std::vector<PropagationTask>> PlanSweeps(const std::vector<PropagationTask>& tasks,
   bool coherent, int maxSweeps, std::vector<PropagationTask>& remaining)
 {

@@ -733,20 +733,101 @@ TEST(MultiLightIlluminationVolume, CostEstimatesChooseTheUpdate)
     lights[0]->SetDiffuseColor(1, 0, 0);
     filter->Update();
     EXPECT_EQ(Field(filter, "UpdateMode"), 1) << "estimate " << estimate;
-    // Three of four change: the fraction estimate recomputes all, the pass estimate too
-    // (removing and adding three lights in -z is no fewer sweeps than a full update but
-    // more light propagations).
+    // Three of four change intensity: the fraction estimate recomputes all; the cost
+    // estimate removes and adds them (the same rays: three light geometries propagated,
+    // against the four of a full update).
     for (int i = 0; i < 3; ++i)
     {
       lights[i]->SetIntensity(2.0);
     }
     filter->Update();
-    EXPECT_EQ(Field(filter, "UpdateMode"), 0) << "estimate " << estimate;
+    EXPECT_EQ(
+      Field(filter, "UpdateMode"), estimate == vtkMultiLightIlluminationVolume::PropagationPasses)
+      << "estimate " << estimate;
     // A transfer-function change always recomputes everything.
     otf->AddPoint(100, 0.1);
     filter->Update();
     EXPECT_EQ(Field(filter, "UpdateMode"), 0);
     otf->RemovePoint(100);
+  }
+}
+
+// A one-light state change runs the update estimated to cost less (PropagationPasses), and
+// either equals a full recompute exactly. Two directional lights: a light moved into the
+// other light's groups is recomputed with it in two sweeps (removing and adding it takes
+// three);
+// moved across groups (Table 1's state change: three sweeps either way) it is recomputed
+// too, as a selective update would also start a record. With a point light as well, the
+// full update propagates its rays too: the moved light is removed and added. A light
+// changed alone twice in a row (dragged) is recorded, and its next change only adds its new
+// state.
+TEST(MultiLightIlluminationVolume, OneLightStateChangeTakesTheCheaperUpdate)
+{
+  auto image = PhantomScene(vtkIlluminationPhantomSource::ThreeSpheres, 24);
+  auto otf = RampOpacity(image, 0.3);
+  double bounds[6];
+  image->GetBounds(bounds);
+  for (const bool withPoint : { false, true })
+  {
+    const std::string lit = withPoint ? "three lights, " : "two lights, ";
+    std::vector<vtkSmartPointer<vtkLight>> lights;
+    vtkSmartPointer<vtkMultiLightIlluminationVolume> filter;
+    // A new filter with light 0 along (x0, -0.2, -1) (groups -z and +x or -x) and light 1
+    // along (0.2, 0.1, -1) (-z, +x), after its first update.
+    const auto start = [&](double x0)
+    {
+      lights = { DirectionalLight(x0, -0.2, -1), DirectionalLight(0.2, 0.1, -1) };
+      if (withPoint)
+      {
+        lights.push_back(PointLight(-10, 14, 40, 1, 0.9, 0.3));
+      }
+      filter = ImageFilter<vtkMultiLightIlluminationVolume>(image, otf);
+      for (const auto& l : lights)
+      {
+        filter->AddLight(l);
+      }
+      filter->Update();
+    };
+    // Turns light 0 toward d and updates: the mode follows the estimates, the output a full
+    // recompute's.
+    const auto change = [&](double dx, double dy, double dz, const std::string& what)
+    {
+      lights[0]->SetFocalPoint(dx, dy, dz);
+      filter->Update();
+      auto fresh = ImageFilter<vtkMultiLightIlluminationVolume>(image, otf);
+      for (const auto& l : lights)
+      {
+        fresh->AddLight(l);
+      }
+      fresh->Update();
+      EXPECT_EQ(MaxRelative(Result(filter), Result(fresh)), 0.0) << lit << what;
+      std::cout << lit << what << ": update mode " << Field(filter, "UpdateMode") << ", "
+                << Field(filter, "PropagationPasses") << " passes; estimated selective "
+                << filter->GetLastSelectiveCost() << ", full " << filter->GetLastFullCost()
+                << std::endl;
+    };
+    // From -x into the other light's groups (-z, +x): a full update sweeps twice, a
+    // selective one three times (-x, +x, -z).
+    start(-0.3);
+    change(0.3, -0.2, -1, "into the other's groups");
+    EXPECT_EQ(Field(filter, "UpdateMode"), withPoint ? 1 : 0) << lit;
+    EXPECT_EQ(Field(filter, "PropagationPasses"), withPoint ? 3 : 2) << lit;
+    // From the other light's groups across to -x, -z (Table 1's change): three sweeps
+    // either way.
+    start(0.3);
+    change(-1, -0.2, -0.3, "across groups");
+    EXPECT_EQ(Field(filter, "UpdateMode"), withPoint ? 1 : 0) << lit;
+    EXPECT_EQ(Field(filter, "PropagationPasses"), 3) << lit;
+    // Dragged on: recorded, then only its new state is propagated.
+    change(-1, -0.25, -0.3, "dragged");
+    EXPECT_EQ(Field(filter, "UpdateMode"), 1) << lit;
+    EXPECT_EQ(filter->GetRecordedLight(), 0) << lit;
+    change(-1, -0.3, -0.3, "dragged on");
+    EXPECT_EQ(Field(filter, "UpdateMode"), 1) << lit;
+    EXPECT_EQ(filter->GetLastLightPropagations(),
+      static_cast<long long>(
+        volillum::TasksForLight(volillum::CaptureLight(lights[0]), +1, bounds).size()))
+      << lit;
   }
 }
 

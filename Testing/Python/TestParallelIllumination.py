@@ -110,6 +110,13 @@ SWEPT_AGAIN = SWEPT[:14] + [0, 280, 260, 140, 100, 100, 70, 0.3, 0.8, 1.0, 0.9, 
     SWEPT[28:]
 
 
+def selective_edits(name):
+    """Properties that make a filter's edit of one of two lights (LIGHTS to EDITED) selective:
+    the propagation's cost estimate recomputes both lights (the cheaper update), Changed
+    Light Fraction removes and adds the edited one."""
+    return {"CostEstimate": 0} if name == "MultiLightIlluminationVolume" else {}
+
+
 def worker(plugin, out, grid_file, tiny_file, parallel):
     from paraview.simple import (LoadPlugin, XMLImageDataReader, XMLUnstructuredGridReader,
                                  XMLPartitionedUnstructuredGridReader, PointDatatoCellData,
@@ -134,12 +141,14 @@ def worker(plugin, out, grid_file, tiny_file, parallel):
     def save(proxy, name):
         SaveData(os.path.join(out, name), proxy=proxy)
 
-    # Each edit's lights, saved after the edit; then a fresh filter with the last lights.
-    for edits, fresh in (([("multilight", LIGHTS), ("selective", EDITED)], "fresh"),
-                         ([("swept", SWEPT), ("swept_selective", SWEPT_EDITED),
-                           # the recorded light again: its record subtracted
-                           ("swept_again", SWEPT_AGAIN)], "swept_fresh")):
-        multilight = image_filter("MultiLightIlluminationVolume", ResolutionScale=0.5)
+    # Each edit's lights, saved after the edit; then a fresh filter with the last lights (the
+    # edit of two lights made selective: selective_edits).
+    for edits, fresh, estimate in (([("multilight", LIGHTS), ("selective", EDITED)], "fresh", 0),
+                                   ([("swept", SWEPT), ("swept_selective", SWEPT_EDITED),
+                                     # the recorded light again: its record subtracted
+                                     ("swept_again", SWEPT_AGAIN)], "swept_fresh", 1)):
+        multilight = image_filter("MultiLightIlluminationVolume", ResolutionScale=0.5,
+                                  CostEstimate=estimate)
         for name, edit in edits:
             multilight.Lights = edit
             save(multilight, name + ".pvti")
@@ -214,7 +223,7 @@ def worker(plugin, out, grid_file, tiny_file, parallel):
             ("FilteredVolumetricShadows", 0.5, [LIGHTS], "cells_filtered.pvti"),
             ("MultiLightIlluminationVolume", 0.5, [LIGHTS, EDITED], "cells_multilight.pvti")):
         cells = ns[name](Input=head_cells, ColorTransferFunction=lut, OpacityFunction=pwf,
-                         ResolutionScale=scale)
+                         ResolutionScale=scale, **selective_edits(name))
         cells.Scalars = ["CELLS", "scalars"]
         for edit in lights:
             cells.Lights = edit
@@ -358,7 +367,7 @@ out.GetPointData().SetGlobalIds(ids)
              "root_multilight.pvti"),
             ("FilteredVolumetricShadows", "CELLS", "root", 0.5, [LIGHTS], "root_filtered.pvti")):
         f = ns[name](Input=pieces[(association, layout)], ColorTransferFunction=lut,
-                     OpacityFunction=pwf, ResolutionScale=scale)
+                     OpacityFunction=pwf, ResolutionScale=scale, **selective_edits(name))
         f.Scalars = [association, "scalars"]
         for edit in lights:
             f.Lights = edit
