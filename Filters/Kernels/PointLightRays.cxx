@@ -446,25 +446,29 @@ void AdvanceAnchoredRays(const SweepContext& s, SweepSource& sweep, const Anchor
     // The rays that stay beyond the box are left out; the others keep the runs they have
     // in the row's chunks of MaximumDivergingRays rays (the rays left out break runs).
     int crossing = 0, beyond = sweep.RaysB;
-    LightRow steps; // the rays' steps (without chromatic attenuation: a row at once)
+    // The row's rays: an anchor's points at slice k, or (without chromatic attenuation) the
+    // rays' steps to slice k, each a row at once.
+    LightRow rayRow;
+    std::copy_n(light, 3, rayRow.Light);
     if (step.Anchor)
     {
       RaysMeetingBox(s, sweep, j, crossing, beyond);
       float* leaving = next + s.Channels * row;
       std::fill(leaving, leaving + s.Channels * crossing, 1.0f);
       std::fill(leaving + s.Channels * beyond, leaving + s.Channels * sweep.RaysB, 1.0f);
+      AnchorPoint(s, sweep, k, 0, j, rayRow.Near);
+      rayRow.StepB = s.Spacing[s.B] / AnchorSpread;
     }
     else
     {
       RaysCrossingBox(s, sweep, step, k, j, crossing, beyond);
-      std::copy_n(light, 3, steps.Light);
-      AnchorPoint(s, sweep, sweep.Anchor, 0, j, steps.Near);
+      AnchorPoint(s, sweep, sweep.Anchor, 0, j, rayRow.Near);
       for (int c = 0; c < 3; ++c)
       {
-        steps.Near[c] = light[c] + step.Scale * (steps.Near[c] - light[c]);
+        rayRow.Near[c] = light[c] + step.Scale * (rayRow.Near[c] - light[c]);
       }
-      steps.StepB = step.Scale * s.Spacing[s.B] / AnchorSpread;
-      steps.Fraction = s.Spacing[s.Axis] / (s.Sign * (SliceCoordinate(s, k) - light[s.Axis]));
+      rayRow.StepB = step.Scale * s.Spacing[s.B] / AnchorSpread;
+      rayRow.Fraction = s.Spacing[s.Axis] / (s.Sign * (SliceCoordinate(s, k) - light[s.Axis]));
     }
     for (int chunk = crossing - crossing % MaximumDivergingRays; chunk < beyond;
          chunk += MaximumDivergingRays)
@@ -479,13 +483,9 @@ void AdvanceAnchoredRays(const SweepContext& s, SweepSource& sweep, const Anchor
       if (step.Anchor)
       {
         // The rays leave slice k: their light is read from the rays at slice k - 1.
-        LightRow points;
-        std::copy_n(light, 3, points.Light);
-        AnchorPoint(s, sweep, k, 0, j, points.Near);
-        points.StepB = s.Spacing[s.B] / AnchorSpread;
         double factors[MaximumDivergingRays];
         TransmittanceAlongRow(
-          s, sweep, rays, points, i0, size, next + s.Channels * firstRay, d, factors);
+          s, sweep, rays, rayRow, i0, size, next + s.Channels * firstRay, d, factors);
         continue;
       }
       // The rays through the anchor's points, at slice k, over their step from slice k - 1.
@@ -496,7 +496,7 @@ void AdvanceAnchoredRays(const SweepContext& s, SweepSource& sweep, const Anchor
         {
           length[i] = step.Scale * norms[i0 + i];
         }
-        LightRowTransmittance(s, steps, i0, size, length, out);
+        LightRowTransmittance(s, rayRow, i0, size, length, out);
         continue;
       }
       for (int i = 0; i < size; ++i)

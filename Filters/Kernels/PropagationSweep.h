@@ -325,8 +325,8 @@ struct LightRow
 {
   double Light[3];
   double Near[3];
-  double StepB;
-  double Fraction;
+  double StepB = 0.0;
+  double Fraction = 0.0;
 
   // Near end of ray i.
   void NearEnd(int i, double p[3], int b) const

@@ -182,18 +182,18 @@ inline void AddRowDepths(const PackedValue* q, long long step, long long dx, lon
   }
 }
 
-// AddRowDepths for rays a fractional number of cells apart along axis B: ray i samples the
-// cell `cell` except along B, where it lies at grid coordinate u0 + i ratio (never below 0
-// nor at the last point). q: the cell's first point with index 0 along B. Adjacent: dx is 1
-// (TrilinearInPackedCell).
+// AddRowDepths for rays a fractional number of cells apart along axis B: ray i (depth[i])
+// samples the cell `cell` except along B, where it lies at grid coordinate
+// u0 + (first + i) ratio (never below 0 nor at the last point). q: the cell's first point
+// with index 0 along B. Adjacent: dx is 1 (TrilinearInPackedCell).
 template <int B, bool Adjacent>
 void AddFractionalRowDepths(const PackedValue* q, long long strideB, long long dx, long long dy,
   long long dz, const TrilinearCell& cell, double u0, double ratio, float h, int count,
-  float* depth)
+  float* depth, int first)
 {
   for (int i = 0; i < count; ++i)
   {
-    const double u = u0 + i * ratio;
+    const double u = u0 + (first + i) * ratio;
     const int index = static_cast<int>(u);
     const float f = static_cast<float>(u - index);
     const float fx = B == 0 ? f : cell.Fraction[0];
@@ -210,34 +210,36 @@ void AddFractionalRowDepths(const PackedValue* q, long long strideB, long long d
 template <int B>
 void AddFractionalRowDepthsAlong(const PackedValue* q, long long strideB, long long dx,
   long long dy, long long dz, const TrilinearCell& cell, double u0, double ratio, float h,
-  int count, float* depth)
+  int count, float* depth, int first)
 {
   if (dx == 1)
   {
-    AddFractionalRowDepths<B, true>(q, strideB, dx, dy, dz, cell, u0, ratio, h, count, depth);
+    AddFractionalRowDepths<B, true>(
+      q, strideB, dx, dy, dz, cell, u0, ratio, h, count, depth, first);
   }
   else
   {
-    AddFractionalRowDepths<B, false>(q, strideB, dx, dy, dz, cell, u0, ratio, h, count, depth);
+    AddFractionalRowDepths<B, false>(
+      q, strideB, dx, dy, dz, cell, u0, ratio, h, count, depth, first);
   }
 }
 
-// AddFractionalRowDepths along axis b (0, 1 or 2).
+// AddFractionalRowDepths along axis b (0, 1 or 2); rays first to first + count - 1.
 void AddFractionalRowDepthsAlong(int b, const PackedValue* q, long long strideB, long long dx,
   long long dy, long long dz, const TrilinearCell& cell, double u0, double ratio, float h,
-  int count, float* depth)
+  int count, float* depth, int first = 0)
 {
   if (b == 0)
   {
-    AddFractionalRowDepthsAlong<0>(q, strideB, dx, dy, dz, cell, u0, ratio, h, count, depth);
+    AddFractionalRowDepthsAlong<0>(q, strideB, dx, dy, dz, cell, u0, ratio, h, count, depth, first);
   }
   else if (b == 1)
   {
-    AddFractionalRowDepthsAlong<1>(q, strideB, dx, dy, dz, cell, u0, ratio, h, count, depth);
+    AddFractionalRowDepthsAlong<1>(q, strideB, dx, dy, dz, cell, u0, ratio, h, count, depth, first);
   }
   else
   {
-    AddFractionalRowDepthsAlong<2>(q, strideB, dx, dy, dz, cell, u0, ratio, h, count, depth);
+    AddFractionalRowDepthsAlong<2>(q, strideB, dx, dy, dz, cell, u0, ratio, h, count, depth, first);
   }
 }
 
@@ -597,18 +599,8 @@ void AddLightRowSamples(
   const PackedValue* q = CellValues(s, start, corner, &strideB);
   if (spacing > 2.0 || high - low + 2 > MaximumLine)
   {
-    for (int i = 0; i < count; ++i)
-    {
-      const double v = origin + (first + i) * spacing;
-      const int x = static_cast<int>(v);
-      float f[3] = { cell.Fraction[0], cell.Fraction[1], cell.Fraction[2] };
-      f[b] = static_cast<float>(v - x);
-      const PackedValue* r = q + x * strideB;
-      const float sigma = corner[0] == 1
-        ? TrilinearInPackedCell(r, corner[1], corner[2], f[0], f[1], f[2])
-        : TrilinearInCell(r, corner[0], corner[1], corner[2], f[0], f[1], f[2]);
-      depth[i] += sigma > 0.0f ? sigma : 0.0f;
-    }
+    AddFractionalRowDepthsAlong(b, q, strideB, corner[0], corner[1], corner[2], cell, origin,
+      spacing, 1.0f, count, depth, first);
     return;
   }
   const float fa = cell.Fraction[s.Axis], fc = cell.Fraction[s.C];
