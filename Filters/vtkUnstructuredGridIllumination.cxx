@@ -238,22 +238,33 @@ bool vtkUnstructuredGridIllumination::PrepareDistributedMesh(
     this->MeshKey = 0;
     return false;
   }
-  if (!this->Neighborhood->Changed(controller, own) && this->MeshKey != 0)
+  // How deep the cells of other pieces are needed: the level-1 walk from a point of the piece
+  // (Level1Length), and at least a mean edge (the scattering's neighbours).
+  const std::array<int, 3> dims = { { this->Level0Resolution[0], this->Level0Resolution[1],
+    this->Level0Resolution[2] } };
+  const auto reach = [&](const volillum::TetrahedralMesh& mesh)
   {
-    return true; // no piece changed: the mesh and its colours stand
+    const double walk = volillum::Level1Length(
+      mesh, volillum::Level0Geometry(mesh.Bounds, dims), this->Level1Iterations);
+    return 1.01 * std::max(walk, mesh.MeanEdgeLength);
+  };
+  if (!this->Neighborhood->Changed(controller, own) && this->MeshKey != 0 &&
+    reach(this->Mesh) <= this->NeighborhoodDepth)
+  {
+    return true; // no piece changed and the walk stays inside: the mesh and its colours stand
   }
 
-  // How deep the cells of other pieces are needed: a level-1 step from a point of the piece
-  // walks one mean edge length. Estimated from the tetrahedra's edges, checked below with
-  // the whole mesh's mean edge.
-  const double meanEdge = volillum::MeanTetrahedronEdge(controller, own);
-  if (meanEdge < 0.0)
+  // Estimated from the tetrahedra's edges and the pieces' bounds, checked below with the
+  // whole mesh's mean edge.
+  volillum::TetrahedralMesh estimate;
+  estimate.MeanEdgeLength = volillum::MeanTetrahedronEdge(controller, own);
+  if (estimate.MeanEdgeLength < 0.0)
   {
     vtkErrorMacro("The input has no 3D cells to light.");
     return false;
   }
-  const auto reach = [](double edge) { return 1.01 * edge; };
-  double depth = 1.5 * reach(meanEdge);
+  volillum::UnionOfBounds(controller, own, estimate.Bounds);
+  double depth = 1.1 * reach(estimate);
   for (;;)
   {
     vtkUnstructuredGrid* grid = this->Neighborhood->Build(controller, own, depth);
@@ -269,11 +280,12 @@ bool vtkUnstructuredGridIllumination::PrepareDistributedMesh(
       this->MeshKey = 0;
       return false;
     }
-    if (reach(this->Mesh.MeanEdgeLength) > depth)
+    if (reach(this->Mesh) > depth)
     {
-      depth = 1.2 * reach(this->Mesh.MeanEdgeLength); // the estimate fell short: gather deeper
+      depth = 1.2 * reach(this->Mesh); // the estimate fell short: gather deeper
       continue;
     }
+    this->NeighborhoodDepth = depth;
     // Colours as a single process gives them.
     if (!volillum::ColorDistributedVertices(
           controller, *this->Neighborhood, this->Mesh, this->Coloring, error))
@@ -659,49 +671,37 @@ bool vtkUnstructuredGridIllumination::PropagateChangedLights(
   }
   report.Passes = static_cast<int>(stale.size());
 
-  // Lights in batches of as many as there are threads: level 0 of a batch runs one light
-  // per thread (the upwind pass of one light is sequential), then level 1 of each light
-  // runs in parallel over its vertices. Batches bound the memory of level-0 solutions.
+  // One light at a time: level 0 and level 1 each run in parallel over the grid's points or
+  // the mesh's vertices.
   const int iterations = this->Level1Iterations >= 0
     ? this->Level1Iterations
-    : volillum::AutomaticLevel1Iterations(this->Mesh, this->Level0);
-  const size_t batch = static_cast<size_t>(std::max(1, vtkSMPTools::GetEstimatedNumberOfThreads()));
-  std::vector<std::vector<float>> level0(batch);
-  for (size_t first = 0; first < stale.size(); first += batch)
+    : volillum::AutomaticLevel1Iterations(this->Mesh, this->Level0.Geometry);
+  std::vector<float> level0;
+  for (size_t s = 0; s < stale.size(); ++s)
   {
-    const int count = static_cast<int>(std::min(batch, stale.size() - first));
+    this->UpdateProgress(0.1 + 0.8 * s / stale.size());
+    // A parallel run does not stop: the other processes would wait for this one's values.
+    if (!neighborhood && this->GetAbortExecute())
+    {
+      return false;
+    }
+    const volillum::LightState& light = lights[stale[s]];
     const auto level0Start = Clock::now();
-    vtkSMPTools::For(0, count,
-      [&](int begin, int end)
-      {
-        for (int b = begin; b < end; ++b)
-        {
-          volillum::PropagateLevel0(this->Level0, lights[stale[first + b]], level0[b]);
-        }
-      });
+    volillum::PropagateLevel0(this->Level0, light, level0);
     seconds.Level0 += SecondsSince(level0Start);
     const auto level1Start = Clock::now();
-    for (int b = 0; b < count; ++b)
+    LightCache& cache = this->Cache[stale[s]];
+    cache.Valid = false;
+    std::function<void(std::vector<float>&)> exchange;
+    if (neighborhood)
     {
-      this->UpdateProgress(0.1 + 0.8 * (first + b) / stale.size());
-      // A parallel run does not stop: the other processes would wait for this one's values.
-      if (!neighborhood && this->GetAbortExecute())
-      {
-        return false;
-      }
-      LightCache& cache = this->Cache[stale[first + b]];
-      cache.Valid = false;
-      std::function<void(std::vector<float>&)> exchange;
-      if (neighborhood)
-      {
-        exchange = [&](std::vector<float>& rho)
-        { neighborhood->Exchange(rho.data(), this->Channels); };
-      }
-      volillum::PropagateLevel1(this->Mesh, this->Extinction, this->Level0, level0[b],
-        lights[stale[first + b]], 0.0, iterations, cache.Rho, exchange);
-      cache.State = lights[stale[first + b]];
-      cache.Valid = true;
+      exchange = [&](std::vector<float>& rho)
+      { neighborhood->Exchange(rho.data(), this->Channels); };
     }
+    volillum::PropagateLevel1(this->Mesh, this->Extinction, this->Level0, level0, light, 0.0,
+      iterations, cache.Rho, exchange);
+    cache.State = light;
+    cache.Valid = true;
     seconds.Level1 += SecondsSince(level1Start);
   }
   return true;

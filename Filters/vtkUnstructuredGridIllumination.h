@@ -18,13 +18,12 @@
  * lit: the grid's, or in parallel those of the piece and the cells near it).
  *
  * Per light: level 0 resamples the classified extinction onto a Level0Resolution grid
- * over the mesh bounds (blank points transparent) and solves light transport there by
- * first-order upwinding; the result is interpolated onto the vertices (fixed on boundary
- * vertices, initial values inside); level 1 refines it with Level1Iterations
- * semi-Lagrangian steps of one mean edge length on the tetrahedra (see
- * TetrahedralLightKernel.h). The lights are summed with their colours and a
- * Gauss-Seidel diffusion step (ScatteringStrength per channel, ScatteringIterations)
- * approximates multiple scattering.
+ * over the mesh bounds (blank points transparent) and propagates the light there along
+ * rays (the Multi-Light Illumination Volume's propagation); level 1 refines it at every
+ * vertex: the level-0 light a walk of Level1Iterations mean edge lengths toward the light
+ * away, attenuated exactly through the tetrahedra walked (see TetrahedralLightKernel.h). The lights
+ * are summed with their colours and a Gauss-Seidel diffusion step (ScatteringStrength per channel,
+ * ScatteringIterations) approximates multiple scattering.
  *
  * Updates are selective: each light's transmittance is kept with the light geometry it was
  * computed for, so moving one light recomputes that light only, and changing colours,
@@ -137,9 +136,11 @@ public:
 
   ///@{
   /**
-   * Semi-Lagrangian steps on the tetrahedra: -1 (default) chooses the ratio of the
-   * level-0 cell size to the mean edge length, so light is refined over the last level-0
-   * cell it crossed; 0 keeps the level-0 solution.
+   * Length of the level-1 walk in mean edge lengths (semi-Lagrangian steps, taken as one
+   * walk): every vertex takes the level-0 light this far toward the light and attenuates it
+   * exactly through the tetrahedra on the way. -1 (default) walks four level-0 cells
+   * (volillum::Level1Cells); 0 keeps the level-0 solution. Longer walks cost more and, in a
+   * parallel run, gather more of the other pieces' cells.
    */
   vtkSetClampMacro(Level1Iterations, int, -1, 100000);
   vtkGetMacro(Level1Iterations, int);
@@ -309,6 +310,7 @@ private:
   // A parallel run's piece with the cells of other pieces near it, the scalar range of all
   // pieces, and the bounds of all pieces' points.
   std::unique_ptr<volillum::NeighborhoodGrid> Neighborhood;
+  double NeighborhoodDepth = 0.0; // how far beyond the piece Neighborhood reaches
   double WholeRange[2] = { 0.0, 1.0 };
   double WholeBounds[6] = { 0, 0, 0, 0, 0, 0 };
 };

@@ -1,13 +1,14 @@
-// Level 0 of the tetrahedral light kernel: resampling onto a regular grid and the upwind solve.
+// Level 0 of the tetrahedral light kernel: resampling onto a regular grid and the ray propagation.
 #include "TetrahedralLightKernel.h"
 
+#include "LightPropagationKernel.h"
 #include "TetrahedralGeometry.h"
 #include "vtkSMPTools.h"
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
-#include <numeric>
 
 namespace volillum
 {
@@ -98,119 +99,6 @@ void FillFromTetrahedron(const TetrahedralMesh& mesh, const std::vector<float>& 
     }
   }
 }
-
-// The order in which the upwind pass visits the indices along each axis: nearest to the
-// light first.
-std::array<std::vector<int>, 3> VisitingOrder(const GridGeometry& g, const LightState& light)
-{
-  const bool directional = light.Kind == LightKind::Directional;
-  const Vec3 d = light.Direction();
-  const Vec3& p = light.Position;
-  std::array<std::vector<int>, 3> order;
-  for (int a = 0; a < 3; ++a)
-  {
-    const int n = g.Dimensions[a];
-    order[a].resize(n);
-    std::iota(order[a].begin(), order[a].end(), 0);
-    if (directional)
-    {
-      if (d[a] < 0.0)
-      {
-        std::reverse(order[a].begin(), order[a].end());
-      }
-    }
-    else
-    {
-      const double l = (p[a] - g.Origin[a]) / g.Spacing[a];
-      std::stable_sort(order[a].begin(), order[a].end(),
-        [l](int x, int y) { return std::abs(x - l) < std::abs(y - l); });
-    }
-  }
-  return order;
-}
-
-// The upwind update of point (i, j, k): the light arriving from its upwind neighbours (or
-// through the grid's faces, or straight from a light inside its cell), attenuated over the
-// step between them.
-// The light: directional (direction d) or at p.
-void UpwindPoint(const Level0Grid& grid, bool directional, const Vec3& d, const Vec3& p, int i,
-  int j, int k, std::vector<float>& rho)
-{
-  const auto& g = grid.Geometry;
-  const int nc = grid.Channels;
-  const long long stride[3] = { 1, g.Dimensions[0],
-    static_cast<long long>(g.Dimensions[0]) * g.Dimensions[1] };
-  const int index[3] = { i, j, k };
-  double x[3];
-  g.PointPosition(i, j, k, x);
-  Vec3 u = d;
-  if (!directional)
-  {
-    u = Sub({ { x[0], x[1], x[2] } }, p);
-    const double len = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-    if (len == 0.0)
-    {
-      return; // the light's own point keeps 1
-    }
-    u = { { u[0] / len, u[1] / len, u[2] / len } };
-  }
-  const long long id = i * stride[0] + j * stride[1] + k * stride[2];
-  // An axis whose upwind neighbour lies across the light's plane has no upwind
-  // value (the light is not between the points, only beside them): it is left out
-  // and the other axes carry the light.
-  bool across[3] = { false, false, false };
-  double weightSum = 0.0;
-  for (int a = 0; a < 3; ++a)
-  {
-    const int nb = index[a] + (u[a] > 0.0 ? -1 : 1);
-    const double nbPosition = g.Origin[a] + nb * g.Spacing[a];
-    across[a] = !directional && (nbPosition - p[a]) * (x[a] - p[a]) < 0.0;
-    weightSum += across[a] ? 0.0 : std::abs(u[a]) / g.Spacing[a];
-  }
-  const float* sigmaHere = grid.Extinction.data() + nc * id;
-  double in[3] = { 0.0, 0.0, 0.0 };
-  if (weightSum == 0.0)
-  {
-    // The light is inside this point's cell: straight from the light.
-    const double r = std::sqrt((x[0] - p[0]) * (x[0] - p[0]) + (x[1] - p[1]) * (x[1] - p[1]) +
-      (x[2] - p[2]) * (x[2] - p[2]));
-    for (int c = 0; c < nc; ++c)
-    {
-      in[c] = std::exp(-r * sigmaHere[c]);
-    }
-  }
-  const double ds = weightSum > 0.0 ? 1.0 / weightSum : 0.0;
-  for (int a = 0; a < 3 && weightSum > 0.0; ++a)
-  {
-    const double w = std::abs(u[a]) / g.Spacing[a] * ds;
-    if (w == 0.0 || across[a])
-    {
-      continue;
-    }
-    const int step = u[a] > 0.0 ? -1 : 1; // toward the light
-    const int nb = index[a] + step;
-    if (nb < 0 || nb >= g.Dimensions[a])
-    {
-      // Light enters through the grid face, where the mesh bounds are: nothing
-      // absorbs before this point.
-      for (int c = 0; c < nc; ++c)
-      {
-        in[c] += w;
-      }
-      continue;
-    }
-    const float* nbRho = rho.data() + nc * (id + step * stride[a]);
-    const float* nbSigma = grid.Extinction.data() + nc * (id + step * stride[a]);
-    for (int c = 0; c < nc; ++c)
-    {
-      in[c] += w * nbRho[c] * std::exp(-0.5 * ds * (sigmaHere[c] + nbSigma[c]));
-    }
-  }
-  for (int c = 0; c < nc; ++c)
-  {
-    rho[nc * id + c] = static_cast<float>(in[c]);
-  }
-}
 }
 
 //------------------------------------------------------------------------------
@@ -264,19 +152,52 @@ void ResampleLevel0Onto(const TetrahedralMesh& mesh, const std::vector<float>& e
 //------------------------------------------------------------------------------
 void PropagateLevel0(const Level0Grid& grid, const LightState& light, std::vector<float>& rho)
 {
-  rho.assign(static_cast<size_t>(grid.Geometry.NumberOfPoints()) * grid.Channels, 1.0f);
-  const auto order = VisitingOrder(grid.Geometry, light);
-  const bool directional = light.Kind == LightKind::Directional;
-  const Vec3 d = light.Direction();
-  for (int k : order[2])
+  // The transmittance alone: a white light of intensity 1 without a spot cone.
+  LightState white = light;
+  white.Kind = light.Kind == LightKind::Directional ? LightKind::Directional : LightKind::Point;
+  white.Color = { { 1.0, 1.0, 1.0 } };
+  white.Intensity = 1.0;
+  white.On = true;
+  double bounds[6];
+  grid.Geometry.GetBounds(bounds);
+  const std::vector<PropagationTask> tasks = TasksForLight(white, +1, bounds);
+  const long long np = grid.Geometry.NumberOfPoints();
+  const int nc = grid.Channels;
+  rho.resize(static_cast<size_t>(np) * nc);
+  std::vector<float> sigma(nc == 1 ? 0 : np);
+  for (int c = 0; c < nc; ++c)
   {
-    for (int j : order[1])
+    ClassifiedVolume volume;
+    volume.Geometry = grid.Geometry;
+    volume.Channels = 1;
+    if (nc == 1)
     {
-      for (int i : order[0])
-      {
-        UpwindPoint(grid, directional, d, light.Position, i, j, k, rho);
-      }
+      volume.Store(grid.Extinction);
     }
+    else
+    {
+      for (long long q = 0; q < np; ++q)
+      {
+        sigma[q] = grid.Extinction[nc * q + c];
+      }
+      volume.Store(sigma);
+    }
+    FixedPointIllumination light1;
+    light1.Reset(np, FixedPointIllumination::ScaleFor(1.0));
+    std::vector<PropagationTask> remaining;
+    PropagationStatistics statistics;
+    PropagateTasks(volume, grid.Geometry, tasks, true, 0, light1, remaining, statistics, nullptr);
+    // Every channel of the white light holds the transmittance: the first is read.
+    const double unit = 1.0 / light1.Scale;
+    vtkSMPTools::For(0, np,
+      [&](long long begin, long long end)
+      {
+        for (long long q = begin; q < end; ++q)
+        {
+          rho[nc * q + c] = static_cast<float>(
+            static_cast<std::int32_t>(light1.Values[3 * static_cast<size_t>(q)]) * unit);
+        }
+      });
   }
 }
 

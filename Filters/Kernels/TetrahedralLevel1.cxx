@@ -14,31 +14,26 @@ namespace volillum
 using namespace tetrahedral;
 
 //------------------------------------------------------------------------------
-int AutomaticLevel1Iterations(const TetrahedralMesh& mesh, const Level0Grid& grid)
+int AutomaticLevel1Iterations(const TetrahedralMesh& mesh, const GridGeometry& level0)
 {
-  const auto& s = grid.Geometry.Spacing;
+  const auto& s = level0.Spacing;
   const double cell = std::max(s[0], std::max(s[1], s[2]));
   if (!(mesh.MeanEdgeLength > 0.0))
   {
     return 1;
   }
-  return std::max(1, static_cast<int>(std::ceil(cell / mesh.MeanEdgeLength)));
+  return std::max(1, static_cast<int>(std::ceil(Level1Cells * cell / mesh.MeanEdgeLength)));
+}
+
+//------------------------------------------------------------------------------
+double Level1Length(const TetrahedralMesh& mesh, const GridGeometry& level0, int iterations)
+{
+  return (iterations < 0 ? AutomaticLevel1Iterations(mesh, level0) : iterations) *
+    mesh.MeanEdgeLength;
 }
 
 namespace
 {
-// Where the light at a vertex comes from after one semi-Lagrangian step: a point of a
-// tetrahedron (weights of its vertices) or a fixed value, times the transmittance of the
-// walked segment.
-struct Departure
-{
-  int Tet = -1;
-  float Weights[4] = { 0, 0, 0, 0 };
-  float Fixed[3] = { 1, 1, 1 };
-  float Transmittance[3] = { 1, 1, 1 };
-  bool Inflow = false; // the light enters the mesh at the vertex itself
-};
-
 constexpr int MaximumWalk = 512;
 
 // The tetrahedron around the vertex that the direction enters: the one whose barycentric
@@ -136,51 +131,18 @@ void SampleOutside(
   }
 }
 
-// Kept whole (issue 45): the per-vertex inner loop of the level-1 solver, a walk through the
-// tetrahedra toward the light; its exits (finishAtLevel0, finish) share the walk's state (dep,
-// depth, the tetrahedron and distance walked), so helpers would cost a call and that state
-// per vertex and step of the walk.
-Departure FindDeparture(const TetrahedralMesh& mesh, const std::vector<float>& extinction, int nc,
-  const Level0Grid& grid, const std::vector<float>& level0, int vertex, const Vec3& toLight,
-  double length, bool reachesLight)
+// The light at a vertex from the level-0 light `length` away toward the light: the walk through
+// the tetrahedra toward it (from `tet`, the one around the vertex the direction enters) with the
+// exact optical depth of the piecewise-linear extinction along it, and the level-0 light where
+// the walk ends (1 where it reaches the light) or leaves the mesh. Kept whole (issue 45): the
+// per-vertex inner loop of the level-1 solver, whose exits share the walk's state.
+void WalkTowardLight(const TetrahedralMesh& mesh, const std::vector<float>& extinction, int nc,
+  const Level0Grid& grid, const std::vector<float>& level0, int vertex, int tet,
+  const Vec3& toLight, double length, bool reachesLight, float* out)
 {
-  Departure dep;
   const Vec3 x = PointOf(mesh.Points, vertex);
   double depth[3] = { 0.0, 0.0, 0.0 };
-  // The level-0 light at distance t toward the light: outside the mesh where the walk left
-  // it, anywhere where the walk gave up.
-  const auto finishAtLevel0 = [&](double t, bool leftTheMesh)
-  {
-    const double q[3] = { x[0] + t * toLight[0], x[1] + t * toLight[1], x[2] + t * toLight[2] };
-    if (leftTheMesh)
-    {
-      SampleOutside(grid, level0, q, dep.Fixed);
-    }
-    else
-    {
-      TrilinearSample(grid.Geometry, level0.data(), nc, q, dep.Fixed);
-    }
-  };
-  const auto finish = [&]()
-  {
-    for (int c = 0; c < nc; ++c)
-    {
-      dep.Transmittance[c] = static_cast<float>(std::exp(-depth[c]));
-    }
-    return dep;
-  };
-
-  // Start in the tetrahedron around the vertex that the direction enters.
-  double best = 0.0;
-  int tet = EntryTetrahedron(mesh, vertex, toLight, best);
-  const double tolerance = GeometricTolerance / std::max(mesh.MeanEdgeLength, 1e-300);
-  if (tet < 0 || best < -tolerance)
-  {
-    finishAtLevel0(0.0, true); // a boundary vertex the light enters the mesh at
-    dep.Inflow = true;
-    return finish();
-  }
-
+  float arriving[3] = { 1.0f, 1.0f, 1.0f };
   double t0 = 0.0;
   for (int step = 0; step < MaximumWalk; ++step)
   {
@@ -213,36 +175,31 @@ Departure FindDeparture(const TetrahedralMesh& mesh, const std::vector<float>& e
       bEnd[i] = b[i] + dt * db[i];
     }
     AddSegmentDepth(extinction, nc, v, b, bEnd, dt, depth);
-    if (ends)
-    {
-      if (reachesLight)
-      {
-        return finish(); // Fixed stays 1: the light itself
-      }
-      double sum = 0.0;
-      for (int i = 0; i < 4; ++i)
-      {
-        bEnd[i] = std::max(bEnd[i], 0.0);
-        sum += bEnd[i];
-      }
-      dep.Tet = tet;
-      for (int i = 0; i < 4; ++i)
-      {
-        dep.Weights[i] = static_cast<float>(bEnd[i] / sum);
-      }
-      return finish();
-    }
     t0 += dt;
-    const int next = mesh.Neighbors[4 * tet + face];
-    if (next < 0)
+    if (ends && reachesLight)
     {
-      finishAtLevel0(t0, true); // left the mesh: the level-0 solution carries the rest
-      return finish();
+      break; // arriving stays 1: the light itself
     }
-    tet = next;
+    if (ends || mesh.Neighbors[4 * tet + face] < 0)
+    {
+      const double q[3] = { x[0] + t0 * toLight[0], x[1] + t0 * toLight[1],
+        x[2] + t0 * toLight[2] };
+      TrilinearSample(grid.Geometry, level0.data(), nc, q, arriving);
+      break;
+    }
+    tet = mesh.Neighbors[4 * tet + face];
+    if (step + 1 == MaximumWalk)
+    {
+      // The walk gave up (a step length far above the tetrahedra's): level 0 carries the rest.
+      const double q[3] = { x[0] + t0 * toLight[0], x[1] + t0 * toLight[1],
+        x[2] + t0 * toLight[2] };
+      TrilinearSample(grid.Geometry, level0.data(), nc, q, arriving);
+    }
   }
-  finishAtLevel0(t0, false);
-  return finish();
+  for (int c = 0; c < nc; ++c)
+  {
+    out[c] = static_cast<float>(arriving[c] * std::exp(-depth[c]));
+  }
 }
 
 // The level-0 light at the mesh's vertices (rho: Channels values a vertex).
@@ -264,23 +221,23 @@ void SampleLevel0AtVertices(const TetrahedralMesh& mesh, const Level0Grid& grid,
     });
 }
 
-// Every vertex's departure point for steps of length s toward the light.
-//
-// Interior vertices take the steps, and so do vertices on a face without a neighbour where
-// the light enters the mesh there (their value is the light outside: the inflow boundary);
-// the other boundary vertices (the light has crossed the mesh to them) keep the level-0
-// light. A semi-Lagrangian step would interpolate the level-0 light linearly across the
-// tetrahedra upstream, worse than level 0 itself where they are larger than its cells (on a
-// box of 10-unit tetrahedra under a 1.3-unit level-0 grid, 0.14 RMS relative to the exact
-// transmittance on the faces the light leaves through instead of 0.04).
-std::vector<Departure> FindDepartures(const TetrahedralMesh& mesh,
-  const std::vector<float>& extinction, const Level0Grid& grid, const std::vector<float>& level0,
-  const LightState& light, double s)
+}
+
+//------------------------------------------------------------------------------
+void PropagateLevel1(const TetrahedralMesh& mesh, const std::vector<float>& extinction,
+  const Level0Grid& grid, const std::vector<float>& level0, const LightState& light,
+  double stepLength, int iterations, std::vector<float>& rho,
+  const std::function<void(std::vector<float>& rho)>& exchange)
 {
-  const int np = mesh.NumberOfPoints();
+  SampleLevel0AtVertices(mesh, grid, level0, rho);
+  if (iterations <= 0)
+  {
+    return;
+  }
+  const double length = iterations * (stepLength > 0.0 ? stepLength : mesh.MeanEdgeLength);
+  const double tolerance = GeometricTolerance / std::max(mesh.MeanEdgeLength, 1e-300);
   const int nc = grid.Channels;
-  std::vector<Departure> departures(np);
-  vtkSMPTools::For(0, np,
+  vtkSMPTools::For(0, mesh.NumberOfPoints(),
     [&](int begin, int end)
     {
       for (int p = begin; p < end; ++p)
@@ -291,73 +248,25 @@ std::vector<Departure> FindDepartures(const TetrahedralMesh& mesh,
         }
         const Incidence inc =
           ComputeIncidence(light, mesh.Points.data() + 3 * static_cast<size_t>(p));
-        const bool reachesLight = inc.Distance <= s;
-        departures[p] = FindDeparture(mesh, extinction, nc, grid, level0, p, inc.ToLight,
-          reachesLight ? inc.Distance : s, reachesLight);
-      }
-    });
-  return departures;
-}
-
-// One semi-Lagrangian step: each stepping vertex's light (next) from the light at its departure
-// point (rho interpolated there, or fixed) times the transmittance to it; the others keep theirs.
-void StepFromDepartures(const TetrahedralMesh& mesh, const std::vector<Departure>& departures,
-  int nc, const std::vector<float>& rho, std::vector<float>& next)
-{
-  vtkSMPTools::For(0, mesh.NumberOfPoints(),
-    [&](int begin, int end)
-    {
-      for (int p = begin; p < end; ++p)
-      {
-        float* out = next.data() + nc * static_cast<size_t>(p);
-        if (!mesh.Interior[p] && !departures[p].Inflow)
+        double best = 0.0;
+        const int tet = EntryTetrahedron(mesh, p, inc.ToLight, best);
+        float* out = rho.data() + nc * static_cast<size_t>(p);
+        if (tet < 0 || best < -tolerance)
         {
-          std::copy_n(rho.data() + nc * static_cast<size_t>(p), nc, out);
-          continue;
+          // A boundary vertex the light enters the mesh at: the light outside.
+          SampleOutside(grid, level0, mesh.Points.data() + 3 * static_cast<size_t>(p), out);
         }
-        const Departure& dep = departures[p];
-        for (int c = 0; c < nc; ++c)
+        else
         {
-          float value = dep.Fixed[c];
-          if (dep.Tet >= 0)
-          {
-            const int* v = mesh.Tets.data() + 4 * dep.Tet;
-            value = 0.0f;
-            for (int i = 0; i < 4; ++i)
-            {
-              value += dep.Weights[i] * rho[nc * static_cast<size_t>(v[i]) + c];
-            }
-          }
-          out[c] = value * dep.Transmittance[c];
+          const bool reachesLight = inc.Distance <= length;
+          WalkTowardLight(mesh, extinction, nc, grid, level0, p, tet, inc.ToLight,
+            reachesLight ? inc.Distance : length, reachesLight, out);
         }
       }
     });
-}
-}
-
-//------------------------------------------------------------------------------
-void PropagateLevel1(const TetrahedralMesh& mesh, const std::vector<float>& extinction,
-  const Level0Grid& grid, const std::vector<float>& level0, const LightState& light,
-  double stepLength, int iterations, std::vector<float>& rho,
-  const std::function<void(std::vector<float>& rho)>& afterStep)
-{
-  SampleLevel0AtVertices(mesh, grid, level0, rho);
-  if (iterations <= 0)
+  if (exchange)
   {
-    return;
-  }
-  const double s = stepLength > 0.0 ? stepLength : mesh.MeanEdgeLength;
-  const std::vector<Departure> departures =
-    FindDepartures(mesh, extinction, grid, level0, light, s);
-  std::vector<float> next(rho.size());
-  for (int n = 0; n < iterations; ++n)
-  {
-    StepFromDepartures(mesh, departures, grid.Channels, rho, next);
-    rho.swap(next);
-    if (afterStep)
-    {
-      afterStep(rho);
-    }
+    exchange(rho);
   }
 }
 }

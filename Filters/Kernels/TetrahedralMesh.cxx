@@ -152,34 +152,6 @@ void FindFaceNeighbors(TetrahedralMesh& mesh)
     });
 }
 
-// Interior vertices: used by a tetrahedron and on no boundary face.
-void MarkInteriorVertices(TetrahedralMesh& mesh)
-{
-  const int np = mesh.NumberOfPoints();
-  const int usable = mesh.NumberOfTets();
-  mesh.Interior.assign(np, 0);
-  for (int t = 0; t < usable; ++t)
-  {
-    for (int i = 0; i < 4; ++i)
-    {
-      mesh.Interior[mesh.Tets[4 * t + i]] = 1;
-    }
-  }
-  for (int t = 0; t < usable; ++t)
-  {
-    for (int i = 0; i < 4; ++i)
-    {
-      if (mesh.Neighbors[4 * t + i] < 0)
-      {
-        for (int k = 1; k < 4; ++k)
-        {
-          mesh.Interior[mesh.Tets[4 * t + (i + k) % 4]] = 0;
-        }
-      }
-    }
-  }
-}
-
 // Mesh neighbours of each point (two passes: count, then fill), the mean edge length and
 // the scattering weights (mean edge / length)^2.
 void FindEdgeNeighbors(TetrahedralMesh& mesh)
@@ -285,7 +257,6 @@ bool BuildTetrahedralMesh(std::vector<double> points, const std::vector<long lon
   }
   LinkPointsToTetrahedra(mesh);
   FindFaceNeighbors(mesh);
-  MarkInteriorVertices(mesh);
   FindEdgeNeighbors(mesh);
   ComputeBounds(mesh);
   return true;

@@ -1450,8 +1450,8 @@ TEST(Kernels, TetrahedralMeshPreparation)
       }
     }
   }
-  // Interior points: those not on the cube's faces, 3^3 of the 5^3.
-  EXPECT_EQ(std::count(mesh.Interior.begin(), mesh.Interior.end(), 1), 27);
+  // Faces without a neighbour: the cube's, two triangles per square of its 6 x 4^2.
+  EXPECT_EQ(std::count(mesh.Neighbors.begin(), mesh.Neighbors.end(), -1), 192);
   // No two mesh neighbours share a colour.
   const VertexColoring coloring = ColorVertices(mesh);
   std::vector<int> color(mesh.NumberOfPoints(), -1);
@@ -1489,11 +1489,10 @@ TEST(Kernels, TetrahedralLightThroughAHomogeneousCube)
   light.FocalPoint = { { 0.5, 0.5, 0.0 } };
   std::vector<float> level0, rho;
   PropagateLevel0(grid, light, level0);
-  PropagateLevel1(
-    mesh, extinction, grid, level0, light, 0.0, AutomaticLevel1Iterations(mesh, grid), rho);
+  PropagateLevel1(mesh, extinction, grid, level0, light, 0.0,
+    AutomaticLevel1Iterations(mesh, grid.Geometry), rho);
   // Light enters through the top face: transmittance exp(-sigma (1 - z)) at height z, up to
-  // the linear interpolation between vertices h = 1/6 apart that the semi-Lagrangian steps
-  // make (at most sigma^2 h^2 / 8 = 0.014).
+  // the trilinear interpolation of level 0 (cells of 1/12) where the level-1 walk ends.
   double worst = 0.0;
   for (int p = 0; p < mesh.NumberOfPoints(); ++p)
   {

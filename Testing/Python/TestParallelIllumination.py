@@ -31,8 +31,8 @@ and checks, against the serial run:
   bands;
 - an update over bands reports its progress after every slice of its sweeps, rising to 1;
 - the files read back whole (the image pieces cover the illumination grid);
-- a tetrahedralised Wavelet (thin layers of other pieces' cells, eight level-1 steps,
-  strong scattering) on redistributed pieces equals the serial run too;
+- a tetrahedralised Wavelet (thin layers of other pieces' cells, a level-1 walk of three
+  mean edges, strong scattering) on redistributed pieces equals the serial run too;
 - Unstructured Grid Illumination on redistributed pieces: no process lit the whole grid
   (its piece and the cells near it: the LitPoints field of each piece);
 - hexahedra (VTK's Wavelet on 13^3 points) in D3's pieces: each piece splits a cell into
@@ -316,13 +316,13 @@ out.GetPointData().SetGlobalIds(ids)
 
     # A uniform tetrahedral grid (written by the driver: tetrahedralising each process's piece
     # of a source would split its cells differently): thin layers of other pieces' cells,
-    # across which eight level-1 steps carry light (values exchanged after each step) and
-    # scattering spreads it.
+    # as deep as the level-1 walk of three mean edges (values exchanged after level 1), across
+    # which scattering spreads light.
     cube = XMLUnstructuredGridReader(FileName=[os.path.join(os.path.dirname(tiny_file),
                                                             "wavelet_tets.vtu")])
     w = ns["UnstructuredGridIllumination"](Input=RedistributeDataSet(Input=cube) if parallel
                                            else cube, Level0Resolution=[16, 16, 16],
-                                           Level1Iterations=8, Absorption=0.05,
+                                           Level1Iterations=3, Absorption=0.05,
                                            ScatteringStrength=[0.5, 0.5, 0.5])
     w.Scalars = ["POINTS", "RTData"]
     w.Lights = [0, -1, -2, -3, 12, 12, 12, 1.0, 0.8, 0.6, 1.0, 90, 1, 1,
