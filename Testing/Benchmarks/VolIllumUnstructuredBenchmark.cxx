@@ -1,16 +1,18 @@
 // Benchmarks of the two-level unstructured-grid illumination (one run, ratios):
-//   volillum-unstructured-benchmark [--smoke]
+//   volillum-unstructured-benchmark [--smoke] [--only scaling|table2|comparison] [--json FILE]
 // 1. Scaling: level-0, level-1 and scattering times for tetrahedral meshes of 0.2 M to 5 M
 //    tetrahedra (image grids split into five tetrahedra per cube), with a linear fit.
 // 2. Table 2 replica (blunt fin): image RMS difference against the image lit with a
 //    384^3 level-0 grid (the paper's reference size), for level-0 resolutions 16^3 to
 //    256^3 (and the image without shadows).
-// 3. Two-level solver vs resampling to a regular grid + Multi-Light Illumination Volume,
-//    same data and lights: time and per-vertex RMS against a brute-force march.
-// --smoke uses tiny sizes so that CI only checks that it runs.
+// 3. Comparison on the blunt fin and disk_out_ref at level-0 resolutions 32^3, 64^3 and
+//    128^3 (the default): the two-level solver, its level 0 alone and resampling to a
+//    regular grid of the same resolution + Multi-Light Illumination Volume, same data and
+//    light: time and per-vertex RMS against a brute-force march.
+// --smoke uses tiny sizes so that CI only checks that it runs. --json writes the comparison's
+// rows (for plot_benchmark.py).
 #include "IlluminationLightList.h"
 #include "IlluminationTestUtilities.h"
-#include "vtkMultiLightIlluminationVolume.h"
 #include "vtkUnstructuredGridIllumination.h"
 
 #include "vtkCamera.h"
@@ -22,18 +24,18 @@
 #include "vtkNew.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
-#include "vtkProbeFilter.h"
 #include "vtkProjectedTetrahedraMapper.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
-#include "vtkResampleToImage.h"
 #include "vtkSMPTools.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 #include "vtkWindowToImageFilter.h"
-#include "vtkXMLUnstructuredGridReader.h"
+
+#include "vtk_nlohmannjson.h"
+#include VTK_NLOHMANN_JSON(json.hpp)
 
 #include <chrono>
 #include <cmath>
@@ -144,17 +146,6 @@ void Scaling(bool smoke)
     intercept, r2);
 }
 
-vtkSmartPointer<vtkPiecewiseFunction> Opacity(const double range[2])
-{
-  auto otf = vtkSmartPointer<vtkPiecewiseFunction>::New();
-  const double w = range[1] - range[0];
-  otf->AddPoint(range[0], 0.0);
-  otf->AddPoint(range[0] + 0.15 * w, 0.02);
-  otf->AddPoint(range[0] + 0.5 * w, 0.2);
-  otf->AddPoint(range[1], 0.6);
-  return otf;
-}
-
 void AddLights(vtkUnstructuredGridIllumination* filter, const double b[6])
 {
   filter->AddLight(Directional(0, 0, -1, 1.0, 0.7, 0.3));
@@ -229,7 +220,7 @@ void Table2(vtkUnstructuredGrid* grid, bool smoke)
   {
     vtkNew<vtkUnstructuredGridIllumination> filter;
     filter->SetInputData(grid);
-    filter->SetOpacityFunction(Opacity(range));
+    filter->SetOpacityFunction(volillumtest::RisingOpacity(range));
     filter->SetScalarOpacityUnitDistance(unitDistance);
     filter->SetLevel0Resolution(resolution, resolution, resolution);
     AddLights(filter, bounds);
@@ -250,7 +241,7 @@ void Table2(vtkUnstructuredGrid* grid, bool smoke)
   // Without shadows: every light fully unoccluded (absorption 0 for the light only).
   vtkNew<vtkUnstructuredGridIllumination> unlit;
   unlit->SetInputData(grid);
-  unlit->SetOpacityFunction(Opacity(range));
+  unlit->SetOpacityFunction(volillumtest::RisingOpacity(range));
   unlit->SetScalarOpacityUnitDistance(unitDistance);
   unlit->SetAbsorption(0.0);
   unlit->SetLevel0Resolution(16, 16, 16);
@@ -260,120 +251,125 @@ void Table2(vtkUnstructuredGrid* grid, bool smoke)
     ImageRms(Render(window, unlit->GetOutput(), size, unitDistance), reference));
 }
 
-double VertexRms(vtkDataArray* got, const std::vector<double>& reference)
+// One comparison on the scene of a mesh at the given level-0 (and resampling) resolution: the
+// two-level solver, its level 0 alone and resampling + propagation, timed and against the
+// brute-force march.
+void CompareAt(vtkUnstructuredGrid* grid, const volillumtest::MeshComparisonScene& scene,
+  int resolution, const char* label, nlohmann::json& rows)
 {
-  double e = 0.0, norm = 0.0;
-  for (size_t p = 0; p < reference.size(); ++p)
+  const auto unstructured = [&](int iterations, double& seconds)
   {
-    const double d = got->GetComponent(static_cast<vtkIdType>(p), 0) - reference[p];
-    e += d * d;
-    norm += reference[p] * reference[p];
-  }
-  return std::sqrt(e / norm);
+    vtkNew<vtkUnstructuredGridIllumination> filter;
+    filter->SetInputData(grid);
+    filter->SetOpacityFunction(scene.Opacity);
+    filter->SetScalarOpacityUnitDistance(scene.UnitDistance);
+    filter->SetLevel0Resolution(resolution, resolution, resolution);
+    filter->SetLevel1Iterations(iterations);
+    filter->AddLight(scene.Light);
+    const double start = Now();
+    filter->Update();
+    seconds = Now() - start;
+    return volillumtest::Compare(
+      filter->GetOutput()->GetPointData()->GetArray("Illumination"), scene.Reference)
+      .Rms;
+  };
+  double twoLevelSeconds, level0Seconds;
+  const double twoLevelRms = unstructured(-1, twoLevelSeconds);
+  const double level0Rms = unstructured(0, level0Seconds);
+  const double start = Now();
+  vtkSmartPointer<vtkDataArray> resampled = volillumtest::ResampledIllumination(
+    grid, scene.Opacity, scene.UnitDistance, scene.Light, resolution);
+  const double resampleSeconds = Now() - start;
+  const double resampleRms = volillumtest::Compare(resampled, scene.Reference).Rms;
+  std::printf("%-14s %6d^3 %10.3f %8.4f %10.3f %8.4f %10.3f %8.4f\n", label, resolution,
+    twoLevelSeconds, twoLevelRms, level0Seconds, level0Rms, resampleSeconds, resampleRms);
+  rows.push_back({ { "mesh", label }, { "level0", resolution }, { "two_level_s", twoLevelSeconds },
+    { "two_level_rms", twoLevelRms }, { "level0_only_s", level0Seconds },
+    { "level0_only_rms", level0Rms }, { "resample_s", resampleSeconds },
+    { "resample_rms", resampleRms } });
 }
 
-void AgainstResampling(vtkUnstructuredGrid* grid, bool smoke)
+// The three ways of lighting an unstructured grid on one mesh, at the default level-0
+// resolution (128^3) and coarser ones.
+void AgainstResampling(
+  const char* file, const char* scalars, const char* label, bool smoke, nlohmann::json& rows)
 {
-  std::cout
-    << "\n3. Two-level solver vs resample + Multi-Light Illumination Volume (blunt fin, one "
-       "oblique light, per-vertex RMS vs a brute-force march)\n";
-  double range[2], bounds[6];
-  grid->GetPointData()->GetScalars()->GetRange(range);
-  grid->GetBounds(bounds);
-  // A thinner medium than the rendering's, so that most vertices see some light.
-  const double unitDistance = (bounds[1] - bounds[0]) / 8.0;
-  auto otf = Opacity(range);
-  auto light = Directional(0.4, 0.3, -1, 1, 1, 1);
-  const int resolution = smoke ? 24 : 128;
-
-  vtkNew<vtkUnstructuredGridIllumination> twoLevel;
-  twoLevel->SetInputData(grid);
-  twoLevel->SetOpacityFunction(otf);
-  twoLevel->SetScalarOpacityUnitDistance(unitDistance);
-  twoLevel->SetLevel0Resolution(resolution, resolution, resolution);
-  twoLevel->AddLight(light);
-  double start = Now();
-  twoLevel->Update();
-  const double twoLevelSeconds = Now() - start;
-  vtkNew<vtkUnstructuredGridIllumination> levelZero;
-  levelZero->SetInputData(grid);
-  levelZero->SetOpacityFunction(otf);
-  levelZero->SetScalarOpacityUnitDistance(unitDistance);
-  levelZero->SetLevel0Resolution(resolution, resolution, resolution);
-  levelZero->SetLevel1Iterations(0);
-  levelZero->AddLight(light);
-  start = Now();
-  levelZero->Update();
-  const double level0Seconds = Now() - start;
-
-  double times[3];
-  start = Now();
-  vtkNew<vtkResampleToImage> resample;
-  resample->SetInputDataObject(grid);
-  resample->SetSamplingDimensions(resolution, resolution, resolution);
-  resample->Update();
-  times[0] = Now() - start;
-  vtkImageData* image = resample->GetOutput();
-  image->GetPointData()->SetActiveScalars(grid->GetPointData()->GetScalars()->GetName());
-  vtkNew<vtkMultiLightIlluminationVolume> propagation;
-  propagation->SetInputData(image);
-  propagation->SetOpacityFunction(otf);
-  propagation->SetScalarOpacityUnitDistance(unitDistance);
-  propagation->AddLight(light);
-  start = Now();
-  propagation->Update();
-  times[1] = Now() - start;
-  start = Now();
-  vtkNew<vtkProbeFilter> probe;
-  probe->SetInputData(grid);
-  probe->SetSourceConnection(propagation->GetOutputPort());
-  probe->Update();
-  times[2] = Now() - start;
-  const double resampleSeconds = times[0] + times[1] + times[2];
-
-  std::vector<double> sigma(grid->GetNumberOfPoints());
-  vtkDataArray* s = grid->GetPointData()->GetScalars();
-  for (vtkIdType p = 0; p < grid->GetNumberOfPoints(); ++p)
+  auto grid =
+    volillumtest::ReadUnstructuredGrid(std::string(VOLILLUM_SHARED_DATA) + "/tetmeshes/" + file);
+  if (!grid)
   {
-    const double a = std::min(otf->GetValue(s->GetTuple1(p)), 1.0 - 1e-6);
-    sigma[p] = -std::log1p(-a) / unitDistance;
+    std::cout << file << " not found: skipped\n";
+    return;
   }
-  const auto reference = volillumtest::BruteForceTransmittance(
-    grid, sigma, volillum::CaptureLight(light), (bounds[1] - bounds[0]) / (smoke ? 50 : 1000));
-  const double twoLevelRms =
-    VertexRms(twoLevel->GetOutput()->GetPointData()->GetArray("Illumination"), reference);
-  const double level0Rms =
-    VertexRms(levelZero->GetOutput()->GetPointData()->GetArray("Illumination"), reference);
-  const double resampleRms =
-    VertexRms(probe->GetOutput()->GetPointData()->GetArray("Illumination"), reference);
-  std::printf("%28s %10s %12s\n", "method", "seconds", "RMS rel.");
-  std::printf("%28s %10.3f %12.4f\n", "two-level", twoLevelSeconds, twoLevelRms);
-  std::printf("%28s %10.3f %12.4f\n", "level 0 only", level0Seconds, level0Rms);
-  std::printf("%28s %10.3f %12.4f\n", "resample + propagation", resampleSeconds, resampleRms);
-  std::printf(
-    "(resample %.3f s, propagation %.3f s, probe %.3f s)\n", times[0], times[1], times[2]);
-  std::printf("time ratio resample/two-level %.2f, error ratio %.2f\n",
-    resampleSeconds / twoLevelSeconds, resampleRms / twoLevelRms);
+  grid->GetPointData()->SetActiveScalars(scalars);
+  const auto scene = volillumtest::ComparisonScene(grid, smoke ? 50 : 1000);
+  for (int resolution : smoke ? std::vector<int>{ 24 } : std::vector<int>{ 32, 64, 128 })
+  {
+    CompareAt(grid, scene, resolution, label, rows);
+  }
 }
 }
 
 int main(int argc, char* argv[])
 {
   vtkSMPTools::SetBackend("STDThread");
-  const bool smoke = argc > 1 && std::string(argv[1]) == "--smoke";
-  Scaling(smoke);
-  const std::string path = std::string(VOLILLUM_SHARED_DATA) + "/tetmeshes/bluntfin_tets.vtu";
-  if (!std::ifstream(path).good())
+  bool smoke = false;
+  std::string only, jsonPath;
+  for (int i = 1; i < argc; ++i)
   {
-    std::cout << "\n" << path << " not found: Table 2 and the comparison are skipped\n";
-    return 0;
+    const std::string arg = argv[i];
+    if (arg == "--smoke")
+    {
+      smoke = true;
+    }
+    else if (arg == "--only" && i + 1 < argc)
+    {
+      only = argv[++i];
+    }
+    else if (arg == "--json" && i + 1 < argc)
+    {
+      jsonPath = argv[++i];
+    }
+    else
+    {
+      std::cerr << "usage: volillum-unstructured-benchmark [--smoke] [--only "
+                   "scaling|table2|comparison] [--json FILE]\n";
+      return 1;
+    }
   }
-  vtkNew<vtkXMLUnstructuredGridReader> reader;
-  reader->SetFileName(path.c_str());
-  reader->Update();
-  vtkUnstructuredGrid* grid = reader->GetOutput();
-  grid->GetPointData()->SetActiveScalars("Density");
-  Table2(grid, smoke);
-  AgainstResampling(grid, smoke);
+  const auto runs = [&](const char* part) { return only.empty() || only == part; };
+  if (runs("scaling"))
+  {
+    Scaling(smoke);
+  }
+  if (runs("table2"))
+  {
+    const std::string path = std::string(VOLILLUM_SHARED_DATA) + "/tetmeshes/bluntfin_tets.vtu";
+    if (auto bluntFin = volillumtest::ReadUnstructuredGrid(path))
+    {
+      bluntFin->GetPointData()->SetActiveScalars("Density");
+      Table2(bluntFin, smoke);
+    }
+    else
+    {
+      std::cout << path << " not found: Table 2 skipped\n";
+    }
+  }
+  if (runs("comparison"))
+  {
+    std::cout << "\n3. Two-level solver, its level 0 alone and resampling to a regular grid + "
+                 "Multi-Light Illumination Volume at the same resolution (one oblique light; "
+                 "seconds and per-vertex RMS relative to a brute-force march)\n";
+    std::printf("%-14s %8s %10s %8s %10s %8s %10s %8s\n", "mesh", "level 0", "two-level", "RMS",
+      "level 0", "RMS", "resample", "RMS");
+    nlohmann::json rows = nlohmann::json::array();
+    AgainstResampling("bluntfin_tets.vtu", "Density", "blunt fin", smoke, rows);
+    AgainstResampling("disk_out_ref_tets.vtu", "Temp", "disk_out_ref", smoke, rows);
+    if (!jsonPath.empty())
+    {
+      std::ofstream(jsonPath) << nlohmann::json{ { "unstructured_comparison", rows } }.dump(2)
+                              << "\n";
+    }
+  }
   return 0;
 }

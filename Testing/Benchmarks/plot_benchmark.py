@@ -1,10 +1,14 @@
-"""Draw the plots of a volillum-benchmark JSON file as PNGs (Debian's python3-matplotlib).
+"""Draw the plots of a volillum-benchmark or volillum-unstructured-benchmark JSON file as PNGs
+(Debian's python3-matplotlib).
 
 - fig10.png: the Fig. 10 replica of the selective-light-updates paper: full-update time
   against the number of lights from one direction, coherent against sequential
   propagation, and the time of a one-light state change (selective update).
 - per_voxel.png: full-update time per voxel of the first light and of each added light,
   for directional, point and spot lights (multi-light propagation, 256^3, scale 1).
+- unstructured.png: per-vertex error against a brute-force march of the two-level solver,
+  its level 0 alone and resampling + multi-light propagation, against the level-0
+  resolution, per mesh (volillum-unstructured-benchmark --json).
 
 Usage: /usr/bin/python3 plot_benchmark.py RESULTS.json OUTPUT_DIR
 """
@@ -60,6 +64,32 @@ def plot_per_voxel(rows, path):
     plt.close(figure)
 
 
+def plot_unstructured(rows, path):
+    meshes = list(dict.fromkeys(r["mesh"] for r in rows))
+    figure, panels = plt.subplots(1, len(meshes), figsize=(4.5 * len(meshes), 4), squeeze=False)
+    for mesh, axes in zip(meshes, panels[0]):
+        own = [r for r in rows if r["mesh"] == mesh]
+        resolutions = [r["level0"] for r in own]
+        for key, label, marker in (("two_level", "two-level", "o-"),
+                                   ("level0_only", "level 0 alone", "s--"),
+                                   ("resample", "resample + propagation", "^:")):
+            axes.plot(resolutions, [100 * r[key + "_rms"] for r in own], marker,
+                      label="%s (%.2f s at %d^3)" % (label, own[-1][key + "_s"],
+                                                     resolutions[-1]))
+        axes.set_xscale("log", base=2)
+        axes.set_xticks(resolutions)
+        axes.set_xticklabels(["%d^3" % n for n in resolutions])
+        axes.set_ylim(bottom=0)
+        axes.set_xlabel("level-0 (and resampling) grid")
+        axes.set_ylabel("per-vertex RMS vs brute force (%)")
+        axes.set_title(mesh)
+        axes.grid(True, alpha=0.3)
+        axes.legend(fontsize="small")
+    figure.tight_layout()
+    figure.savefig(path, dpi=100)
+    plt.close(figure)
+
+
 def main():
     results_path, out = sys.argv[1:3]
     with open(results_path) as f:
@@ -72,6 +102,9 @@ def main():
     if "per_voxel" in results:
         written.append(os.path.join(out, "per_voxel.png"))
         plot_per_voxel(results["per_voxel"], written[-1])
+    if "unstructured_comparison" in results:
+        written.append(os.path.join(out, "unstructured.png"))
+        plot_unstructured(results["unstructured_comparison"], written[-1])
     for path in written:
         print("wrote", path)
     return 0 if written else 1
