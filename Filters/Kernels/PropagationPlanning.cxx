@@ -51,12 +51,35 @@ std::vector<GroupWeight> AssignPropagationGroups(const LightState& light, const 
   const double t1 = std::abs(t[order[0]]);
   const double t2 = std::abs(t[order[1]]);
   const double t3 = std::abs(t[order[2]]);
-  const double beta = (t1 - t3 > 0.0) ? std::atan2(t2 - t3, t1 - t3) : vtkMath::Pi() / 4.0;
-  const double second = 2.0 * beta / vtkMath::Pi();
+  double beta = (t1 - t3 > 0.0) ? std::atan2(t2 - t3, t1 - t3) : vtkMath::Pi() / 4.0;
+  // A group toward the box along an axis the light lies beyond carries every point (all of
+  // a directional light's groups do).
+  const auto carriesAll = [&](int a)
+  {
+    return light.Kind == LightKind::Directional || light.Position[a] < bounds[2 * a] ||
+      light.Position[a] > bounds[2 * a + 1];
+  };
+  int secondAxis = order[1];
+  if (!carriesAll(order[0]) && !carriesAll(order[1]))
+  {
+    // The light lies beyond the box along the third axis only (just outside a face of a flat
+    // box, near its edge): the first two groups would leave the points against both unlit.
+    // The third axis's group is the second, weighted by t's angle from the first axis in
+    // their plane.
+    secondAxis = order[2];
+    beta = std::atan2(t3, t1);
+  }
+  double second = 2.0 * beta / vtkMath::Pi();
+  // A light nearly along the first axis: the first group takes it whole where it carries
+  // every point.
+  if (second < MinimumSecondWeight && carriesAll(order[0]))
+  {
+    second = 0.0;
+  }
   groups.push_back({ GroupOf(order[0], t[order[0]]), 1.0 - second });
   if (second > 0.0)
   {
-    groups.push_back({ GroupOf(order[1], t[order[1]]), second });
+    groups.push_back({ GroupOf(secondAxis, t[secondAxis]), second });
   }
   return groups;
 }

@@ -824,72 +824,113 @@ TEST(Kernels, PropagationThroughASlabAndSelectiveRemovalIsExact)
     [](std::uint32_t v) { return v == 0; }));
 }
 
-// A point light beside a cube of uniform extinction (beyond three of its faces): the rays of
-// most points enter the cube across a face along which no sweep runs, and a point's light is
-// read from the anchored rays, those beside the cube included, or (its ray entering just
-// before it) integrated from the face. Every point's light is exp(-sigma x the length of its
-// ray inside the cube), to 0.8 % (the interpolation between rays; measured 0.60 %) and
-// 0.06 % RMS (measured 0.045 %).
-TEST(Kernels, PointLightBesideACubeIsItsAnalyticTransmittance)
+namespace
 {
-  constexpr int n = 40;
+// A point light's propagated light in a box of uniform extinction (points 0 .. dims - 1)
+// against the exact exp(-sigma x the length of each point's ray inside the box): the largest
+// and RMS relative error, and the points whose rays leave the box across a face along x or y.
+struct AnalyticErrors
+{
+  double Worst = 0.0, Rms = 0.0;
+  long long Sideways = 0;
+};
+
+AnalyticErrors PointLightInUniformBox(const std::array<int, 3>& dims, const LightState& light)
+{
   constexpr double sigma = 5.0 / 256.0; // stored exactly
-  ClassifiedVolume cube;
-  cube.Geometry.Dimensions = { { n, n, n } };
-  cube.Channels = 1;
-  cube.Store(std::vector<float>(static_cast<size_t>(n) * n * n, static_cast<float>(sigma)));
+  ClassifiedVolume box;
+  box.Geometry.Dimensions = dims;
+  box.Channels = 1;
+  box.Store(std::vector<float>(box.Geometry.NumberOfPoints(), static_cast<float>(sigma)));
   double bounds[6];
-  cube.Geometry.GetBounds(bounds);
-  LightState light;
-  light.Kind = LightKind::Point;
-  light.Position = { { 65.0, 58.0, 60.0 } };
+  box.Geometry.GetBounds(bounds);
   FixedPointIllumination illumination;
-  illumination.Reset(cube.Geometry.NumberOfPoints(), FixedPointIllumination::ScaleFor(1.0));
+  illumination.Reset(box.Geometry.NumberOfPoints(), FixedPointIllumination::ScaleFor(1.0));
   std::vector<PropagationTask> remaining;
   PropagationStatistics statistics;
-  ASSERT_TRUE(PropagateTasks(cube, cube.Geometry, TasksForLight(light, +1, bounds), true, 0,
+  EXPECT_TRUE(PropagateTasks(box, box.Geometry, TasksForLight(light, +1, bounds), true, 0,
     illumination, remaining, statistics, nullptr));
-  std::vector<float> rgb(3 * static_cast<size_t>(cube.Geometry.NumberOfPoints()));
+  std::vector<float> rgb(3 * static_cast<size_t>(box.Geometry.NumberOfPoints()));
   illumination.ToFloat(rgb.data());
-  double worst = 0.0, squares = 0.0;
-  int sideways = 0; // points whose rays enter across a face along x or y
-  for (int k = 0; k < n; ++k)
+  AnalyticErrors e;
+  double squares = 0.0;
+  size_t index = 0;
+  for (int k = 0; k < dims[2]; ++k)
   {
-    for (int j = 0; j < n; ++j)
+    for (int j = 0; j < dims[1]; ++j)
     {
-      for (int i = 0; i < n; ++i)
+      for (int i = 0; i < dims[0]; ++i, ++index)
       {
         const double p[3] = { double(i), double(j), double(k) };
-        // The part of the way to the light where the ray leaves the cube: the nearest face.
+        // The part of the way to the light where the ray leaves the box: the nearest face.
         double leave = 1.0;
         int face = -1;
         for (int a = 0; a < 3; ++a)
         {
-          const double t = (n - 1 - p[a]) / (light.Position[a] - p[a]);
-          if (t < leave)
+          const double end = light.Position[a] > dims[a] - 1 ? dims[a] - 1.0 : 0.0;
+          const bool beyond = light.Position[a] > dims[a] - 1 || light.Position[a] < 0.0;
+          const double t = beyond ? (end - p[a]) / (light.Position[a] - p[a]) : 1.0;
+          if (t >= 0.0 && t < leave)
           {
             leave = t;
             face = a;
           }
         }
-        sideways += face < 2 ? 1 : 0;
+        e.Sideways += face == 0 || face == 1 ? 1 : 0;
         const double length = leave *
           std::sqrt(std::pow(light.Position[0] - p[0], 2) + std::pow(light.Position[1] - p[1], 2) +
             std::pow(light.Position[2] - p[2], 2));
         const double expected = std::exp(-sigma * length);
-        const double error = std::abs(rgb[3 * (i + n * (j + n * k))] - expected) / expected;
-        worst = std::max(worst, error);
+        const double error = std::abs(rgb[3 * index] - expected) / expected;
+        e.Worst = std::max(e.Worst, error);
         squares += error * error;
       }
     }
   }
-  const double rms = std::sqrt(squares / (n * n * n));
-  std::cout << "point light beside a cube: largest relative error " << worst << ", RMS " << rms
-            << "; " << sideways << " of " << n * n * n << " points lit across a face along x or y"
+  e.Rms = std::sqrt(squares / static_cast<double>(index));
+  return e;
+}
+}
+
+// A point light beside a cube of uniform extinction (beyond three of its faces): the rays of
+// most points enter the cube across a face along which no sweep runs, and a point's light is
+// read from the anchored rays, those beside the cube included, or (its ray entering just
+// before it) integrated from the face. Every point's light is the analytic one to 0.8 % (the
+// interpolation between rays; measured 0.60 %) and 0.06 % RMS (measured 0.045 %).
+TEST(Kernels, PointLightBesideACubeIsItsAnalyticTransmittance)
+{
+  constexpr int n = 40;
+  LightState light;
+  light.Kind = LightKind::Point;
+  light.Position = { { 65.0, 58.0, 60.0 } };
+  const AnalyticErrors e = PointLightInUniformBox({ { n, n, n } }, light);
+  std::cout << "point light beside a cube: largest relative error " << e.Worst << ", RMS " << e.Rms
+            << "; " << e.Sideways << " of " << n * n * n << " points lit across a face along x or y"
             << std::endl;
-  EXPECT_GT(sideways, n * n * n / 2);
-  EXPECT_LE(worst, 0.008);
-  EXPECT_LE(rms, 0.0006);
+  EXPECT_GT(e.Sideways, n * n * n / 2);
+  EXPECT_LE(e.Worst, 0.008);
+  EXPECT_LE(e.Rms, 0.0006);
+}
+
+// A point light just below a flat box, near an edge: beyond the box along z only, the axis
+// along which the direction to the box's centre is shortest. The groups of the two longest
+// axes (x and y) cannot carry the points on the far side of the light along both (until
+// 2026-12-07 those were left unlit); the z group carries every point.
+TEST(Kernels, PointLightBelowAFlatBoxLightsEveryPoint)
+{
+  LightState light;
+  light.Kind = LightKind::Point;
+  light.Position = { { 10.0, 4.0, -3.0 } };
+  double bounds[6] = { 0, 47, 0, 23, 0, 7 };
+  const auto groups = AssignPropagationGroups(light, bounds);
+  ASSERT_EQ(groups.size(), 2u);
+  EXPECT_EQ(groups[0].Group, 0); // +x, the longest axis
+  EXPECT_EQ(groups[1].Group, 4); // +z, the one the light lies beyond
+  const AnalyticErrors e = PointLightInUniformBox({ { 48, 24, 8 } }, light);
+  std::cout << "point light below a flat box: largest relative error " << e.Worst << ", RMS "
+            << e.Rms << std::endl;
+  EXPECT_LE(e.Worst, 0.02); // measured 1.5 %
+  EXPECT_LE(e.Rms, 0.0012); // measured 0.09 %
 }
 
 namespace
