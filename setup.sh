@@ -6,6 +6,11 @@
 #   ./setup.sh test    install, build, run every test, a benchmark smoke run and the
 #                      sanitizer (ASan + UBSan) build's tests and fuzz corpus
 #   ./setup.sh build   install and build only
+#   ./setup.sh test-paraview-5.13
+#                      the same tests against Debian 13's ParaView 5.13 (Qt 6), in a Debian 13
+#                      root of its own made with debootstrap (VOLILLUM_DEBIAN13_ROOT, default
+#                      ../volillum-debian13 beside the clone) and the build folder
+#                      build-paraview-5.13/
 #
 # Installs Debian packages with apt-get (never libvtk9-dev or python3-vtk9: they would
 # remove ParaView's pvpython), configures into build/ and builds with every core.
@@ -65,6 +70,96 @@ sanitize() {
     --corpus build-asan/fuzz-corpus --generate --jobs 2
 }
 
+# Debian 13 (trixie) and its ParaView 5.13: the -dev packages above with Qt 6 instead of Qt 5
+# and the libraries 5.13's CMake files look for besides.
+packages_debian13=(
+  cmake g++ make pkg-config
+  paraview-dev python3-paraview python3-dev
+  qt6-base-dev qt6-tools-dev qt6-svg-dev qt6-5compat-dev qt6-declarative-dev libqt6opengl6-dev
+  qt6-base-private-dev libcli11-dev libfmt-dev nlohmann-json3-dev libpugixml-dev libprotobuf-dev
+  protobuf-compiler libcgns-dev
+  libhdf5-openmpi-dev libnetcdf-dev libgdal-dev libutfcpp-dev libdouble-conversion-dev zlib1g-dev
+  libtiff-dev libtheora-dev libpng-dev libopenmpi-dev liblzma-dev liblz4-dev libjpeg-dev
+  libglew-dev libgl2ps-dev libfreetype-dev libavformat-dev libavcodec-dev libavutil-dev
+  libswscale-dev libeigen3-dev libexpat1-dev libboost-dev libxml2-dev libx11-dev libxt-dev
+  libgl-dev xvfb xauth mesa-utils libgl1-mesa-dri mpi-default-bin
+  libtet1.5-dev libcgal-dev libgtest-dev libbenchmark-dev python3-matplotlib
+)
+
+# The Debian mirror this machine's apt uses (the root comes from the same one).
+debian_mirror() {
+  local uri
+  uri=$(grep -hoE '^(URIs:|deb) +https?://[^ ]+/debian/?( |$)' /etc/apt/sources.list.d/*.sources \
+    /etc/apt/sources.list 2>/dev/null | grep -oE 'https?://[^ ]+' | head -n 1 || true)
+  echo "${uri:-http://deb.debian.org/debian}"
+}
+
+# Build and run the whole ctest suite against ParaView 5.13 inside a Debian 13 root: made once
+# with debootstrap (and reused), /proc, /dev, /sys, the clone (/src) and ../shared (/shared)
+# bound while it runs and unbound after, also on failure.
+test_paraview_513() {
+  # Globals: the EXIT trap unbinds after this function has returned.
+  sudo=""
+  [ "$(id -u)" -ne 0 ] && sudo="sudo"
+  local root
+  root=$(realpath -m "${VOLILLUM_DEBIAN13_ROOT:-$PWD/../volillum-debian13}")
+  if ! command -v debootstrap >/dev/null; then
+    $sudo env DEBIAN_FRONTEND=noninteractive apt-get update -q
+    $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends debootstrap
+  fi
+  if [ ! -x "$root/usr/bin/apt-get" ] || [ ! -e "$root/.volillum-debootstrap-done" ]; then
+    $sudo debootstrap --variant=minbase trixie "$root" "$(debian_mirror)"
+    $sudo touch "$root/.volillum-debootstrap-done"
+  fi
+  mounts=()
+  unbind() {
+    local i
+    for ((i = ${#mounts[@]} - 1; i >= 0; i--)); do $sudo umount -l "${mounts[i]}" || true; done
+  }
+  trap unbind EXIT
+  bind() {
+    $sudo mkdir -p "$2"
+    mountpoint -q "$2" || { $sudo mount --bind "$1" "$2" && mounts+=("$2"); }
+  }
+  bind /proc "$root/proc"
+  bind /dev "$root/dev"
+  bind /sys "$root/sys"
+  bind "$PWD" "$root/src"
+  [ -d ../shared ] && bind "$(realpath ../shared)" "$root/shared"
+  $sudo cp /etc/resolv.conf "$root/etc/resolv.conf"
+  $sudo chroot "$root" /usr/bin/env DEBIAN_FRONTEND=noninteractive \
+    PACKAGES="${packages_debian13[*]}" /bin/bash -s <<'EOS'
+set -euo pipefail
+missing=()
+for p in $PACKAGES; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  apt-get update -q
+  apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+# Debian 13's ParaView CMake files name its Python modules X.so; Debian installs them as
+# X.cpython-313-x86_64-linux-gnu.so, and find_package(ParaView) stops at the first name that
+# is missing. Inside this root only: a link of each missing name to the installed module.
+grep -rhoE '"\$\{_IMPORT_PREFIX\}/lib/python3/dist-packages/[^"]*\.so"' \
+  /usr/lib/x86_64-linux-gnu/cmake/paraview-5.13 | tr -d '"' | sed 's|^${_IMPORT_PREFIX}|/usr|' |
+  sort -u | while read -r module; do
+    installed="${module%.so}.cpython-313-x86_64-linux-gnu.so"
+    if [ ! -e "$module" ] && [ -e "$installed" ]; then
+      ln -s "$(basename "$installed")" "$module"
+    fi
+  done
+EOS
+  $sudo chroot "$root" /usr/bin/env VTK_SMP_BACKEND_IN_USE=STDThread /bin/bash -s <<'EOS'
+set -euo pipefail
+cd /src
+cmake -S . -B build-paraview-5.13 -DCMAKE_BUILD_TYPE=Release -DVOLILLUM_SHARED_DATA=/shared/data
+cmake --build build-paraview-5.13 -j"$(nproc)"
+cd build-paraview-5.13
+xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" ctest --output-on-failure
+EOS
+}
+
 export VTK_SMP_BACKEND_IN_USE=STDThread
 
 case "${1:-}" in
@@ -90,8 +185,11 @@ case "${1:-}" in
     # The sanitizer stage of "test" (run by it under its X server; needs a display).
     sanitize
     ;;
+  test-paraview-5.13)
+    test_paraview_513
+    ;;
   *)
-    echo "usage: ./setup.sh demo | test | build | sanitize" >&2
+    echo "usage: ./setup.sh demo | test | build | sanitize | test-paraview-5.13" >&2
     exit 2
     ;;
 esac

@@ -25,6 +25,7 @@ import time
 from paraview.simple import *
 
 plugin, data_dir = sys.argv[1:3]
+plugin = os.path.abspath(plugin)  # ParaView 5.13 loads a plugin by its absolute path only
 smoke = "--smoke" in sys.argv
 json_path = sys.argv[sys.argv.index("--json") + 1] if "--json" in sys.argv else None
 LoadPlugin(plugin, remote=False, ns=globals())

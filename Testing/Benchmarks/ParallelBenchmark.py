@@ -262,6 +262,7 @@ def model_tiles(compute_per_voxel_light, halo=5):
 def main():
     from paraview.simple import LoadPlugin
     plugin, data_dir, out, mpiexec, flags = sys.argv[1:6]
+    plugin = os.path.abspath(plugin)  # ParaView 5.13 loads a plugin by its absolute path only
     smoke = "--smoke" in sys.argv
     json_path = sys.argv[sys.argv.index("--json") + 1] if "--json" in sys.argv else None
     LoadPlugin(plugin, remote=False, ns=globals())

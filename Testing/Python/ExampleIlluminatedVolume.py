@@ -2,11 +2,13 @@
 Light Inspector lights, saved as a PNG (the README's example; it runs as a test).
 Usage: pvpython ExampleIlluminatedVolume.py PLUGIN OUTPUT.png
 """
+import os
 import sys
 
 from paraview.simple import *
 
-LoadPlugin(sys.argv[1], remote=False, ns=globals())
+# ParaView 5.13 loads a plugin given by its absolute path only.
+LoadPlugin(os.path.abspath(sys.argv[1]), remote=False, ns=globals())
 phantom = IlluminationPhantom(Scene="CT Phantom", Dimensions=[96, 96, 96])
 view = GetActiveViewOrCreate("RenderView")
 view.ViewSize = [400, 400]

@@ -6,7 +6,9 @@ benchmarks, the pvpython examples and benchmarks, plot_benchmark.py) and each pa
 example (with pvpython), from a scratch folder that holds the build, the sources' Testing/
 and Data/ and ../shared as a fresh clone beside ../shared has them. Commands run as written
 with DISPLAY unset, so a command that needs a display and does not say `xvfb-run -a` fails;
-long ones run in their smoke form (SMOKE below, the only change made to a command). Each
+long ones run in their smoke form (SMOKE below), and against a build for another ParaView
+line than the README's the plugin's folder is that build's (README_PARAVIEW below): the only
+changes made to a command. Each
 must exit 0 and write the files it names (arguments ending in .png or .json, and the folder
 plot_benchmark.py draws into); a paraview.simple example fails on a property or filter name
 the plugin does not have. The set-up commands (./setup.sh) are the ones CI runs.
@@ -26,6 +28,8 @@ SMOKE = {
     "ParallelBenchmark.py": "--smoke",
 }
 PROGRAMS = ("build/bin/volillum-", "Testing/", "plot_benchmark.py")
+# The ParaView line whose plugin folder (build/lib/paraview-X.Y/plugins) the README names.
+README_PARAVIEW = "paraview-5.11"
 
 
 def code_blocks(readme):
@@ -82,8 +86,12 @@ def main():
         os.symlink(os.path.join(os.path.abspath(source), name), os.path.join(work, name))
     env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
     env["PATH"] = os.path.dirname(os.path.abspath(pvpython)) + os.pathsep + env.get("PATH", "")
+    # The build's own ParaView line (build/lib/paraview-X.Y holds its plugin).
+    lines = [d for d in os.listdir(os.path.join(build, "lib")) if d.startswith("paraview-")]
+    line = lines[0] if len(lines) == 1 else README_PARAVIEW
     failures, ran = [], 0
     for block in code_blocks(os.path.join(source, "README.md")):
+        block = [l.replace(README_PARAVIEW, line) for l in block]
         text = "\n".join(block)
         if is_python(text):
             if "LoadPlugin" not in text:
