@@ -143,6 +143,7 @@ void WalkTowardLight(const TetrahedralMesh& mesh, const std::vector<float>& exti
   const Vec3 x = PointOf(mesh.Points, vertex);
   double depth[3] = { 0.0, 0.0, 0.0 };
   float arriving[3] = { 1.0f, 1.0f, 1.0f };
+  bool atLight = false;
   double t0 = 0.0;
   for (int step = 0; step < MaximumWalk; ++step)
   {
@@ -178,23 +179,21 @@ void WalkTowardLight(const TetrahedralMesh& mesh, const std::vector<float>& exti
     t0 += dt;
     if (ends && reachesLight)
     {
-      break; // arriving stays 1: the light itself
+      atLight = true; // arriving stays 1: the light itself
+      break;
     }
     if (ends || mesh.Neighbors[4 * tet + face] < 0)
     {
-      const double q[3] = { x[0] + t0 * toLight[0], x[1] + t0 * toLight[1],
-        x[2] + t0 * toLight[2] };
-      TrilinearSample(grid.Geometry, level0.data(), nc, q, arriving);
       break;
     }
     tet = mesh.Neighbors[4 * tet + face];
-    if (step + 1 == MaximumWalk)
-    {
-      // The walk gave up (a step length far above the tetrahedra's): level 0 carries the rest.
-      const double q[3] = { x[0] + t0 * toLight[0], x[1] + t0 * toLight[1],
-        x[2] + t0 * toLight[2] };
-      TrilinearSample(grid.Geometry, level0.data(), nc, q, arriving);
-    }
+  }
+  // Where the walk ended, left the mesh or gave up (a step length far above the
+  // tetrahedra's): level 0 carries the rest.
+  if (!atLight)
+  {
+    const double q[3] = { x[0] + t0 * toLight[0], x[1] + t0 * toLight[1], x[2] + t0 * toLight[2] };
+    TrilinearSample(grid.Geometry, level0.data(), nc, q, arriving);
   }
   for (int c = 0; c < nc; ++c)
   {

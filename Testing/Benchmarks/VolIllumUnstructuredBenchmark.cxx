@@ -259,13 +259,7 @@ void CompareAt(vtkUnstructuredGrid* grid, const volillumtest::MeshComparisonScen
 {
   const auto unstructured = [&](int iterations, double& seconds)
   {
-    vtkNew<vtkUnstructuredGridIllumination> filter;
-    filter->SetInputData(grid);
-    filter->SetOpacityFunction(scene.Opacity);
-    filter->SetScalarOpacityUnitDistance(scene.UnitDistance);
-    filter->SetLevel0Resolution(resolution, resolution, resolution);
-    filter->SetLevel1Iterations(iterations);
-    filter->AddLight(scene.Light);
+    auto filter = volillumtest::SceneIllumination(grid, scene, resolution, iterations);
     const double start = Now();
     filter->Update();
     seconds = Now() - start;

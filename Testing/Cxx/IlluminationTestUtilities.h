@@ -23,6 +23,7 @@
 #include "vtkSmartPointer.h"
 #include "vtkStaticCellLocator.h"
 #include "vtkUnstructuredGrid.h"
+#include "vtkUnstructuredGridIllumination.h"
 #include "vtkUnstructuredGridReader.h"
 #include "vtkXMLUnstructuredGridReader.h"
 
@@ -266,75 +267,6 @@ inline std::vector<double> ExtinctionOfScalars(
   return sigma;
 }
 
-/// An opacity over a scalar range: clear at its low end, 0.02 at 15 %, 0.2 at 50 %, 0.6 at
-/// its top.
-inline vtkSmartPointer<vtkPiecewiseFunction> RisingOpacity(const double range[2])
-{
-  auto otf = vtkSmartPointer<vtkPiecewiseFunction>::New();
-  const double w = range[1] - range[0];
-  otf->AddPoint(range[0], 0.0);
-  otf->AddPoint(range[0] + 0.15 * w, 0.02);
-  otf->AddPoint(range[0] + 0.5 * w, 0.2);
-  otf->AddPoint(range[1], 0.6);
-  return otf;
-}
-
-/// The scene volillum-unstructured-benchmark compares the ways of lighting an unstructured
-/// grid in: RisingOpacity over its scalars, a unit distance of 1/8 of its largest extent
-/// (a thin medium: most vertices see some light), one oblique directional light, and the
-/// brute-force transmittance at every vertex (steps of `steps`-th of the largest extent).
-struct MeshComparisonScene
-{
-  vtkSmartPointer<vtkPiecewiseFunction> Opacity;
-  double UnitDistance = 1.0;
-  vtkSmartPointer<vtkLight> Light;
-  std::vector<double> Reference;
-};
-
-inline MeshComparisonScene ComparisonScene(vtkUnstructuredGrid* grid, int steps)
-{
-  MeshComparisonScene scene;
-  double range[2], bounds[6];
-  grid->GetPointData()->GetScalars()->GetRange(range);
-  grid->GetBounds(bounds);
-  const double extent =
-    std::max(bounds[1] - bounds[0], std::max(bounds[3] - bounds[2], bounds[5] - bounds[4]));
-  scene.Opacity = RisingOpacity(range);
-  scene.UnitDistance = extent / 8.0;
-  scene.Light = vtkSmartPointer<vtkLight>::New();
-  scene.Light->SetPositional(false);
-  scene.Light->SetPosition(0, 0, 0);
-  scene.Light->SetFocalPoint(0.4, 0.3, -1);
-  scene.Reference =
-    BruteForceTransmittance(grid, ExtinctionOfScalars(grid, scene.Opacity, scene.UnitDistance),
-      volillum::CaptureLight(scene.Light), extent / steps);
-  return scene;
-}
-
-/// The other way to light an unstructured grid: resampled onto a regular grid of
-/// resolution^3 points (vtkResampleToImage), lit there by vtkMultiLightIlluminationVolume
-/// and probed back at the grid's points. Returns the probed Illumination.
-inline vtkSmartPointer<vtkDataArray> ResampledIllumination(vtkUnstructuredGrid* grid,
-  vtkPiecewiseFunction* otf, double unitDistance, vtkLight* light, int resolution)
-{
-  vtkNew<vtkResampleToImage> resample;
-  resample->SetInputDataObject(grid);
-  resample->SetSamplingDimensions(resolution, resolution, resolution);
-  resample->Update();
-  vtkImageData* image = resample->GetOutput();
-  image->GetPointData()->SetActiveScalars(grid->GetPointData()->GetScalars()->GetName());
-  vtkNew<vtkMultiLightIlluminationVolume> propagation;
-  propagation->SetInputData(image);
-  propagation->SetOpacityFunction(otf);
-  propagation->SetScalarOpacityUnitDistance(unitDistance);
-  propagation->AddLight(light);
-  vtkNew<vtkProbeFilter> probe;
-  probe->SetInputData(grid);
-  probe->SetSourceConnection(propagation->GetOutputPort());
-  probe->Update();
-  return probe->GetOutput()->GetPointData()->GetArray("Illumination");
-}
-
 /// A phantom of the given scene (vtkIlluminationPhantomSource) with n points per axis.
 inline vtkSmartPointer<vtkImageData> PhantomScene(int scene, int n)
 {
@@ -389,6 +321,87 @@ inline vtkSmartPointer<vtkLight> PointLight(
   light->SetFocalPoint(32, 32, 32);
   light->SetDiffuseColor(r, g, b);
   return light;
+}
+
+/// An opacity over a scalar range: clear at its low end, 0.02 at 15 %, 0.2 at 50 %, 0.6 at
+/// its top.
+inline vtkSmartPointer<vtkPiecewiseFunction> RisingOpacity(const double range[2])
+{
+  auto otf = vtkSmartPointer<vtkPiecewiseFunction>::New();
+  const double w = range[1] - range[0];
+  otf->AddPoint(range[0], 0.0);
+  otf->AddPoint(range[0] + 0.15 * w, 0.02);
+  otf->AddPoint(range[0] + 0.5 * w, 0.2);
+  otf->AddPoint(range[1], 0.6);
+  return otf;
+}
+
+/// The scene volillum-unstructured-benchmark compares the ways of lighting an unstructured
+/// grid in: RisingOpacity over its scalars, a unit distance of 1/8 of its largest extent
+/// (a thin medium: most vertices see some light), one oblique directional light, and the
+/// brute-force transmittance at every vertex (steps of `steps`-th of the largest extent).
+struct MeshComparisonScene
+{
+  vtkSmartPointer<vtkPiecewiseFunction> Opacity;
+  double UnitDistance = 1.0;
+  vtkSmartPointer<vtkLight> Light;
+  std::vector<double> Reference;
+};
+
+inline MeshComparisonScene ComparisonScene(vtkUnstructuredGrid* grid, int steps)
+{
+  MeshComparisonScene scene;
+  double range[2], bounds[6];
+  grid->GetPointData()->GetScalars()->GetRange(range);
+  grid->GetBounds(bounds);
+  const double extent =
+    std::max(bounds[1] - bounds[0], std::max(bounds[3] - bounds[2], bounds[5] - bounds[4]));
+  scene.Opacity = RisingOpacity(range);
+  scene.UnitDistance = extent / 8.0;
+  scene.Light = DirectionalLight(0.4, 0.3, -1);
+  scene.Reference =
+    BruteForceTransmittance(grid, ExtinctionOfScalars(grid, scene.Opacity, scene.UnitDistance),
+      volillum::CaptureLight(scene.Light), extent / steps);
+  return scene;
+}
+
+/// The other way to light an unstructured grid: resampled onto a regular grid of
+/// resolution^3 points (vtkResampleToImage), lit there by vtkMultiLightIlluminationVolume
+/// and probed back at the grid's points. Returns the probed Illumination.
+inline vtkSmartPointer<vtkDataArray> ResampledIllumination(vtkUnstructuredGrid* grid,
+  vtkPiecewiseFunction* otf, double unitDistance, vtkLight* light, int resolution)
+{
+  vtkNew<vtkResampleToImage> resample;
+  resample->SetInputDataObject(grid);
+  resample->SetSamplingDimensions(resolution, resolution, resolution);
+  resample->Update();
+  vtkImageData* image = resample->GetOutput();
+  image->GetPointData()->SetActiveScalars(grid->GetPointData()->GetScalars()->GetName());
+  vtkNew<vtkMultiLightIlluminationVolume> propagation;
+  propagation->SetInputData(image);
+  propagation->SetOpacityFunction(otf);
+  propagation->SetScalarOpacityUnitDistance(unitDistance);
+  propagation->AddLight(light);
+  vtkNew<vtkProbeFilter> probe;
+  probe->SetInputData(grid);
+  probe->SetSourceConnection(propagation->GetOutputPort());
+  probe->Update();
+  return probe->GetOutput()->GetPointData()->GetArray("Illumination");
+}
+
+/// vtkUnstructuredGridIllumination lighting a grid's comparison scene (not updated yet): a
+/// level-0 grid of resolution^3 points and Level1Iterations `iterations`.
+inline vtkSmartPointer<vtkUnstructuredGridIllumination> SceneIllumination(
+  vtkUnstructuredGrid* grid, const MeshComparisonScene& scene, int resolution, int iterations)
+{
+  auto filter = vtkSmartPointer<vtkUnstructuredGridIllumination>::New();
+  filter->SetInputData(grid);
+  filter->SetOpacityFunction(scene.Opacity);
+  filter->SetScalarOpacityUnitDistance(scene.UnitDistance);
+  filter->SetLevel0Resolution(resolution, resolution, resolution);
+  filter->SetLevel1Iterations(iterations);
+  filter->AddLight(scene.Light);
+  return filter;
 }
 
 }

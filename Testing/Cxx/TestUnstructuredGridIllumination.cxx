@@ -440,13 +440,7 @@ TEST(UnstructuredGridIllumination, TwoLevelsBeatLevelZeroAndResamplingOnRealMesh
     double error[2];
     for (int levels = 0; levels < 2; ++levels)
     {
-      vtkNew<vtkUnstructuredGridIllumination> filter;
-      filter->SetInputData(grid);
-      filter->SetOpacityFunction(scene.Opacity);
-      filter->SetScalarOpacityUnitDistance(scene.UnitDistance);
-      filter->SetLevel0Resolution(32, 32, 32);
-      filter->SetLevel1Iterations(levels == 0 ? 0 : -1);
-      filter->AddLight(scene.Light);
+      auto filter = volillumtest::SceneIllumination(grid, scene, 32, levels == 0 ? 0 : -1);
       filter->Update();
       error[levels] = Compare(Illumination(filter), scene.Reference).Rms;
     }
