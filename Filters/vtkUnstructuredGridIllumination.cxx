@@ -240,8 +240,7 @@ bool vtkUnstructuredGridIllumination::PrepareDistributedMesh(
   }
   // How deep the cells of other pieces are needed: the level-1 walk from a point of the piece
   // (Level1Length), and at least a mean edge (the scattering's neighbours).
-  const std::array<int, 3> dims = { { this->Level0Resolution[0], this->Level0Resolution[1],
-    this->Level0Resolution[2] } };
+  const std::array<int, 3> dims = this->Level0Dimensions();
   const auto reach = [&](const volillum::TetrahedralMesh& mesh)
   {
     const double walk = volillum::Level1Length(
@@ -411,6 +410,12 @@ int vtkUnstructuredGridIllumination::RequestData(
     this->Illuminate(input, output);
   }
   return 1;
+}
+
+//------------------------------------------------------------------------------
+std::array<int, 3> vtkUnstructuredGridIllumination::Level0Dimensions() const
+{
+  return { { this->Level0Resolution[0], this->Level0Resolution[1], this->Level0Resolution[2] } };
 }
 
 //------------------------------------------------------------------------------
@@ -628,8 +633,7 @@ bool vtkUnstructuredGridIllumination::UpdateLevel0Grid(
   {
     return false;
   }
-  const std::array<int, 3> dims = { { this->Level0Resolution[0], this->Level0Resolution[1],
-    this->Level0Resolution[2] } };
+  const std::array<int, 3> dims = this->Level0Dimensions();
   volillum::ResampleLevel0(this->Mesh, this->Extinction, this->Channels, dims, this->Level0);
   if (controller)
   {

@@ -49,6 +49,7 @@
 #include "vtkSmartPointer.h"
 #include "vtkUnstructuredGridAlgorithm.h"
 
+#include <array> // for std::array
 #include <functional>
 #include <memory> // for std::unique_ptr
 #include <vector>
@@ -224,6 +225,8 @@ private:
     double Update = 0.0; // all of it
   };
 
+  // Level0Resolution as an array.
+  std::array<int, 3> Level0Dimensions() const;
   // Light the whole grid input into output (the serial update).
   void Illuminate(vtkUnstructuredGrid* input, vtkUnstructuredGrid* output);
   // Collective: light this process's piece of a distributed grid (input) into output.

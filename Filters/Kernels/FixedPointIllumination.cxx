@@ -26,8 +26,8 @@ bool FixedPointIllumination::Holds(double largest, double final) const
     final * this->Scale >= std::ldexp(1.0, 20);
 }
 
-void FixedPointIllumination::ToFloat(
-  const std::uint32_t* units, size_t count, double scale, float* rgb)
+void FixedPointIllumination::ToFloat(const std::uint32_t* units, size_t count, double scale,
+  float* out, size_t unitStride, size_t outStride)
 {
   const double unit = 1.0 / scale;
   vtkSMPTools::For(0, static_cast<long long>(count),
@@ -35,7 +35,8 @@ void FixedPointIllumination::ToFloat(
     {
       for (long long i = b; i < e; ++i)
       {
-        rgb[i] = static_cast<float>(static_cast<std::int32_t>(units[i]) * unit);
+        out[i * outStride] =
+          static_cast<float>(static_cast<std::int32_t>(units[i * unitStride]) * unit);
       }
     });
 }

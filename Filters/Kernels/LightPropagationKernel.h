@@ -176,8 +176,10 @@ public:
   {
     ToFloat(this->Values.data(), this->Values.size(), this->Scale, rgb);
   }
-  /// Convert `count` values in units of an illumination of this `scale` to float.
-  static void ToFloat(const std::uint32_t* units, size_t count, double scale, float* rgb);
+  /// Convert `count` values in units of an illumination of this `scale` to float: value i
+  /// from units[i x unitStride] to out[i x outStride].
+  static void ToFloat(const std::uint32_t* units, size_t count, double scale, float* out,
+    size_t unitStride = 1, size_t outStride = 1);
 
   /// Start a record (all 0, the layout of Values) for the tasks marked Recorded.
   void StartRecord() { this->Recorded.assign(this->Values.size(), 0); }

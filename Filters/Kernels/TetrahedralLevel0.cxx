@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <limits>
 
 namespace volillum
@@ -188,16 +187,8 @@ void PropagateLevel0(const Level0Grid& grid, const LightState& light, std::vecto
     PropagationStatistics statistics;
     PropagateTasks(volume, grid.Geometry, tasks, true, 0, light1, remaining, statistics, nullptr);
     // Every channel of the white light holds the transmittance: the first is read.
-    const double unit = 1.0 / light1.Scale;
-    vtkSMPTools::For(0, np,
-      [&](long long begin, long long end)
-      {
-        for (long long q = begin; q < end; ++q)
-        {
-          rho[nc * q + c] = static_cast<float>(
-            static_cast<std::int32_t>(light1.Values[3 * static_cast<size_t>(q)]) * unit);
-        }
-      });
+    FixedPointIllumination::ToFloat(
+      light1.Values.data(), static_cast<size_t>(np), light1.Scale, rho.data() + c, 3, nc);
   }
 }
 
