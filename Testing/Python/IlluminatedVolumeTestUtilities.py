@@ -126,6 +126,16 @@ def relative_difference(a, b):
     return max(abs(x - y) for x, y in zip(a, b)) / max(max(abs(y) for y in b), 1e-12)
 
 
+def relative_rms(values, reference):
+    """RMS of values - reference over the RMS of reference (two vtkDataArrays of the same
+    size, every component); infinite where the reference is all 0."""
+    error = norm = 0.0
+    for i in range(reference.GetNumberOfValues()):
+        error += (values.GetValue(i) - reference.GetValue(i)) ** 2
+        norm += reference.GetValue(i) ** 2
+    return math.sqrt(error / norm) if norm > 0 else math.inf
+
+
 def light_parameters(light, position, focal):
     """The 14-number layout of a view light (vtkPVLight proxy) at world position/focal."""
     positional = 1 if light.Type == "Positional" else 0

@@ -6,10 +6,11 @@ computing the edited lights in full (the fixed-point accumulation cancels old st
 exactly), and the propagated volume must stay close to RayMarchedIllumination.
 Usage: pvpython TestMultiLightIlluminationVolumeSimple.py PLUGIN
 """
-import math
 import sys
 
 from paraview.simple import *
+
+from IlluminatedVolumeTestUtilities import relative_rms
 
 LoadPlugin(sys.argv[1], remote=False, ns=globals())
 
@@ -57,11 +58,7 @@ if difference > 1e-6:
 reference = RayMarchedIllumination(Input=phantom, OpacityFunction=opacity)
 reference.Lights = yellow + blue_edited + top
 _, exact = illumination(reference)
-error = norm = 0.0
-for i in range(exact.GetNumberOfValues()):
-    error += (full.GetValue(i) - exact.GetValue(i)) ** 2
-    norm += exact.GetValue(i) ** 2
-rms = math.sqrt(error / norm)
+rms = relative_rms(full, exact)
 print("RMS relative difference to RayMarchedIllumination: %g" % rms)
 if rms > 0.1:
     failures.append("RMS relative difference to the reference %g exceeds 0.1" % rms)
