@@ -48,6 +48,7 @@ vtkSmartPointer<T> DeepCopyOf(T* original)
 // Every BackgroundLighting of the process, for vtkIlluminationStatus.
 std::mutex RegistryMutex;
 std::atomic<unsigned int> PublishedCount{ 0 }; // results published by every job so far
+std::atomic<unsigned int> WaitCount{ 0 };      // lightings a caller ran or waited for
 std::vector<volillum::BackgroundLighting*>& Registry()
 {
   static std::vector<volillum::BackgroundLighting*> registry;
@@ -249,6 +250,10 @@ void BackgroundLighting::Stop()
 {
   this->Cancel();
   std::unique_lock<std::mutex> lock(this->Mutex);
+  if (this->Running || this->Queued)
+  {
+    ++WaitCount;
+  }
   this->Changed.wait(lock, [this] { return !this->Running && !this->Queued; });
 }
 
@@ -256,6 +261,7 @@ void BackgroundLighting::Stop()
 void BackgroundLighting::Run(const Work& work, vtkAlgorithm* progressTo)
 {
   this->Stop();
+  ++WaitCount;
   this->CancelRequested = false;
   Job job(this, progressTo);
   work(job);
@@ -317,6 +323,11 @@ bool BackgroundLighting::AnyReady()
 unsigned int BackgroundLighting::Publications()
 {
   return PublishedCount.load();
+}
+
+unsigned int BackgroundLighting::Waits()
+{
+  return WaitCount.load();
 }
 
 double BackgroundLighting::LeastProgress()

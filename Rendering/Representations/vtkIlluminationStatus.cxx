@@ -21,6 +21,11 @@ int vtkIlluminationStatus::GetIlluminationPublications()
   return static_cast<int>(volillum::BackgroundLighting::Publications() & 0x7fffffff);
 }
 
+int vtkIlluminationStatus::GetIlluminationWaits()
+{
+  return static_cast<int>(volillum::BackgroundLighting::Waits() & 0x7fffffff);
+}
+
 double vtkIlluminationStatus::GetIlluminationProgress()
 {
   return volillum::BackgroundLighting::LeastProgress();

@@ -29,6 +29,12 @@ public:
   int GetIlluminationReady();
   /// Results published so far (the views show new ones when they render).
   int GetIlluminationPublications();
+  /**
+   * Lightings that a render (or another call) computed itself or waited for so far:
+   * synchronous lighting, screenshots, quick lightings run in the render. A GUI frame with
+   * AsynchronousLighting on adds none for a lighting expected to take over 0.2 s.
+   */
+  int GetIlluminationWaits();
   /// The least progress (0 to 1) of the computations running.
   double GetIlluminationProgress();
   /// Cancel every background computation (the last finished illumination stays).

@@ -74,9 +74,10 @@ def lighting_flags(status):
             status.GetProperty("IlluminationReady").GetElement(0) != 0)
 
 
-def lighting_pending(status):
-    """Whether a lighting runs, is queued or waits to be drawn (lighting_flags)."""
-    return any(lighting_flags(status))
+def illumination_waits(status):
+    """Lightings that a render of the process computed itself or waited for so far."""
+    status.UpdatePropertyInformation()
+    return status.GetProperty("IlluminationWaits").GetElement(0)
 
 
 def write_lines_and_exit(path, lines):

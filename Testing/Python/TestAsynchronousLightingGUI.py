@@ -9,10 +9,14 @@ light and returns to the event loop for a second, then turns the camera again, r
 and returns to the event loop until no lighting runs or waits to be drawn
 (IlluminationStatus), without the script rendering again (pqIlluminationLightingBehavior
 renders when the illumination is ready); then the representation must report
-IlluminationPending 0. In both stretches a 20 ms timer of the view's interactor (a Qt timer)
-records the largest delay between its ticks, that delay less the time the view spent
-rendering frames within it, and the longest frame. Results go to
-OUTPUT_DIR/async_result.txt as "name value" lines; then the application ends (os._exit).
+IlluminationPending 0. From before that Render() to the end it counts the lightings that a
+render computed itself or waited for (IlluminationStatus's IlluminationWaits; also counted
+around the synchronous turn, where it must see one) and the ticks
+of a 20 ms timer of the view's interactor (a Qt timer) that found the lighting running.
+It also records, as figures only, the largest delay between ticks, that delay less the time
+the view spent rendering frames within it, and the longest frame, in both stretches.
+Results go to OUTPUT_DIR/async_result.txt as "name value" lines; then the application ends
+(os._exit).
 Environment: VOLILLUM_PLUGIN, VOLILLUM_DATA (the folder of engine.vti), VOLILLUM_OUTPUT.
 """
 import os
@@ -21,8 +25,8 @@ import time
 from paraview.simple import *
 
 # On PYTHONPATH: run_gui_script.
-from IlluminatedVolumeTestUtilities import (illumination_status, info, lighting_pending,
-                                             write_lines_and_exit)
+from IlluminatedVolumeTestUtilities import (illumination_status, illumination_waits, info,
+                                             lighting_flags, write_lines_and_exit)
 
 out = os.environ["VOLILLUM_OUTPUT"]
 results = []
@@ -49,17 +53,20 @@ try:
     start = time.perf_counter()
     Render(view)
     results.append("still_frame_s %.3f" % (time.perf_counter() - start))
+    status = illumination_status()
+    waits = illumination_waits(status)
     camera.Azimuth(40)
     start = time.perf_counter()
     Render(view)
     results.append("synchronous_turn_s %.3f" % (time.perf_counter() - start))
+    results.append("waits_in_synchronous_turn %d" % (illumination_waits(status) - waits))
 
     # The GUI around a frame with nothing to light: the script renders, then the event loop
     # runs for a second (Qt presents the frame) while the ticker measures its delays.
     rep.AsynchronousLighting = 1
     interactor = view.GetRenderWindow().GetInteractor()
     state = {"phase": "baseline", "last": None, "gap": 0.0, "blocked": 0.0, "frame": 0.0,
-             "drawing": 0.0, "began": None}
+             "drawing": 0.0, "began": None, "busy_ticks": 0}
     Render(view)
     baseline_start = state["last"] = time.perf_counter()
 
@@ -75,14 +82,14 @@ try:
 
     def turn():
         """The asynchronous turn: one render, then back to the event loop."""
-        global start, status
+        global start, waits
         results.append("baseline_timer_delay_s %.3f" % state["gap"])
         results.append("baseline_delay_outside_frames_s %.3f" % state["blocked"])
+        waits = illumination_waits(status)
         camera.Azimuth(40)
         start = time.perf_counter()
         Render(view)
         results.append("asynchronous_turn_render_s %.3f" % (time.perf_counter() - start))
-        status = illumination_status()
         results.append("pending_after_render %d" % info(rep, "IlluminationPending")[0])
         state.update(phase="lighting", gap=0.0, blocked=0.0, frame=0.0, drawing=0.0,
                      last=time.perf_counter())
@@ -96,7 +103,12 @@ try:
         if state["phase"] == "baseline":
             if now - baseline_start > 1.0:
                 turn()
-        elif not lighting_pending(status):
+            return
+        busy, ready = lighting_flags(status)
+        state["busy_ticks"] += busy
+        if not (busy or ready):
+            results.append("waits_in_renders %d" % (illumination_waits(status) - waits))
+            results.append("ticks_while_lighting %d" % state["busy_ticks"])
             results.append("final_frame_s %.3f" % (now - start))
             results.append("largest_timer_delay_s %.3f" % state["gap"])
             results.append("largest_delay_outside_frames_s %.3f" % state["blocked"])

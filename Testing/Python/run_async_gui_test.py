@@ -1,15 +1,17 @@
 """Driver of TestAsynchronousLightingGUI.py: starts the real paraview GUI (it needs a display:
-run under xvfb-run) and checks what it measured while the engine at 256^3 was re-lit after
-a camera turn with Asynchronous Lighting on:
+run under xvfb-run) and checks what happened while the engine at 256^3 was re-lit after a
+camera turn with Asynchronous Lighting on:
 - the GUI turned Asynchronous Lighting on (pvpython leaves it off);
-- Render() after the turn took no more than a still frame with nothing to light + 0.25 s;
-- the Qt event loop kept running: its timer's largest delay, less the frames the view drew
-  within it, stayed within its delay around a frame with nothing to light + 0.25 s (frames
-  block the event loop, and so does Qt presenting them, more with Qt 6; the lighting must
-  not; two frames can follow each other without a tick between), and no frame drawn
-  meanwhile took more than a still frame + 0.25 s;
+- the Render() after the turn returned with the lighting pending, and neither it nor any frame
+  drawn until the final one computed a lighting itself or waited for one (IlluminationWaits,
+  which sees the synchronous turn's lighting);
+- the Qt event loop ran while the lighting was computed (its timer ticked more than once with
+  the lighting running);
 - the final illumination was drawn without the script rendering again.
-Prints every figure, with the synchronous turn's blocking time beside them.
+No check is timed (a shared 2-core machine slows frames when the lighting takes both cores);
+the times are printed as figures: a still frame, the synchronous turn's blocking Render(), the
+asynchronous one, the final frame, the event loop's largest delay (and that less the frames
+drawn within it, beside the same around a frame with nothing to light), the longest frame.
 Usage: pvpython run_async_gui_test.py PARAVIEW PLUGIN DATA_DIR OUTPUT_DIR
 """
 import os
@@ -17,8 +19,6 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from IlluminatedVolumeTestUtilities import Checks, finish, run_gui_script
-
-FREEZE_BOUND = 0.25  # seconds the lighting may add to what a frame costs anyway
 
 paraview, plugin, data, out = sys.argv[1:5]
 here = os.path.dirname(os.path.abspath(__file__))
@@ -42,14 +42,13 @@ check(results["asynchronous_in_gui"] == "1", "the GUI turned Asynchronous Lighti
 check(results["pending_after_render"] == "1", "the lighting was pending after Render()")
 check(results["pending_at_the_end"] == "0",
       "the GUI drew the final illumination (IlluminationPending 0) without the script rendering")
-check(float(results["asynchronous_turn_render_s"]) <= frame + FREEZE_BOUND,
-      "Render() after the turn took %s s (bound: a still frame + %.2f = %.3f s)" %
-      (results["asynchronous_turn_render_s"], FREEZE_BOUND, frame + FREEZE_BOUND))
-check(float(results["largest_delay_outside_frames_s"]) <= baseline + FREEZE_BOUND,
-      "the event loop's largest delay outside the frames it drew was %s s (bound: its delay "
-      "around a frame with nothing to light + %.2f = %.3f s)" %
-      (results["largest_delay_outside_frames_s"], FREEZE_BOUND, baseline + FREEZE_BOUND))
-check(float(results["longest_frame_s"]) <= frame + FREEZE_BOUND,
-      "the longest frame drawn meanwhile took %s s (bound: a still frame + %.2f = %.3f s)" %
-      (results["longest_frame_s"], FREEZE_BOUND, frame + FREEZE_BOUND))
+check(int(results["waits_in_synchronous_turn"]) >= 1,
+      "the synchronous turn's Render() computed the lighting (%s lightings computed or waited "
+      "for)" % results["waits_in_synchronous_turn"])
+check(int(results["waits_in_renders"]) == 0,
+      "no render computed the lighting or waited for it (%s lightings computed or waited for)"
+      % results["waits_in_renders"])
+check(int(results["ticks_while_lighting"]) >= 2,
+      "the event loop ran while the lighting was computed (%s ticks of its 20 ms timer found it "
+      "running)" % results["ticks_while_lighting"])
 finish(check.failures)
