@@ -31,16 +31,20 @@ inline bool OnFaceAcross(const double bounds[6], int a, double x)
 // oblique lights, a synthetic 256^3 volume) does not change measurably from 0 to 12 slices.
 constexpr double EntryReach = 12.0;
 
-// Whether point p (inside the box), whose ray crosses the anchor slice at the part `ratio`
-// of its way from the light, entered the box across a side face after the
-// anchor and fewer than EntryReach slices before p.
-inline bool EnteredJustBefore(
-  const SweepContext& s, const double light[3], const double p[3], double ratio)
+// How far back from a point at coordinate `atAxis` on the sweep axis, as a part of its way
+// from the light, EnteredJustBefore looks for a side face its ray crossed: back to the
+// anchor slice (its ray crosses it at the part `ratio` of that way from the light), at most
+// EntryReach slices. The same for every point of a slice.
+inline double EntryLimit(const SweepContext& s, const double light[3], double atAxis, double ratio)
 {
-  // Whether the ray crosses a face across B or C on the light's side within this part of
-  // its way from p to the light.
-  const double limit =
-    std::min(1.0 - ratio, EntryReach * s.Spacing[s.Axis] / std::abs(p[s.Axis] - light[s.Axis]));
+  return std::min(1.0 - ratio, EntryReach * s.Spacing[s.Axis] / std::abs(atAxis - light[s.Axis]));
+}
+
+// Whether the ray to point p crosses a face across B or C on the light's side within the
+// part `limit` (EntryLimit) of its way from p to the light.
+inline bool EnteredWithin(
+  const SweepContext& s, const double light[3], const double p[3], double limit)
+{
   for (const int c : { s.B, s.C })
   {
     const double low = s.Bounds[2 * c], high = s.Bounds[2 * c + 1];
@@ -51,6 +55,15 @@ inline bool EnteredJustBefore(
     }
   }
   return false;
+}
+
+// Whether point p (inside the box), whose ray crosses the anchor slice at the part `ratio`
+// of its way from the light, entered the box across a side face after the anchor and fewer
+// than EntryReach slices before p.
+inline bool EnteredJustBefore(
+  const SweepContext& s, const double light[3], const double p[3], double ratio)
+{
+  return EnteredWithin(s, light, p, EntryLimit(s, light, p[s.Axis], ratio));
 }
 
 // Transmittance of the ray from a point or spot source to point p (out), the unit direction
@@ -235,33 +248,42 @@ void TransmittanceAlongRow(const SweepContext& s, const SweepSource& sweep, cons
   }
   const bool crossesAnchor = runs && ratio > 0.0 && v >= 0.0 && v <= sweep.RaysC - 1;
   // Per point: its position, offset from the light (along the sweep axis and C, the row's),
-  // distance from it, direction, group factor and crossing. A loop without branches: the
-  // square roots and divisions of successive points overlap.
+  // distance from it, direction, group factor and crossing. The first loop, over contiguous
+  // values only, is vectorised (square roots and divisions two or more at a time); the
+  // second spreads them over the points' coordinates (axes known only at run time).
   const double offsetA = row.Near[a] - light[a], offsetC = row.Near[s.C] - light[s.C];
   const double across = offsetA * offsetA + offsetC * offsetC;
   const bool inside = sweep.Source.Inside;
+  double coordinateB[MaximumDivergingRays], offsetB[MaximumDivergingRays];
+  double inverse[MaximumDivergingRays];
+  for (int i = 0; i < count; ++i)
+  {
+    coordinateB[i] = row.Near[s.B] + (first + i) * row.StepB; // (NearEnd)
+    offsetB[i] = coordinateB[i] - light[s.B];
+    distance[i] = std::sqrt(offsetB[i] * offsetB[i] + across);
+    u[i] = AnchorSpread * (light[s.B] + ratio * offsetB[i] - sweep.RayOriginB) / s.Spacing[s.B];
+    inverse[i] = 1.0 / distance[i];
+  }
   for (int i = 0; i < count; ++i)
   {
     double* q = p + 3 * i;
     double* d = direction + 3 * i;
-    row.NearEnd(first + i, q, s.B);
-    const double offsetB = q[s.B] - light[s.B];
-    distance[i] = std::sqrt(offsetB * offsetB + across);
-    u[i] = AnchorSpread * (light[s.B] + ratio * offsetB - sweep.RayOriginB) / s.Spacing[s.B];
-    const double inverse = 1.0 / distance[i];
-    d[a] = offsetA * inverse;
-    d[s.B] = offsetB * inverse;
-    d[s.C] = offsetC * inverse;
+    std::copy_n(row.Near, 3, q);
+    q[s.B] = coordinateB[i];
+    d[a] = offsetA * inverse[i];
+    d[s.B] = offsetB[i] * inverse[i];
+    d[s.C] = offsetC * inverse[i];
     groupFactor[i] = inside ? d[a] * d[a] : 1.0;
   }
   // The points whose rays cross the anchor slice among the rays, toward the sweep's
   // direction, read them a run at a time; the others one by one.
   const double along = s.Sign * offsetA;
+  const double limit = crossesAnchor ? EntryLimit(s, light, row.Near[a], ratio) : 0.0;
   bool left = false, entries = false;
   for (int i = 0; i < count; ++i)
   {
     inRun[i] = crossesAnchor && u[i] >= 0.0 && u[i] <= sweep.RaysB - 1 && distance[i] >= 1e-12 &&
-      along > MinimumAlong * distance[i] && !EnteredJustBefore(s, light, p + 3 * i, ratio);
+      along > MinimumAlong * distance[i] && !EnteredWithin(s, light, p + 3 * i, limit);
     if (inRun[i])
     {
       lastStep[i] = entry[i] = 0.0;

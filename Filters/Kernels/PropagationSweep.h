@@ -59,7 +59,7 @@ struct Deposit
   double Exponent;
   double Scaled[3]; // radiance x weight x sign x fixed-point scale
   bool Recorded = false;
-  bool Uniform = false; // a directional source: group and spot factors 1 at every pixel
+  bool Uniform = false; // group and spot factors 1 at every pixel (PrepareDeposits)
 };
 
 inline RaySource SourceOf(const PropagationTask& task)

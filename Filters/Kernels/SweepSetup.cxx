@@ -41,6 +41,25 @@ SweepContext MakeSweepContext(const ClassifiedVolume& volume, const EmptyBlocks*
   return s;
 }
 
+namespace
+{
+// Whether every point of the box (bounds) lies ahead of a light at `light` along `axis`
+// toward `sign` by more than MinimumAlong of its distance from the light (twice, for
+// rounding): the sweep along it carries every point's ray (DepositFactor).
+bool AheadOfLight(const double bounds[6], const double light[3], int axis, int sign)
+{
+  double farthest = 0.0;
+  for (int a = 0; a < 3; ++a)
+  {
+    const double d =
+      std::max(std::abs(light[a] - bounds[2 * a]), std::abs(light[a] - bounds[2 * a + 1]));
+    farthest += d * d;
+  }
+  const double gap = sign > 0 ? bounds[2 * axis] - light[axis] : light[axis] - bounds[2 * axis + 1];
+  return gap > 2.0 * MinimumAlong * std::sqrt(farthest);
+}
+}
+
 // The distinct ray sources of the tasks (prepared for the sweep) and each task's deposit,
 // its radiance in fixed-point units.
 void PrepareDeposits(const SweepContext& s, const std::vector<PropagationTask>& tasks, double scale,
@@ -54,7 +73,6 @@ void PrepareDeposits(const SweepContext& s, const std::vector<PropagationTask>& 
     Deposit deposit;
     deposit.Source = static_cast<size_t>(found - sources.begin());
     deposit.Recorded = task.Recorded;
-    deposit.Uniform = source.Directional;
     if (found == sources.end())
     {
       sources.push_back(source);
@@ -68,6 +86,12 @@ void PrepareDeposits(const SweepContext& s, const std::vector<PropagationTask>& 
       deposit.OtherSign = task.OtherGroup % 2 == 0 ? 1 : -1;
       deposit.Whole = (task.Weight + task.OtherWeight) / task.Weight;
     }
+    // A point light every point of the box lies ahead of, along the sweep and along its pair's
+    // other sweep, deposits with factor 1 everywhere (DepositFactor), as a directional one.
+    deposit.Uniform = source.Directional ||
+      (!deposit.Spot && !task.Inside && AheadOfLight(s.Bounds, l.Position.data(), s.Axis, s.Sign) &&
+        (deposit.OtherAxis < 0 ||
+          AheadOfLight(s.Bounds, l.Position.data(), deposit.OtherAxis, deposit.OtherSign)));
     const auto axis = l.Direction();
     std::copy(axis.begin(), axis.end(), deposit.Axis);
     deposit.CosCone = std::cos(vtkMath::RadiansFromDegrees(l.ConeAngle));
