@@ -227,7 +227,7 @@ void RowFromLattice(const SweepContext& s, const SweepSource& sweep, const Latti
 double DepositFactor(const SweepContext& s, const Deposit& deposit, const double* d, double group)
 {
   double factor = group;
-  if (deposit.OtherAxis >= 0)
+  if (deposit.OtherAxis >= 0 && !deposit.Carried)
   {
     // Two groups: where the other cannot carry the ray, this one (the sweep's) takes it all;
     // where this one cannot, the other does.

@@ -59,6 +59,7 @@ struct Deposit
   double Exponent;
   double Scaled[3]; // radiance x weight x sign x fixed-point scale
   bool Recorded = false;
+  bool Carried = false; // this sweep (and its pair's other) carries every point's ray
   bool Uniform = false; // group and spot factors 1 at every pixel (PrepareDeposits)
 };
 

@@ -86,12 +86,14 @@ void PrepareDeposits(const SweepContext& s, const std::vector<PropagationTask>& 
       deposit.OtherSign = task.OtherGroup % 2 == 0 ? 1 : -1;
       deposit.Whole = (task.Weight + task.OtherWeight) / task.Weight;
     }
-    // A point light every point of the box lies ahead of, along the sweep and along its pair's
-    // other sweep, deposits with factor 1 everywhere (DepositFactor), as a directional one.
-    deposit.Uniform = source.Directional ||
-      (!deposit.Spot && !task.Inside && AheadOfLight(s.Bounds, l.Position.data(), s.Axis, s.Sign) &&
-        (deposit.OtherAxis < 0 ||
-          AheadOfLight(s.Bounds, l.Position.data(), deposit.OtherAxis, deposit.OtherSign)));
+    // Every point of the box ahead of the light along the sweep and along its pair's other
+    // sweep: both carry every point's ray, and a point light deposits with factor 1 everywhere
+    // (DepositFactor), as a directional one.
+    deposit.Carried = !source.Directional && !task.Inside &&
+      AheadOfLight(s.Bounds, l.Position.data(), s.Axis, s.Sign) &&
+      (deposit.OtherAxis < 0 ||
+        AheadOfLight(s.Bounds, l.Position.data(), deposit.OtherAxis, deposit.OtherSign));
+    deposit.Uniform = source.Directional || (deposit.Carried && !deposit.Spot);
     const auto axis = l.Direction();
     std::copy(axis.begin(), axis.end(), deposit.Axis);
     deposit.CosCone = std::cos(vtkMath::RadiansFromDegrees(l.ConeAngle));
