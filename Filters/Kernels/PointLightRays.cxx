@@ -249,7 +249,8 @@ void TransmittanceAlongRow(const SweepContext& s, const SweepSource& sweep, cons
   const bool crossesAnchor = runs && ratio > 0.0 && v >= 0.0 && v <= sweep.RaysC - 1;
   // Per point: its position, offset from the light (along the sweep axis and C, the row's),
   // distance from it, direction, group factor and crossing. The first loop, over contiguous
-  // values only, is vectorised (square roots and divisions two or more at a time); the
+  // values only, is vectorised (square roots and divisions two or more at a time, with GCC and
+  // Clang given -fno-math-errno); the
   // second spreads them over the points' coordinates (axes known only at run time).
   const double offsetA = row.Near[a] - light[a], offsetC = row.Near[s.C] - light[s.C];
   const double across = offsetA * offsetA + offsetC * offsetC;

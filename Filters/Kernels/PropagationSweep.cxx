@@ -223,7 +223,8 @@ void RowFromLattice(const SweepContext& s, const SweepSource& sweep, const Latti
 
 // A point or spot deposit's factor at a pixel whose ray has direction d and group factor
 // `group`: 0 where the other group of a pair carries the ray, the whole pair's weight where
-// only this one can, and the spot's cone and falloff.
+// only this one can (neither happens where both carry every point: Carried), and the spot's
+// cone and falloff.
 double DepositFactor(const SweepContext& s, const Deposit& deposit, const double* d, double group)
 {
   double factor = group;

@@ -93,9 +93,9 @@ inline void ApplyDepth(int channels, float depth, float* out)
 }
 
 // Number of midpoint steps of a segment of the given length: the ceiling of its length in
-// SegmentSteps, at least 1. The ceiling is the truncation, plus 1 above it (the same as
-// std::ceil for every count an int holds), which the compiler vectorises in a loop over rays
-// where std::ceil is a call or a branch without SSE4.1.
+// units of SegmentStep (less GeometricTolerance), at least 1. The ceiling is the truncation,
+// plus 1 above it (the same as std::ceil for every count an int holds), which GCC and Clang
+// vectorise in a loop over rays where std::ceil is a call or a branch without SSE4.1.
 inline int SegmentSteps(const SweepContext& s, double length)
 {
   const double x = length / s.SegmentStep - GeometricTolerance;

@@ -56,7 +56,8 @@ bool AheadOfLight(const double bounds[6], const double light[3], int axis, int s
     farthest += d * d;
   }
   const double gap = sign > 0 ? bounds[2 * axis] - light[axis] : light[axis] - bounds[2 * axis + 1];
-  return gap > 2.0 * MinimumAlong * std::sqrt(farthest);
+  // (and by more than the distance below which a point counts as the light itself)
+  return gap > std::max(2.0 * MinimumAlong * std::sqrt(farthest), 1e-12);
 }
 }
 

@@ -180,6 +180,10 @@ BackgroundLighting::~BackgroundLighting()
   }
   {
     std::lock_guard<std::mutex> lock(this->Mutex);
+    if (this->Running)
+    {
+      ++WaitCount; // joined below
+    }
     this->Queued = nullptr;
     this->Quit = true;
     this->CancelRequested = true;

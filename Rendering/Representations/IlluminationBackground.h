@@ -127,8 +127,8 @@ public:
   static bool AnyReady();
   /// Results published by every job of the process so far (a render shows new ones).
   static unsigned int Publications();
-  /// Lightings that a caller of Run ran itself, and jobs that a caller of Stop or Run waited
-  /// for, by every BackgroundLighting of the process so far.
+  /// Calls of Run (the work run on the calling thread), and jobs that a caller of Stop or Run
+  /// or the destructor waited for, by every BackgroundLighting of the process so far.
   static unsigned int Waits();
   static double LeastProgress();
   static void CancelAll();

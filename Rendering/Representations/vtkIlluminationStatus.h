@@ -30,9 +30,11 @@ public:
   /// Results published so far (the views show new ones when they render).
   int GetIlluminationPublications();
   /**
-   * Lightings that a render (or another call) computed itself or waited for so far:
-   * synchronous lighting, screenshots, quick lightings run in the render. A GUI frame with
-   * AsynchronousLighting on adds none for a lighting expected to take over 0.2 s.
+   * Renders (or other calls) so far that ran the lighting inline, even one with nothing to
+   * update, or waited for a background job (one that did both counts twice): synchronous
+   * lighting, screenshots, quick lightings run in the render, a representation deleted while
+   * its job runs. A GUI frame with AsynchronousLighting on adds none for a lighting expected
+   * to take over 0.2 s.
    */
   int GetIlluminationWaits();
   /// The least progress (0 to 1) of the computations running.

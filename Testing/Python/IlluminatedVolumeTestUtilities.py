@@ -80,6 +80,11 @@ def illumination_waits(status):
     return status.GetProperty("IlluminationWaits").GetElement(0)
 
 
+def lighting_pending(status):
+    """Whether a lighting runs, is queued or waits to be drawn (lighting_flags)."""
+    return any(lighting_flags(status))
+
+
 def write_lines_and_exit(path, lines):
     """For a script run inside the GUI (paraview --script): the lines written to `path`, then
     the GUI ends at once (os._exit), as run_gui_script expects."""

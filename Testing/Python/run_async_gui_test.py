@@ -3,8 +3,8 @@ run under xvfb-run) and checks what happened while the engine at 256^3 was re-li
 camera turn with Asynchronous Lighting on:
 - the GUI turned Asynchronous Lighting on (pvpython leaves it off);
 - the Render() after the turn returned with the lighting pending, and neither it nor any frame
-  drawn until the final one computed a lighting itself or waited for one (IlluminationWaits,
-  which sees the synchronous turn's lighting);
+  drawn up to and including the final one ran the lighting inline or waited for it
+  (IlluminationWaits, which sees the synchronous turn's lighting);
 - the Qt event loop ran while the lighting was computed (its timer ticked more than once with
   the lighting running);
 - the final illumination was drawn without the script rendering again.
