@@ -416,7 +416,13 @@ _slab(self, %r)
 def gap_worker(plugin):
     """Slabs that leave x = 21 to 24 in no piece: every image filter must refuse them with
     an error and output nothing, and the processes go on. Unstructured pieces that cannot
-    join (a bad coordinate, pieces whose arrays differ) likewise, until they are sound."""
+    join (a bad coordinate, pieces whose arrays differ) likewise, until they are sound.
+    What it prints goes to stderr, where VTK's messages go: mpirun forwards a process's
+    stdout and stderr separately, so a line printed to stdout could land inside a message."""
+
+    def report(line):
+        print(line, file=sys.stderr, flush=True)
+
     from paraview.simple import (LoadPlugin, XMLImageDataReader, GetColorTransferFunction,
                                  GetOpacityTransferFunction)
     ns = globals()
@@ -428,7 +434,7 @@ def gap_worker(plugin):
                      OpacityFunction=GetOpacityTransferFunction("scalars"))
         f.Scalars = ["POINTS", "scalars"]
         f.UpdatePipeline()
-        print("%s output points: %d" % (name, f.GetDataInformation().GetNumberOfPoints()))
+        report("%s output points: %d" % (name, f.GetDataInformation().GetNumberOfPoints()))
     # The image filters on Wavelet pieces whose last one lacks the lit array: that process
     # says so, the others stop silently.
     from paraview.simple import CleantoGrid, ProgrammableFilter, Wavelet
@@ -448,8 +454,8 @@ _drop(self)
         f = ns[name](Input=lacking, ResolutionScale=0.5)
         f.Scalars = ["POINTS", "RTData"]
         f.UpdatePipeline()
-        print("%s without the array: output points: %d"
-              % (name, f.GetDataInformation().GetNumberOfPoints()))
+        report("%s without the array: output points: %d"
+               % (name, f.GetDataInformation().GetNumberOfPoints()))
     # Unstructured Grid Illumination on tetrahedralised Wavelet pieces, the last process's
     # spoiled in turn (a NaN coordinate; the lit array removed; the array as cell data):
     # refused with an error and an empty output, then lit again once the pieces are sound.
@@ -489,8 +495,8 @@ def _spoil(algorithm, spoil):
 _spoil(self, %r)
 """ % spoil
         u.UpdatePipeline()
-        print("UnstructuredGridIllumination %s: output points: %d"
-              % (spoil, u.GetDataInformation().GetNumberOfPoints()))
+        report("UnstructuredGridIllumination %s: output points: %d"
+               % (spoil, u.GetDataInformation().GetNumberOfPoints()))
 
 
 def read_whole(path):
@@ -721,7 +727,7 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
         print(result.stdout)
         # Every process's errors are printed once, by the first process (the one whose
         # messages a client shows), naming the processes that reported them.
-        # (stdout and stderr share the pipe: a message may land inside a printed line.)
+        # (The worker prints to stderr with the messages: mpirun forwards stdout apart.)
         errors = [line for line in result.stdout.splitlines() if "ERR|" in line]
         firsts = all("[pvbatch.0 " in line for line in errors)
         refused = result.stdout.count(
