@@ -1,5 +1,6 @@
 #include "FilteredShadowsKernel.h"
 
+#include "vtkMath.h"
 #include "vtkSMPTools.h"
 
 #include <algorithm>
@@ -52,7 +53,7 @@ void GroupShadowLights(const std::vector<LightState>& lights, std::vector<SatFra
     const auto travel = light.Direction();
     const double toward[3] = { -travel[0], -travel[1], -travel[2] };
     ShadowLookup lookup{ index, frames.size(), -1, 0, light.Radiance(),
-      { toward[0], toward[1], toward[2] } };
+      { toward[0], toward[1], toward[2] }, DirectionalConeSpread(light.Radius) };
     for (size_t f = 0; f < frames.size() && lookup.Axis < 0; ++f)
     {
       lookup.Axis = AxisOfDirection(frames[f], toward, lookup.Sign);
@@ -152,6 +153,17 @@ void ShadeDirectional(const PointShading& shading, const ShadowLookup& l, Shadin
   for (int c = 0; c < channels; ++c)
   {
     double* tau = &row.Table[static_cast<size_t>(c) * count];
+    if (l.Spread > 0.0)
+    {
+      // A light of finite size: a cone from each point (the box kernel's).
+      for (int i = 0; i < count; ++i)
+      {
+        const double start = near ? std::max(row.Length[i], 0.0) : 0.0;
+        tau[i] = table.ConeFilteredOpticalDepth(
+          c, &row.Far[3 * i], l.Axis, l.Sign, shading.HalfWidth, start, l.Spread);
+      }
+      continue;
+    }
     if (shading.Gaussian.empty())
     {
       table.FilteredOpticalDepths(
@@ -217,11 +229,17 @@ void ShadeSpherical(const PointShading& shading, const SphericalLookup& l, long 
   double near[3], far[3];
   NearSegment(shading, p, incidence.ToLight.data(),
     std::min(shading.SphericalNear[l.Table], incidence.Distance), near, far);
+  // A light of finite size: a cone from p toward its disc (DiscSquareRatio), starting where
+  // the near segment ends.
+  const double spread = DiscSquareRatio * l.Light.Radius / std::max(incidence.Distance, 1e-12);
+  const double start = std::sqrt(vtkMath::Distance2BetweenPoints(p, far));
   double transmittance[3] = { 1.0, 1.0, 1.0 };
   for (int c = 0; c < channels; ++c)
   {
-    transmittance[c] =
-      std::exp(-std::max(near[c] + table.FilteredOpticalDepth(c, far, shading.Patch), 0.0));
+    const double tau = spread > 0.0
+      ? table.ConeFilteredOpticalDepth(c, far, shading.Patch, start, spread)
+      : table.FilteredOpticalDepth(c, far, shading.Patch);
+    transmittance[c] = std::exp(-std::max(near[c] + tau, 0.0));
   }
   for (int c = 0; c < 3; ++c)
   {

@@ -36,6 +36,7 @@ struct ShadowLookup
   int Sign;
   std::array<double, 3> Radiance;
   std::array<double, 3> Toward; // unit direction toward the light
+  double Spread;                // of its shadow cone (DirectionalConeSpread), 0: hard
 };
 
 /// A point or spot light and its spherical table.

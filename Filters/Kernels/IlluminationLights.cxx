@@ -84,7 +84,13 @@ bool LightState::operator==(const LightState& o) const
 {
   return this->Kind == o.Kind && this->Position == o.Position && this->FocalPoint == o.FocalPoint &&
     this->Color == o.Color && this->Intensity == o.Intensity && this->ConeAngle == o.ConeAngle &&
-    this->Exponent == o.Exponent && this->On == o.On;
+    this->Exponent == o.Exponent && this->On == o.On && this->Radius == o.Radius;
+}
+
+double DirectionalConeSpread(double angularDiameter)
+{
+  const double half = 0.5 * vtkMath::RadiansFromDegrees(std::min(angularDiameter, 179.0));
+  return angularDiameter > 0.0 ? DiscSquareRatio * std::tan(half) : 0.0;
 }
 
 Incidence ComputeIncidence(const LightState& light, const double point[3])
@@ -158,6 +164,8 @@ std::vector<LightState> ForBounds(const std::vector<LightState>& lights, const d
       {
         light.Intensity *= SpotFactor(light, vtkMath::Dot(travel.data(), direction.data()));
       }
+      light.Radius = vtkMath::DegreesFromRadians(
+        2.0 * std::atan(light.Radius / Distance(centre, light.Position.data())));
       makeDirectional(light, travel);
       continue;
     }

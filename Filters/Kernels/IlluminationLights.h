@@ -42,6 +42,10 @@ struct VOLILLUMKERNELS_EXPORT LightState
   double ConeAngle = 30.0;
   double Exponent = 1.0;
   bool On = true;
+  /// The light's size, as the Light Inspector's Radius: the apparent (angular) diameter in
+  /// degrees of a directional light, the radius in world units of a point or spot light's
+  /// disc facing the point it lights. 0: a hard light. Filtered shadows soften with it.
+  double Radius = 0.0;
 
   /// Unit vector from the position toward the focal point (the direction light travels
   /// for a directional light, the cone axis of a spot light).
@@ -53,6 +57,16 @@ struct VOLILLUMKERNELS_EXPORT LightState
   bool operator==(const LightState& other) const;
   bool operator!=(const LightState& other) const { return !(*this == other); }
 };
+
+/// Half-width of the square whose shadow edge spreads as a disc's of radius 1 does: the
+/// square with the disc's second moment (sqrt(3) / 2), so that the penumbra's width from 10 %
+/// to 90 % is within 1 % of the disc's.
+constexpr double DiscSquareRatio = 0.8660254037844386;
+
+/// How fast the shadow cone toward a directional light of this angular diameter (degrees,
+/// LightState::Radius) widens: the half-width of its square (DiscSquareRatio of the disc's
+/// radius) per unit of distance. 0 for a hard light.
+VOLILLUMKERNELS_EXPORT double DirectionalConeSpread(double angularDiameter);
 
 /// Light arriving at a point before any attenuation: the unit direction toward the
 /// light, how far light has to travel to reach the point (infinite for a directional
@@ -79,7 +93,8 @@ constexpr double FarLightDistance = 1e4;
  * keeps its direction (computed without overflow, however large its coordinates) with a
  * position one unit from the centre; a point or spot light farther than FarLightDistance
  * diagonals becomes a directional light shining from where it is toward the centre (a spot
- * light's intensity takes its cone factor at the centre); a nearer spot light's focal
+ * light's intensity takes its cone factor at the centre, its radius becomes the angle it
+ * subtends there); a nearer spot light's focal
  * point becomes its position plus its unit axis.
  */
 VOLILLUMKERNELS_EXPORT std::vector<LightState> ForBounds(

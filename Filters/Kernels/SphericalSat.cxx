@@ -459,7 +459,7 @@ void SphericalSAT::FillCells(const ClassifiedVolume& data, const VolumePiece* pi
 }
 
 double SphericalSAT::Integral(
-  int channel, double u0, double u1, double v0, double v1, double r) const
+  int channel, double u0, double u1, double v0, double v1, double r0, double r1) const
 {
   // A cell holds its content in proportion to solid angle, so a fraction of a polar theta
   // cell is measured in cos(theta), not in theta (face cells are near enough to uniform).
@@ -476,15 +476,17 @@ double SphericalSAT::Integral(
     return j + (c0 - std::cos(v)) / (c0 - c1);
   };
   // In the whole table's cells, then the window's.
-  double lo[3] = { (u0 - this->U0) / this->DU, vIndex(v0), 0.0 };
-  double hi[3] = { (u1 - this->U0) / this->DU, vIndex(v1), (r - this->RMin) / this->DR };
+  double lo[3] = { (u0 - this->U0) / this->DU, vIndex(v0),
+    r0 <= this->RMin ? 0.0 : (r0 - this->RMin) / this->DR };
+  double hi[3] = { (u1 - this->U0) / this->DU, vIndex(v1), (r1 - this->RMin) / this->DR };
+  const bool fromWindowStart = lo[2] <= this->Cells.First[2];
   for (int a = 0; a < 3; ++a)
   {
     lo[a] -= this->Cells.First[a];
     hi[a] -= this->Cells.First[a];
   }
   double integral = this->Table.Box(channel, lo, hi);
-  if (this->Beyond.GetDimensions()[2] > 0)
+  if (fromWindowStart && this->Beyond.GetDimensions()[2] > 0)
   {
     // The columns' cells between the light and the window.
     lo[2] = 0.0;
@@ -499,11 +501,34 @@ double SphericalSAT::FilteredOpticalDepth(int channel, const double p[3], double
   double s[3];
   this->ToSpherical(p, s);
   const double r = std::max(s[2], 1e-12);
+  return this->PatchDepth(channel, s, halfWidth / r, this->RMin, r);
+}
+
+double SphericalSAT::ConeFilteredOpticalDepth(
+  int channel, const double p[3], double halfWidth, double start, double spread) const
+{
+  double s[3];
+  this->ToSpherical(p, s);
+  const double r = std::max(s[2], 1e-12);
+  // Distances from the shadow ray's start (at distance D from the light) toward the light;
+  // the cone's half-width there, t spread, seen from the light at distance D - t.
+  const double D = r + start;
+  const double end = D - std::min(this->RMin, r);
+  return ConeSteps(
+    start, end, halfWidth / r, vtkMath::Pi(),
+    [=](double t) { return spread * t / std::max(D - t, 1e-12); },
+    [=](double w) { return w * D / (spread + w); },
+    [&](double t0, double t1, double w)
+    { return this->PatchDepth(channel, s, w, D - t1, D - t0); });
+}
+
+double SphericalSAT::PatchDepth(
+  int channel, const double s[3], double w, double r0, double r1) const
+{
   const double pi = vtkMath::Pi();
   // The patch's half-extent in each angle: its angular half-width divided by how fast the
   // direction turns with that angle, and at least half a cell (a hard shadow reads the
   // table at its own angular resolution wherever the sample is).
-  const double w = halfWidth / r;
   double du, dv;
   if (this->Polar)
   {
@@ -539,23 +564,23 @@ double SphericalSAT::FilteredOpticalDepth(int channel, const double p[3], double
     // The patch may wrap around phi = +-pi: integrate the pieces.
     if (u0 < -pi)
     {
-      integral += this->Integral(channel, u0 + 2.0 * pi, pi, vLow, vHigh, r);
-      integral += this->Integral(channel, -pi, u1, vLow, vHigh, r);
+      integral += this->Integral(channel, u0 + 2.0 * pi, pi, vLow, vHigh, r0, r1);
+      integral += this->Integral(channel, -pi, u1, vLow, vHigh, r0, r1);
     }
     else if (u1 > pi)
     {
-      integral += this->Integral(channel, u0, pi, vLow, vHigh, r);
-      integral += this->Integral(channel, -pi, u1 - 2.0 * pi, vLow, vHigh, r);
+      integral += this->Integral(channel, u0, pi, vLow, vHigh, r0, r1);
+      integral += this->Integral(channel, -pi, u1 - 2.0 * pi, vLow, vHigh, r0, r1);
     }
     else
     {
-      integral += this->Integral(channel, u0, u1, vLow, vHigh, r);
+      integral += this->Integral(channel, u0, u1, vLow, vHigh, r0, r1);
     }
   }
   else if (vLow < vHigh)
   {
     const double uLow = std::max(u0, this->U0), uHigh = std::min(u1, this->U1);
-    integral = uLow < uHigh ? this->Integral(channel, uLow, uHigh, vLow, vHigh, r) : 0.0;
+    integral = uLow < uHigh ? this->Integral(channel, uLow, uHigh, vLow, vHigh, r0, r1) : 0.0;
   }
   const double solidAngle = this->SolidAngle(u0, u1, v0, v1);
   return solidAngle > 0.0 ? integral / solidAngle : 0.0;

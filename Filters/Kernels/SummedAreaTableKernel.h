@@ -26,6 +26,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
 #include <vector>
 
@@ -52,6 +53,55 @@ VOLILLUMKERNELS_EXPORT std::vector<double> GaussianWeights(int count);
 /// The axis of the frame parallel to the unit direction (sign +1 or -1), or -1.
 VOLILLUMKERNELS_EXPORT int AxisOfDirection(
   const SatFrame& frame, const double direction[3], int& sign);
+
+/// Growth of the width from one box of a cone's stair (ConeSteps) to the next: the width a
+/// box takes (the geometric mean of the cone's at its ends) is within sqrt(ConeStepRatio),
+/// 5 %, of the cone's anywhere along the box.
+constexpr double ConeStepRatio = 1.1;
+
+/**
+ * A cone of rays from a point toward a light of finite size as a stair of boxes, each
+ * read from a summed-area table at one width (its optical depth over its own patch area),
+ * the sum returned. Distances t run from `start` to `end` along the ray toward the light;
+ * widthAt(t) is the cone's half-width there (increasing, 0 at t = 0) and distanceOf(w)
+ * its inverse. Where the cone is narrower than `narrowest` (the shadow filter's patch) the
+ * box keeps that width; once the cone is `widest` (it covers the whole table) one box
+ * reaches the end. read(t0, t1, w) gives a box's optical depth. The number of boxes grows
+ * with the logarithm of the cone's widening, not with its width.
+ */
+template <typename WidthAt, typename DistanceOf, typename Read>
+double ConeSteps(double start, double end, double narrowest, double widest, const WidthAt& widthAt,
+  const DistanceOf& distanceOf, const Read& read)
+{
+  double depth = 0.0;
+  double t = start;
+  if (widthAt(t) < narrowest)
+  {
+    const double t1 = std::min(distanceOf(narrowest), end);
+    if (t1 > t)
+    {
+      depth += read(t, t1, narrowest);
+      t = t1;
+    }
+  }
+  while (t < end)
+  {
+    const double w0 = std::max(widthAt(t), narrowest);
+    double t1 = end, w = w0;
+    if (w0 < widest)
+    {
+      t1 = std::min(distanceOf(w0 * ConeStepRatio), end);
+      w = std::sqrt(w0 * std::max(widthAt(t1), narrowest));
+    }
+    if (!(t1 > t))
+    {
+      t1 = end; // no progress left in the rounding: the rest in one box
+    }
+    depth += read(t, t1, w);
+    t = t1;
+  }
+  return depth;
+}
 
 /**
  * Running integrals of per-cell values over a grid of N[0] x N[1] x N[2] cells, in double
@@ -260,6 +310,15 @@ public:
   void FilteredOpticalDepths(int channel, const double* points, int count, int axis, int sign,
     double halfWidth, double* depth, std::vector<double>& line) const;
 
+  /**
+   * FilteredOpticalDepth toward a light of finite size: the cuboid widens into a cone
+   * (ConeSteps) whose half-width grows by `spread` per unit of distance from the point the
+   * shadow ray starts at, `start` before p (its near segment), and is at least halfWidth.
+   * With spread 0 it is FilteredOpticalDepth's cuboid.
+   */
+  double ConeFilteredOpticalDepth(int channel, const double p[3], int axis, int sign,
+    double halfWidth, double start, double spread) const;
+
   /// The same with a separable kernel: the patch is cut into weights.size()^2 equal
   /// squares, square (i, j) weighted by weights[i] x weights[j] (weights summing to 1),
   /// each square's cuboid read from the table (eq. 25).
@@ -353,6 +412,15 @@ public:
   /// halfWidth at p's distance, widened to one table cell where it is narrower.
   double FilteredOpticalDepth(int channel, const double p[3], double halfWidth) const;
 
+  /**
+   * FilteredOpticalDepth toward a light of finite size: the pyramid narrows toward the
+   * light no more than a cone (ConeSteps) whose half-width grows by `spread` per unit of
+   * distance from the point the shadow ray starts at, `start` farther from the light than p
+   * (its near segment). With spread 0 it is FilteredOpticalDepth's pyramid.
+   */
+  double ConeFilteredOpticalDepth(
+    int channel, const double p[3], double halfWidth, double start, double spread) const;
+
   /// (u, v, r) of a world point.
   void ToSpherical(const double p[3], double s[3]) const;
 
@@ -380,8 +448,14 @@ private:
   void Direction(double u, double v, double direction[3]) const;
   /// Solid angle of the angle rectangle [u0, u1] x [v0, v1].
   double SolidAngle(double u0, double u1, double v0, double v1) const;
-  /// Table integral over [u0, u1] x [v0, v1] x [RMin, r] (angles within the table's range).
-  double Integral(int channel, double u0, double u1, double v0, double v1, double r) const;
+  /// Table integral over [u0, u1] x [v0, v1] x [r0, r1] (angles within the table's range;
+  /// r0 at RMin or below: from the light, the cells beyond the window included).
+  double Integral(
+    int channel, double u0, double u1, double v0, double v1, double r0, double r1) const;
+  /// Optical depth between distances r0 and r1 from the light, averaged over the patch of
+  /// angular half-width w around the direction of the angles s (ToSpherical): the table's
+  /// integral over the patch's angles divided by its solid angle.
+  double PatchDepth(int channel, const double s[3], double w, double r0, double r1) const;
 
   std::array<double, 3> Light{ { 0.0, 0.0, 0.0 } };
   SatFrame Frame; // third axis: from the light toward the volume's centre

@@ -327,6 +327,41 @@ void CartesianSAT::FilteredOpticalDepths(int channel, const double* points, int 
   }
 }
 
+double CartesianSAT::ConeFilteredOpticalDepth(int channel, const double p[3], int axis, int sign,
+  double halfWidth, double start, double spread) const
+{
+  const auto& n = this->Table.GetDimensions();
+  double q[3];
+  this->ToFrame(p, q);
+  // Distances from the shadow ray's start; the table's end toward the light.
+  const double end = start + std::max(sign > 0 ? n[axis] * this->H - q[axis] : q[axis], 0.0);
+  // A box this wide covers the table across the axis wherever the point is.
+  const double widest = (n[0] + n[1] + n[2]) * this->H;
+  const double perCell = 1.0 / this->H;
+  auto read = [&](double t0, double t1, double w)
+  {
+    double lo[3], hi[3];
+    for (int a = 0; a < 3; ++a)
+    {
+      lo[a] = (q[a] - w) * perCell;
+      hi[a] = (q[a] + w) * perCell;
+    }
+    const double a0 = q[axis] + sign * (t0 - start), a1 = q[axis] + sign * (t1 - start);
+    lo[axis] = std::min(a0, a1) * perCell;
+    hi[axis] = std::max(a0, a1) * perCell;
+    RunningIntegralTable::BoxTaps taps;
+    double integral = this->Table.Box(channel, lo, hi, taps);
+    if (t1 >= end)
+    {
+      integral += this->BeyondBox(channel, axis, sign, taps);
+    }
+    return integral / (4.0 * w * w);
+  };
+  return ConeSteps(
+    start, end, halfWidth, widest, [spread](double t) { return spread * t; },
+    [spread](double w) { return w / spread; }, read);
+}
+
 double CartesianSAT::KernelFilteredOpticalDepth(int channel, const double p[3], int axis, int sign,
   double halfWidth, const std::vector<double>& weights) const
 {

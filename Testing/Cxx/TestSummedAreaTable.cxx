@@ -496,3 +496,207 @@ TEST(SummedAreaTable, SphericalTablesIntegrateAUniformMediumFromTheLight)
     EXPECT_LE(worst, 0.5);
   }
 }
+
+namespace
+{
+// Half the 10-90 % width of the shadow a straight edge casts from a uniform disc of radius 1:
+// x with (x sqrt(1 - x^2) + asin x) / pi = 0.4, the part of the disc beyond the chord at x.
+double DiscPenumbraHalfWidth()
+{
+  double low = 0.0, high = 1.0;
+  for (int i = 0; i < 60; ++i)
+  {
+    const double x = 0.5 * (low + high);
+    ((x * std::sqrt(1.0 - x * x) + std::asin(x)) / vtkMath::Pi() < 0.4 ? low : high) = x;
+  }
+  return 0.5 * (low + high);
+}
+
+// A plate with a straight edge: extinction 0.1 at the points with z in {60, 61} and x <= 47
+// of a 96 x 8 x 72 grid of unit spacing, 0 elsewhere (optical depth 0.1 across it, so a
+// shadow's optical depth is 0.1 x the part of the light the plate hides).
+ClassifiedVolume EdgePlate()
+{
+  ClassifiedVolume v;
+  v.Geometry.Dimensions = { { 96, 8, 72 } };
+  std::vector<float> values(4 * static_cast<size_t>(v.Geometry.NumberOfPoints()), 1.0f);
+  for (int k = 0; k < 72; ++k)
+    for (int j = 0; j < 8; ++j)
+      for (int i = 0; i < 96; ++i)
+      {
+        values[4 * (i + 96 * (j + 8 * k))] = (k == 60 || k == 61) && i <= 47 ? 0.1f : 0.0f;
+      }
+  v.Store(values);
+  return v;
+}
+
+// The 10-90 % width along x of the shadow of EdgePlate at height z, from the optical depths
+// depth(x) at x in [8, 88] (the plate's full shadow is the largest of them).
+template <typename Depth>
+double PenumbraWidth(const Depth& depth)
+{
+  std::vector<double> x, d;
+  for (double at = 8.0; at <= 88.0; at += 0.05)
+  {
+    x.push_back(at);
+    d.push_back(depth(at));
+  }
+  const double full = *std::max_element(d.begin(), d.end());
+  // The depth falls with x: where it crosses a fraction f of full.
+  auto crossing = [&](double f)
+  {
+    for (size_t i = 1; i < d.size(); ++i)
+    {
+      if (d[i - 1] >= f * full && d[i] < f * full)
+      {
+        return x[i - 1] + (d[i - 1] - f * full) / (d[i - 1] - d[i]) * (x[i] - x[i - 1]);
+      }
+    }
+    return 0.0;
+  };
+  return crossing(0.1) - crossing(0.9);
+}
+}
+
+TEST(SummedAreaTable, ConesOfALightOfNoSizeAreTheFilterBoxes)
+{
+  // Spread 0: the Cartesian cuboid and the spherical pyramid of FilteredOpticalDepth.
+  ClassifiedVolume v = RandomVolume(24, 20, 22, 1.0, 31);
+  double d[3] = { -0.4, 0.2, -0.9 };
+  vtkMath::Normalize(d);
+  CartesianSAT sat;
+  sat.Build(v, FrameForDirection(d), 0.5, 1);
+  int sign = 0;
+  const int axis = AxisOfDirection(sat.GetFrame(), d, sign);
+  SphericalSAT spherical;
+  const double light[3] = { -12.0, 30.0, 40.0 };
+  spherical.Build(v, light, 1.0, 1);
+  double worst = 0.0;
+  for (int n = 0; n < 40; ++n)
+  {
+    const double p[3] = { 1.0 + 0.5 * n, 3.0 + 0.3 * n, 20.0 - 0.4 * n };
+    const double halfWidth = 0.3 + 0.08 * n;
+    const double box = sat.FilteredOpticalDepth(0, p, axis, sign, halfWidth);
+    const double pyramid = spherical.FilteredOpticalDepth(0, p, halfWidth);
+    worst = std::max({ worst,
+      std::abs(sat.ConeFilteredOpticalDepth(0, p, axis, sign, halfWidth, 2.0, 0.0) - box) /
+        std::max(box, 1e-12),
+      std::abs(spherical.ConeFilteredOpticalDepth(0, p, halfWidth, 2.0, 0.0) - pyramid) /
+        std::max(pyramid, 1e-12) });
+  }
+  std::cout << "cones of spread 0: largest relative difference " << worst << std::endl;
+  EXPECT_LE(worst, 1e-9);
+}
+
+TEST(SummedAreaTable, ConesKeepTheDepthOfAUniformMedium)
+{
+  // Extinction 0.0625 everywhere: however wide the cone, where it stays inside the medium the
+  // mean optical depth is the medium's along the ray (the boxes' widths change what they
+  // average, not the depth), and a cone leaving the box sees the same or less.
+  ClassifiedVolume v;
+  v.Geometry.Dimensions = { { 40, 40, 40 } };
+  std::vector<float> values(4 * static_cast<size_t>(v.Geometry.NumberOfPoints()), 1.0f);
+  for (size_t i = 0; i < values.size(); i += 4)
+  {
+    values[i] = 0.0625f;
+  }
+  v.Store(values);
+  const double down[3] = { 0.0, 0.0, -1.0 };
+  CartesianSAT sat;
+  sat.Build(v, FrameForDirection(down), 1.0, 1);
+  const double toward[3] = { 0.0, 0.0, 1.0 };
+  int sign = 0;
+  const int axis = AxisOfDirection(sat.GetFrame(), toward, sign);
+  const double p[3] = { 19.5, 19.5, 25.0 };
+  const double plain = sat.FilteredOpticalDepth(0, p, axis, sign, 1.0);
+  // A light 30 degrees across: the cone widens to 0.232 x 14.5 = 3.4 cells at the top face,
+  // inside the medium.
+  const double cone = sat.ConeFilteredOpticalDepth(0, p, axis, sign, 1.0, 0.0, 0.2320);
+  std::cout << "uniform medium: depth along the ray " << plain << ", through the cone " << cone
+            << std::endl;
+  EXPECT_NEAR(plain, 0.0625 * 14.5, 0.0625 * 0.5);
+  EXPECT_NEAR(cone, plain, 1e-6 * plain);
+}
+
+TEST(SummedAreaTable, PenumbraOfADirectionalDiscWidensAsItsAnalyticShadow)
+{
+  // A directional light of angular diameter alpha straight above EdgePlate: the shadow's
+  // 10-90 % width at a distance t below the plate's middle is that of the disc of radius
+  // t tan(alpha / 2) (2 x DiscPenumbraHalfWidth of it). The plate's edge, sampled at grid
+  // points, and the table's cells blur the hard shadow (alpha 0) over about 0.8 units: the
+  // cases keep that under a third of the disc's penumbra.
+  const ClassifiedVolume v = EdgePlate();
+  const double toward[3] = { 0.0, 0.0, 1.0 };
+  CartesianSAT sat;
+  sat.Build(v, FrameForDirection(toward), 0.5, 1);
+  int sign = 0;
+  const int axis = AxisOfDirection(sat.GetFrame(), toward, sign);
+  for (const double t : { 25.0, 50.0 })
+  {
+    double previous = 0.0;
+    for (const double alpha : { 0.0, 10.0, 20.0, 30.0 })
+    {
+      const double spread = DirectionalConeSpread(alpha);
+      const double width = PenumbraWidth(
+        [&](double x)
+        {
+          const double p[3] = { x, 3.5, 60.5 - t };
+          return sat.ConeFilteredOpticalDepth(0, p, axis, sign, 0.25, 0.0, spread);
+        });
+      const double expected =
+        2.0 * DiscPenumbraHalfWidth() * t * std::tan(0.5 * vtkMath::RadiansFromDegrees(alpha));
+      std::cout << "directional light of " << alpha << " degrees, " << t
+                << " below the plate: penumbra " << width << ", a disc's " << expected << std::endl;
+      if (alpha == 0.0)
+      {
+        EXPECT_LT(width, 1.0); // the hard shadow's edge
+      }
+      else
+      {
+        EXPECT_NEAR(width, expected, 0.1 * expected);
+      }
+      EXPECT_GT(width, previous); // wider with the light's size
+      previous = width;
+    }
+  }
+}
+
+TEST(SummedAreaTable, PenumbraOfAPointDiscWidensAsItsAnalyticShadow)
+{
+  // A point light of radius R 40 above EdgePlate's middle (at 60.5), above its edge: at
+  // t = 40 below the plate, D = 80 from the light, the shadow's 10-90 % width is the disc's
+  // penumbra R t / (D - t) times 2 DiscPenumbraHalfWidth. The hard shadow's edge is twice the
+  // plate's blur there (about 1.6 units): the radii keep it under a third of the penumbra.
+  const ClassifiedVolume v = EdgePlate();
+  const double light[3] = { 47.5, 3.5, 100.5 };
+  SphericalSAT table;
+  table.Build(v, light, 0.5, 1);
+  const double t = 40.0, D = 80.0;
+  double previous = 0.0;
+  for (const double radius : { 0.0, 4.0, 8.0, 12.0 })
+  {
+    const double width = PenumbraWidth(
+      [&](double x)
+      {
+        const double p[3] = { x, 3.5, 60.5 - t };
+        const double distance = std::sqrt(vtkMath::Distance2BetweenPoints(p, light));
+        // Per unit of path across the plate: a slanted ray crosses more of it.
+        return table.ConeFilteredOpticalDepth(
+                 0, p, 0.25, 0.0, DiscSquareRatio * radius / distance) *
+          (light[2] - p[2]) / distance;
+      });
+    const double expected = 2.0 * DiscPenumbraHalfWidth() * radius * t / (D - t);
+    std::cout << "point light of radius " << radius << ": penumbra " << width << ", a disc's "
+              << expected << std::endl;
+    if (radius == 0.0)
+    {
+      EXPECT_LT(width, 2.0);
+    }
+    else
+    {
+      EXPECT_NEAR(width, expected, 0.1 * expected);
+    }
+    EXPECT_GT(width, previous);
+    previous = width;
+  }
+}
