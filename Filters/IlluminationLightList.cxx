@@ -1,12 +1,47 @@
 #include "IlluminationLightList.h"
 
+#include "vtkInformation.h"
+#include "vtkInformationDoubleKey.h"
 #include "vtkLight.h"
+#include "vtkNew.h"
 
 #include <cmath>
 #include <sstream>
 
 namespace volillum
 {
+
+namespace
+{
+// The key of a light's size in its vtkInformation.
+vtkInformationDoubleKey* RadiusKey()
+{
+  static vtkInformationDoubleKey* key =
+    new vtkInformationDoubleKey("VOLILLUM_LIGHT_RADIUS", "volillum::LightList");
+  return key;
+}
+}
+
+double GetLightRadius(vtkLight* light)
+{
+  vtkInformation* info = light->GetInformation();
+  return info && info->Has(RadiusKey()) ? info->Get(RadiusKey()) : 0.0;
+}
+
+void SetLightRadius(vtkLight* light, double radius)
+{
+  if (GetLightRadius(light) == radius)
+  {
+    return;
+  }
+  if (!light->GetInformation())
+  {
+    vtkNew<vtkInformation> info;
+    light->SetInformation(info);
+  }
+  light->GetInformation()->Set(RadiusKey(), radius);
+  light->Modified();
+}
 
 LightState CaptureLight(vtkLight* light)
 {
@@ -26,6 +61,7 @@ LightState CaptureLight(vtkLight* light)
   s.ConeAngle = light->GetConeAngle();
   s.Exponent = light->GetExponent();
   s.On = light->GetSwitch() != 0;
+  s.Radius = GetLightRadius(light);
   return s;
 }
 
@@ -39,6 +75,7 @@ void ApplyLightParameters(vtkLight* light, const double* p)
   light->SetConeAngle(p[11]);
   light->SetExponent(p[12]);
   light->SetSwitch(p[13] != 0.0);
+  SetLightRadius(light, p[14]);
 }
 
 void GetLightParameters(vtkLight* light, double* p)
@@ -51,6 +88,7 @@ void GetLightParameters(vtkLight* light, double* p)
   p[11] = light->GetConeAngle();
   p[12] = light->GetExponent();
   p[13] = light->GetSwitch();
+  p[14] = GetLightRadius(light);
 }
 
 //------------------------------------------------------------------------------
@@ -204,6 +242,17 @@ std::string LightList::Validate() const
     if (state.Intensity < 0.0)
     {
       message << "Light " << i << " has a negative intensity.";
+      return message.str();
+    }
+    if (state.Radius < 0.0)
+    {
+      message << "Light " << i << " has a negative radius.";
+      return message.str();
+    }
+    if (state.Kind == LightKind::Directional && state.Radius >= 180.0)
+    {
+      message << "Light " << i << " is directional with a radius of " << state.Radius
+              << ": its apparent diameter must be below 180 degrees.";
       return message.str();
     }
     for (double c : state.Color)

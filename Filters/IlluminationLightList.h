@@ -26,11 +26,18 @@ namespace volillum
 /// Snapshot of a vtkLight.
 VOLILLUMFILTERS_EXPORT LightState CaptureLight(vtkLight* light);
 
-/// Set a vtkLight from the 14 numbers of the flat parameter layout.
+/// Set a vtkLight from the LightParameterCount numbers of the flat parameter layout.
 VOLILLUMFILTERS_EXPORT void ApplyLightParameters(vtkLight* light, const double* parameters);
 
-/// Read the 14 numbers of the flat parameter layout from a vtkLight.
+/// Read the LightParameterCount numbers of the flat parameter layout from a vtkLight.
 VOLILLUMFILTERS_EXPORT void GetLightParameters(vtkLight* light, double* parameters);
+
+/// The light's size (LightState::Radius), kept in its vtkInformation as ParaView's ray
+/// tracers keep theirs (vtkLight has no member for it); 0 when it has none.
+VOLILLUMFILTERS_EXPORT double GetLightRadius(vtkLight* light);
+
+/// Set the light's size; marks the light modified when it changes.
+VOLILLUMFILTERS_EXPORT void SetLightRadius(vtkLight* light, double radius);
 
 /**
  * The lights of one filter: vtkLight objects held by reference, editable one by one or
@@ -64,7 +71,8 @@ public:
   /// not a multiple of LightParameterCount, non-finite parameter, a
   /// directional or spot light that is on and whose position is its focal point, a spot
   /// light that is on with a cone angle of 0 or less, negative intensity or colour, colour x
-  /// intensity above MaximumRadiance).
+  /// intensity above MaximumRadiance, a negative radius, a directional light 180 degrees or
+  /// more across).
   std::string Validate() const;
 
 private:

@@ -142,7 +142,12 @@ vtkFilteredVolumetricShadows::Patch vtkFilteredVolumetricShadows::PatchFor(doubl
 //------------------------------------------------------------------------------
 bool vtkFilteredVolumetricShadows::LightsDistributedPieces() const
 {
-  return this->DistributedTables;
+  // A cone toward a light of finite size is cut at distances along the light that the
+  // columns summed beyond a window do not keep: such lights read whole tables.
+  const auto states = this->Lights.States();
+  return this->DistributedTables &&
+    std::none_of(states.begin(), states.end(),
+      [](const volillum::LightState& l) { return l.On && l.Radius > 0.0; });
 }
 
 //------------------------------------------------------------------------------

@@ -17,9 +17,11 @@
  * leaves the previous output in place.
  *
  * Lights are vtkLight objects (see IlluminationLightList.h for how they are read). The same
- * lights can be given as a flat list of 14 numbers per light, which is how ParaView's
+ * lights can be given as a flat list of 15 numbers per light, which is how ParaView's
  * "Lights" property sets them: [positional 0/1, position x y z, focal point x y z,
- * colour r g b, intensity, cone angle, exponent, switch 0/1].
+ * colour r g b, intensity, cone angle, exponent, switch 0/1, radius] (the property also
+ * takes the 14 numbers per light of lists written before the radius). The radius is the
+ * light's size (volillum::GetLightRadius): only vtkFilteredVolumetricShadows uses it.
  *
  * Optical properties come from a vtkColorTransferFunction and a vtkPiecewiseFunction with
  * the meaning they have in vtkVolumeProperty (see IlluminationClassify.h); without
@@ -85,16 +87,16 @@ public:
   ///@}
 
   /**
-   * Add one light from the 14 numbers of the flat layout (ParaView's Lights table sends one
+   * Add one light from the 15 numbers of the flat layout (ParaView's Lights table sends one
    * row per light this way after RemoveAllLights).
    */
-  void AddLightParameters(const double parameters[14]);
+  void AddLightParameters(const double parameters[15]);
 
   ///@{
   /**
-   * Flat light list, 14 numbers per light (see the class description). Setting the number
+   * Flat light list, 15 numbers per light (see the class description). Setting the number
    * of values creates or removes lights; setting a value edits the light it belongs to. A
-   * number that is not a multiple of 14 is an error, and updates give an error and an empty
+   * number that is not a multiple of 15 is an error, and updates give an error and an empty
    * output until the number is one (ParaView's Lights property sets it after its values).
    */
   void SetNumberOfLightParameters(int count);

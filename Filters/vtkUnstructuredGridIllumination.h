@@ -74,15 +74,15 @@ public:
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   /**
-   * Add one light from the 14 numbers of the flat layout (ParaView's Lights table sends one
+   * Add one light from the 15 numbers of the flat layout (ParaView's Lights table sends one
    * row per light this way after RemoveAllLights).
    */
-  void AddLightParameters(const double parameters[14]);
+  void AddLightParameters(const double parameters[15]);
 
   ///@{
   /**
    * The lights, as for the image filters (vtkIlluminationVolumeAlgorithm): vtkLight
-   * objects held by reference, or the flat list of 14 numbers per light.
+   * objects held by reference, or the flat list of 15 numbers per light.
    */
   void AddLight(vtkLight* light);
   void RemoveAllLights();

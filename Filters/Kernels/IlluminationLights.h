@@ -29,8 +29,21 @@ enum class LightKind
 
 /// Number of values per light in the flat parameter list of the pvpython API:
 /// positional, position xyz, focal point xyz, colour rgb, intensity, cone angle,
-/// exponent, switch.
-constexpr int LightParameterCount = 14;
+/// exponent, switch, radius.
+constexpr int LightParameterCount = 15;
+
+/// The lists written before the radius: the first 14 of those values (radius 0).
+constexpr int LegacyLightParameterCount = 14;
+
+/// Values per light of a flat list of `count` values: LightParameterCount, or
+/// LegacyLightParameterCount for a list that is whole lights of that layout only (so a list
+/// of a multiple of 210 values is read as 15 a light).
+inline int LightParametersPerLight(int count)
+{
+  return count % LightParameterCount != 0 && count % LegacyLightParameterCount == 0
+    ? LegacyLightParameterCount
+    : LightParameterCount;
+}
 
 struct VOLILLUMKERNELS_EXPORT LightState
 {

@@ -1,5 +1,7 @@
 #include "IlluminationViewLights.h"
 
+#include "IlluminationLightList.h"
+
 #include "vtkAlgorithm.h"
 #include "vtkCamera.h"
 #include "vtkCellData.h"
@@ -72,7 +74,8 @@ bool LightValues::operator==(const LightValues& o) const
     std::equal(this->Position, this->Position + 3, o.Position) &&
     std::equal(this->FocalPoint, this->FocalPoint + 3, o.FocalPoint) &&
     std::equal(this->Color, this->Color + 3, o.Color) && this->Intensity == o.Intensity &&
-    this->ConeAngle == o.ConeAngle && this->Exponent == o.Exponent && this->On == o.On;
+    this->ConeAngle == o.ConeAngle && this->Exponent == o.Exponent && this->On == o.On &&
+    this->Radius == o.Radius;
 }
 
 //------------------------------------------------------------------------------
@@ -117,6 +120,7 @@ std::vector<LightValues> ReadViewLights(vtkPVRenderView* view, bool includeLight
     v.ConeAngle = light->GetConeAngle();
     v.Exponent = light->GetExponent();
     v.On = light->GetSwitch() != 0;
+    v.Radius = GetLightRadius(light);
     values.push_back(v);
   }
   return values;
@@ -143,6 +147,7 @@ void ViewLights::Update(const std::vector<LightValues>& values)
     to->SetConeAngle(from.ConeAngle);
     to->SetExponent(from.Exponent);
     to->SetSwitch(from.On);
+    SetLightRadius(to, from.Radius);
   }
 }
 

@@ -45,6 +45,7 @@ struct LightValues
   double ConeAngle = 30.0;
   double Exponent = 1.0;
   bool On = true;
+  double Radius = 0.0; // the light's size (volillum::GetLightRadius)
   bool operator==(const LightValues& other) const;
 };
 

@@ -1,13 +1,16 @@
 /**
  * @class vtkSIIlluminationLightsProperty
- * @brief Server side of the illumination filters' "Lights" property: tells the filter how
- * many numbers it was given.
+ * @brief Server side of the illumination filters' "Lights" property: adds the filter's lights
+ * row by row, in either layout, and tells the filter how many numbers it was given.
  *
- * The Lights property adds one light per 14 numbers (repeat_command): ParaView's server
- * manager drops the numbers of an incomplete last row, so a Python list of 17 numbers
- * would light one light without a word. After the lights, this property passes the count
- * of numbers to the filter's SetNumberOfLightParameters, which refuses a count that is not
- * whole lights (an error, and an empty output until the count is whole).
+ * A row is 15 numbers (LightParameterCount), or 14 in lists written before the radius
+ * column (LightParametersPerLight: a list that is whole lights of 14 only; radius 0).
+ * ParaView's own repeat_command would cut a list into rows of 15 whatever its layout and
+ * drop an incomplete last row, so that a Python list of 17 numbers would light one light
+ * without a word: this property clears the lights, adds each whole row, then passes the
+ * count (in 15-number rows for a 14-number list) to the filter's SetNumberOfLightParameters,
+ * which refuses a count that is not whole lights (an error, and an empty output until the
+ * count is whole).
  */
 #ifndef vtkSIIlluminationLightsProperty_h
 #define vtkSIIlluminationLightsProperty_h

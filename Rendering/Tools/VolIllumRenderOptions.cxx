@@ -42,11 +42,14 @@ JSON (every key optional; the value shown is the default):
    "lights": [{"type": "directional" | "point" | "spot",
                "position": [0.5,0.5,2], "focal_point": [0.5,0.5,0.5], "relative": false,
                "color": [1,1,1], "intensity": 1, "cone_angle": 30, "exponent": 1,
-               "on": true}],
+               "on": true, "radius": 0}],
    "transfer_function": {"color": [[s,r,g,b], ...], "opacity": [[s,a], ...],
                          "unit_distance": 2 x smallest spacing, "relative": true},
    "camera": {"azimuth": 30, "elevation": 20, "roll": 0, "zoom": 1.0},
    grids only: "level0_resolution": 128, "absorption": 1, "scattering": [0,0,0]}
+A light's "radius" is its size, for the filtered method's soft shadows: the apparent
+diameter in degrees of a directional light, the radius in world units of a point or spot
+light (0: hard shadows).
 A light's "relative" (default false) gives its position and focal point as fractions of
 the volume's bounding box (0..1 inside, outside beyond); a light without a position or
 focal point gets the default above, always relative. A transfer function's "relative"

@@ -1,6 +1,8 @@
 // volillum-render: the JSON settings, the lights and the transfer functions.
 #include "VolIllumRender.h"
 
+#include "IlluminationLightList.h"
+
 #include "vtkColorTransferFunction.h"
 #include "vtkDataArray.h"
 #include "vtkLight.h"
@@ -132,6 +134,7 @@ std::vector<vtkSmartPointer<vtkLight>> BuildLights(const json& config, const dou
     light->SetDiffuseColor(color.data());
     light->SetIntensity(Number(l, "intensity", 1.0));
     light->SetSwitch(Flag(l, "on", true));
+    volillum::SetLightRadius(light, Number(l, "radius", 0.0));
     out.push_back(light);
   }
   return out;

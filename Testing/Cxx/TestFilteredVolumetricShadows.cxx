@@ -1,7 +1,8 @@
 // Tests of vtkFilteredVolumetricShadows: hard shadows against the ray-marched reference,
 // sharing of tables between orthodirectional lights, reuse of tables when only light
-// colours change, and lights it cannot handle yet.
+// colours change, lights of finite size, and lights it cannot handle yet.
 #include "IlluminationFidelity.h"
+#include "IlluminationLightList.h"
 #include "IlluminationTestUtilities.h"
 #include "vtkFilteredVolumetricShadows.h"
 #include "vtkIlluminationPhantomSource.h"
@@ -176,6 +177,69 @@ TEST(FilteredVolumetricShadows, OnlyLightColourChangesReuseTheTables)
   otf->AddPoint(100.0, 0.05);
   filter->Update();
   EXPECT_EQ(Passes(filter), 1);
+}
+
+TEST(FilteredVolumetricShadows, ALightsRadiusSoftensItsShadowsAndZeroRestoresThem)
+{
+  // A light's radius spreads its shadows' edges (the illumination changes, and the sum of
+  // squared differences between neighbouring points falls) without rebuilding the tables and
+  // without touching the light that reaches points in the open; radius 0 gives back the hard
+  // light's output bit for bit. Directional (degrees) and point lights (world units).
+  auto image = Spheres(32);
+  auto otf = Opacity();
+  auto roughness = [](vtkFloatArray* a)
+  {
+    double sum = 0.0;
+    for (vtkIdType i = 1; i < a->GetNumberOfTuples(); ++i)
+    {
+      if (i % 32 != 0) // neighbours along x
+      {
+        const double d = a->GetComponent(i, 0) - a->GetComponent(i - 1, 0);
+        sum += d * d;
+      }
+    }
+    return sum;
+  };
+  const std::pair<vtkSmartPointer<vtkLight>, double> cases[] = {
+    { DirectionalLight(0.3, 0.2, -1), 10.0 }, { PointLight(-10, 12, 40), 4.0 }
+  };
+  for (const auto& c : cases)
+  {
+    vtkNew<vtkFilteredVolumetricShadows> filter;
+    filter->SetInputData(image);
+    filter->SetOpacityFunction(otf);
+    filter->SetFilterWidth(0);
+    filter->AddLight(c.first);
+    filter->Update();
+    auto hard = Result(filter);
+    volillum::SetLightRadius(c.first, c.second);
+    filter->Update();
+    EXPECT_EQ(Passes(filter), 0);
+    auto soft = Result(filter);
+    const vtkIdType open = hard->GetNumberOfTuples() - 1; // a corner no shadow reaches
+    std::cout << (c.first->GetPositional() ? "point" : "directional") << " light, radius "
+              << c.second << ": neighbours' squared differences " << roughness(hard) << " hard, "
+              << roughness(soft) << " soft; open corner " << hard->GetComponent(open, 0) << " / "
+              << soft->GetComponent(open, 0) << std::endl;
+    double moved = 0.0;
+    for (vtkIdType i = 0; i < hard->GetNumberOfTuples(); ++i)
+    {
+      moved = std::max(moved, std::abs(soft->GetComponent(i, 0) - hard->GetComponent(i, 0)));
+    }
+    std::cout << "  largest change " << moved << std::endl;
+    EXPECT_GT(moved, 0.05);
+    EXPECT_LT(roughness(soft), roughness(hard));
+    EXPECT_NEAR(soft->GetComponent(open, 0), hard->GetComponent(open, 0), 1e-6);
+    volillum::SetLightRadius(c.first, 0.0);
+    filter->Update();
+    auto again = Result(filter);
+    double largest = 0.0;
+    for (vtkIdType i = 0; i < hard->GetNumberOfTuples(); ++i)
+    {
+      largest = std::max(largest, std::abs(again->GetComponent(i, 0) - hard->GetComponent(i, 0)));
+    }
+    EXPECT_EQ(largest, 0.0);
+  }
 }
 
 TEST(FilteredVolumetricShadows, KeptEmptyBlocksFollowTheTransferFunction)

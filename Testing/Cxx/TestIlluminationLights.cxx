@@ -26,7 +26,7 @@ TEST(IlluminationLights, KindsFollowPositionalAndConeAngle)
 
 TEST(IlluminationLights, ParameterLayoutRoundTrips)
 {
-  const double p[LightParameterCount] = { 1, 1, 2, 3, 4, 5, 6, 0.1, 0.2, 0.3, 2.5, 40, 3, 0 };
+  const double p[LightParameterCount] = { 1, 1, 2, 3, 4, 5, 6, 0.1, 0.2, 0.3, 2.5, 40, 3, 0, 1.5 };
   vtkNew<vtkLight> light;
   ApplyLightParameters(light, p);
   double q[LightParameterCount];
@@ -39,6 +39,23 @@ TEST(IlluminationLights, ParameterLayoutRoundTrips)
   EXPECT_EQ(s.Kind, LightKind::Spot);
   EXPECT_FALSE(s.On);
   EXPECT_EQ(s.Radiance()[0], 0.0); // switched off
+  EXPECT_EQ(s.Radius, 1.5);
+  // The radius is a change of the light, and a light without one has radius 0.
+  const vtkMTimeType before = light->GetMTime();
+  SetLightRadius(light, 1.5);
+  EXPECT_EQ(light->GetMTime(), before);
+  SetLightRadius(light, 2.0);
+  EXPECT_GT(light->GetMTime(), before);
+  vtkNew<vtkLight> plain;
+  EXPECT_EQ(CaptureLight(plain).Radius, 0.0);
+}
+
+TEST(IlluminationLights, ListsOfFourteenNumbersAreLightsWithoutRadius)
+{
+  EXPECT_EQ(LightParametersPerLight(15), 15);
+  EXPECT_EQ(LightParametersPerLight(28), 14);
+  EXPECT_EQ(LightParametersPerLight(210), 15); // whole lights both ways: the new layout
+  EXPECT_EQ(LightParametersPerLight(17), 15);  // neither: refused as 15 a light
 }
 
 TEST(IlluminationLights, ChangeDetectionComparesParametersNotModificationTimes)

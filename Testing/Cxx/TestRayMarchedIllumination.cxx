@@ -394,7 +394,7 @@ TEST(RayMarchedIllumination, BadInputGivesAnErrorAndAnEmptyOutput)
     // Updates refuse the list (an error, an empty output) until it is whole lights again.
     EXPECT_EQ(RunAndCountErrors(filter, spheres), 1);
     EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0);
-    filter->SetNumberOfLightParameters(14);
+    filter->SetNumberOfLightParameters(15);
     EXPECT_EQ(RunAndCountErrors(filter, spheres), 0);
     EXPECT_GT(filter->GetOutput()->GetNumberOfPoints(), 0);
   }

@@ -12,7 +12,8 @@ forces a full update; interactive renders keep the lighting and the next still r
 updates it; the light kit counts only with Use Light Kit on; the rendered image takes
 the lights' colours; a cell array is lit like the filter lights it; a vector array is
 coloured and lit by its magnitude or the colour map's component; a suppressed render leaves
-no lighting armed for a later render of the window.
+no lighting armed for a later render of the window; a light's Shadow Radius softens Filtered
+Shadows as the filter's Radius column does.
 Usage: pvpython TestIlluminatedVolumeRepresentation.py PLUGIN OUTPUT_DIR
 """
 import os
@@ -190,6 +191,39 @@ for method, label in ((1, "Filtered Shadows"), (2, "Ray-Marched Reference")):
     Render(view)
     m = info(rep, "IlluminationMean")
     check(m[2] > 0, "%s renders with illumination (mean %s)" % (label, ["%.4f" % v for v in m]))
+
+# A Light Inspector light's Shadow Radius (its size) softens Filtered Shadows as the
+# filters' Radius column does: the representation's mean illumination equals
+# FilteredVolumetricShadows given the same light at that radius, differs from the hard
+# light's, and radius 0 gives the hard light's back.
+rep.IlluminationMethod = "Filtered Shadows"
+soft_reference = FilteredVolumetricShadows(Input=phantom, ColorTransferFunction=lut,
+                                           OpacityFunction=pwf, ResolutionScale=0.5,
+                                           FilterWidth=rep.ShadowFilterWidth)
+soft_reference.ScalarOpacityUnitDistance = rep.ScalarOpacityUnitDistance
+
+
+def filtered_mean(radius):
+    soft_reference.Lights = scene_parameters(key) + [radius]
+    return mean_illumination(soft_reference)
+
+
+Render(view)
+hard_mean = info(rep, "IlluminationMean")
+key.ShadowRadius = 12
+Render(view)
+soft_mean = info(rep, "IlluminationMean")
+check(relative_difference(soft_mean, filtered_mean(12)) < 1e-5,
+      "Shadow Radius 12: mean illumination %s vs the filter at radius 12 %s"
+      % (["%.5f" % v for v in soft_mean], ["%.5f" % v for v in filtered_mean(12)]))
+check(relative_difference(soft_mean, hard_mean) > 1e-3,
+      "Shadow Radius 12 softens the shadows (mean %s, hard %s)"
+      % (["%.5f" % v for v in soft_mean], ["%.5f" % v for v in hard_mean]))
+key.ShadowRadius = 0
+Render(view)
+check(info(rep, "IlluminationMean") == hard_mean,
+      "Shadow Radius 0 gives the hard light's illumination back")
+Delete(soft_reference)
 
 # Gradient shading is compiled into the shader only while it is on. With the Phong factor
 # held at 0.5 (ambient 0.5, no diffuse or specular term) the image must equal the unshaded

@@ -74,7 +74,8 @@ FILES = ["multilight.pvti", "selective.pvti", "fresh.pvti", "swept.pvti", "swept
          "swept_reclassified.pvti",
          "filtered.pvti", "filtered_hard.pvti",
          "filtered_soft.pvti", "filtered_axis.pvti", "filtered_point.pvti",
-         "filtered_inside.pvti", "filtered_assembled.pvti", "swept_grazing.pvti",
+         "filtered_inside.pvti", "filtered_assembled.pvti", "filtered_sized.pvti",
+         "swept_grazing.pvti",
          "raymarched.pvti",
          "tiny.pvti", "tiny_raymarched.pvti", "cells_raymarched.pvti", "cells_filtered.pvti",
          "cells_multilight.pvti", "slabs_multilight.pvti", "slabs_filtered.pvti",
@@ -92,6 +93,8 @@ HEAD = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Dat
 LIGHTS = [0, -200, -150, 400, 100, 100, 70, 1.0, 0.7, 0.4, 1.0, 90, 1, 1,
           1, 350, 120, 60, 100, 100, 70, 0.4, 0.6, 1.0, 1.0, 90, 1, 1]
 EDITED = LIGHTS[:14] + [1, 330, -40, 90, 100, 100, 70, 0.4, 0.6, 1.0, 0.8, 90, 1, 1]
+# The two lights with sizes (the Lights' 15th number): 4 degrees across, radius 3.
+SIZED = LIGHTS[:14] + [4] + LIGHTS[14:] + [3]
 # Three directional lights (swept over bands of rows in parallel: every process sweeps its
 # rows, neighbouring bands exchanging lattice rows after every slice), the second edited
 # twice.
@@ -200,7 +203,9 @@ def worker(plugin, out, grid_file, tiny_file, parallel):
     # planes between blocks. DistributedTables off: the input assembled on every process.
     # Point and spot lights: spherical tables' windows over the grown blocks (hard shadows
     # with near segments, a point light beside the volume; soft, a point light inside the
-    # first block and a spot light below it, whose shadows cross every block).
+    # first block and a spot light below it, whose shadows cross every block). Lights of
+    # finite size (15 numbers a light, the last the radius: 4 degrees, 3 units) read whole
+    # tables, DistributedTables on or off.
     downward = [0, 100, 100, 400, 100, 100, 70, 1.0, 0.9, 0.8, 1.0, 90, 1, 1]
     for name, width, kernel, distributed, light in (
             ("filtered_hard.pvti", 0, "Box", 1, LIGHTS[:14]),
@@ -208,7 +213,8 @@ def worker(plugin, out, grid_file, tiny_file, parallel):
             ("filtered_axis.pvti", 0, "Box", 1, downward),
             ("filtered_point.pvti", 0, "Box", 1, LIGHTS),
             ("filtered_inside.pvti", 3, "Box", 1, inside),
-            ("filtered_assembled.pvti", 0, "Box", 0, LIGHTS[:14])):
+            ("filtered_assembled.pvti", 0, "Box", 0, LIGHTS[:14]),
+            ("filtered_sized.pvti", 0, "Box", 1, SIZED)):
         f = image_filter("FilteredVolumetricShadows", ResolutionScale=0.5, FilterWidth=width,
                          FilterKernel=kernel, PerLightTransmittance=1,
                          DistributedTables=distributed)

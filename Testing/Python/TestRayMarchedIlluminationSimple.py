@@ -6,7 +6,9 @@ crossed the linearly interpolated slab profile, whose integral is 32 voxels (31 
 the first and last slab points plus two half-voxel ramps), so the illumination must be
 exp(-sigma * 32) with sigma = -ln(1 - 0.05); above
 the slab it must be 1. A second light doubles it; a Lights list that is not whole lights
-(17 numbers) gives an error and an empty output. Usage: pvpython TestRayMarchedIlluminationSimple.py PLUGIN
+(17 numbers) gives an error and an empty output. FilteredVolumetricShadows takes the Lights
+in both layouts (15 numbers a light with the radius, 14 without) and softens its shadows
+with the radius. Usage: pvpython TestRayMarchedIlluminationSimple.py PLUGIN
 """
 import math
 import sys
@@ -61,6 +63,38 @@ illumination.Lights = [0, 16, 16, 100, 16, 16, 0, 1, 1, 1, 1, 30, 1, 1]
 illumination.UpdatePipeline()
 if servermanager.Fetch(illumination).GetNumberOfPoints() != 32 * 32 * 64:
     failures.append("14 numbers in Lights after 17 were refused")
+
+# The Lights layouts: 15 numbers a light (the last is the radius), or the 14 of lists
+# written before the radius (radius 0). Filtered shadows of the slab from a light 20 degrees
+# across equal a hard light's under its middle and differ at its sides, where the cone
+# toward the light passes partly beside the slab.
+filtered = FilteredVolumetricShadows(Input=slab, OpacityFunction=opacity, FilterWidth=0)
+filtered.ChromaticAttenuation = 0
+light = [0, 16, 16, 100, 16, 16, 0, 1, 1, 1, 1, 30, 1, 1]
+
+
+def filtered_with(lights):
+    filtered.Lights = lights
+    filtered.UpdatePipeline()
+    array = servermanager.Fetch(filtered).GetPointData().GetArray("Illumination")
+    return [array.GetComponent(i, 0) for i in range(array.GetNumberOfTuples())]
+
+
+legacy = filtered_with(light)
+hard = filtered_with(light + [0])
+soft = filtered_with(light + [20])
+if legacy != hard:
+    failures.append("14 numbers a light differ from 15 with radius 0")
+if len(filtered.Lights) != 15:
+    failures.append("Lights holds %d numbers after a 15-number list" % len(filtered.Lights))
+centre = 16 + 32 * (16 + 32 * 8)  # below the slab, far from its sides
+side = 0 + 32 * (16 + 32 * 8)
+if abs(soft[centre] - hard[centre]) > 1e-6 * hard[centre]:
+    failures.append("a 20-degree light changed the shadow under the slab's middle: %g, %g"
+                    % (soft[centre], hard[centre]))
+if not abs(soft[side] - hard[side]) > 1e-3:
+    failures.append("a 20-degree light left the slab's side as a hard light does: %g, %g"
+                    % (soft[side], hard[side]))
 
 print("\n".join(failures) if failures else "RayMarchedIllumination through paraview.simple: ok")
 sys.exit(1 if failures else 0)
