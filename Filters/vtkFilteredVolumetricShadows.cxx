@@ -144,7 +144,7 @@ bool vtkFilteredVolumetricShadows::LightsDistributedPieces() const
 {
   // A cone toward a light of finite size is cut at distances along the light that the
   // columns summed beyond a window do not keep: such lights read whole tables.
-  const auto states = this->Lights.States();
+  const auto states = this->GetLightStates();
   return this->DistributedTables &&
     std::none_of(states.begin(), states.end(),
       [](const volillum::LightState& l) { return l.On && l.Radius > 0.0; });

@@ -116,6 +116,7 @@ protected:
   bool LightsPointsIndependently() const override { return true; }
   // With DistributedTables.
   bool LightsDistributedPieces() const override;
+  bool UsesLightSize() const override { return true; }
   void ComputeDistributedIllumination(vtkMultiProcessController* controller,
     const volillum::ClassifiedVolume& volume, const volillum::VolumePiece& piece,
     const std::vector<volillum::LightState>& lights, const volillum::GridGeometry& target,

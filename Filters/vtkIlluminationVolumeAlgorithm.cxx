@@ -89,7 +89,16 @@ vtkCxxSetObjectMacro(vtkIlluminationVolumeAlgorithm, Controller, vtkMultiProcess
 //------------------------------------------------------------------------------
 std::vector<volillum::LightState> vtkIlluminationVolumeAlgorithm::GetLightStates() const
 {
-  return this->Lights.States();
+  std::vector<volillum::LightState> states = this->Lights.States();
+  if (!this->UsesLightSize())
+  {
+    // A size this filter ignores is no change of the light (no update for a radius edit).
+    for (auto& s : states)
+    {
+      s.Radius = 0.0;
+    }
+  }
+  return states;
 }
 
 //------------------------------------------------------------------------------

@@ -169,7 +169,7 @@ public:
   vtkGetObjectMacro(Controller, vtkMultiProcessController);
   ///@}
 
-  /// Current states of the lights.
+  /// Current states of the lights (with radius 0 for a filter that does not UsesLightSize).
   std::vector<volillum::LightState> GetLightStates() const;
 
   vtkMTimeType GetMTime() override;
@@ -222,6 +222,9 @@ protected:
    * (BlockPointScalars), as a serial run averages them.
    */
   virtual bool LightsDistributedPieces() const { return false; }
+
+  /// Whether the lights' radius (their size) changes this filter's output (false by default).
+  virtual bool UsesLightSize() const { return false; }
 
   /**
    * The illumination of a parallel run of a filter that LightsDistributedPieces. `volume`:

@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Makes the pictures of the README and of Documentation/ (this folder's PNGs).
 
-Every picture comes from the shipped CT head (Data/headsq.vti) or a generated phantom, so
-any clone with a build can remake them:
+Every picture but soft.png comes from the shipped CT head (Data/headsq.vti) or a generated
+phantom, so any clone with a build can remake them; soft.png needs the engine of
+../shared/data beside the clone:
 
   hero.png          the demo (`./setup.sh demo`): the head lit by a warm point light and a
                     blue directional light, beside local shading
@@ -11,6 +12,8 @@ any clone with a build can remake them:
   propagation.png   Multi-Light Propagation: three spheres under a yellow and a blue point
                     light and a red spot light (the scene of the selective-updates paper)
   filtered.png      Filtered Shadows: the chirp phantom's shadow with filter width 0 and 9
+  soft.png          Filtered Shadows from a directional light 0, 5 and 15 degrees across
+                    (Shadow Radius) on the engine
   unstructured.png  the two-level solver on a tetrahedral mesh made from the head
 
 Usage, from anywhere (python3, no display needed):
@@ -37,6 +40,8 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 HEAD = os.path.join(ROOT, "Data", "headsq.vti")
 DEMO = os.path.join(ROOT, "Data", "demo.json")
 HEAD_MAX = 3926  # the head's largest scalar (Data/README.md)
+# The engine of ../shared/data (DATASETS.md), beside the clone as in CI.
+ENGINE = os.path.join(os.path.dirname(ROOT), "shared", "data", "volumes", "engine.vti")
 
 
 def run(*command, **kwargs):
@@ -70,19 +75,40 @@ def propagation(cli, tmp):
            os.path.join(HERE, "propagation.png"))
 
 
+def labelled_row(cli, tmp, name, source, variants):
+    """Renders source (volillum-render's input arguments) once per (label, settings), each
+    labelled in its top left corner, side by side into name.png."""
+    parts = []
+    for i, (label, settings) in enumerate(variants):
+        config = write_json(os.path.join(tmp, "%s%d.json" % (name, i)), settings)
+        part = os.path.join(tmp, "%s%d.png" % (name, i))
+        render(cli, source + ["--config", config], part)
+        run("convert", part, "-font", "DejaVu-Sans", "-pointsize", "20", "-fill", "white",
+            "-annotate", "+14+30", label, part)
+        parts.append(part)
+    run("convert", *parts, "+append", os.path.join(HERE, name + ".png"))
+
+
 def filtered(cli, tmp):
     settings = json.load(open(os.path.join(ROOT, "Testing", "Data", "chirp.json")))
     settings["image_size"] = [400, 400]
-    halves = []
-    for width in (0, 9):
-        settings["filter_width"] = width
-        config = write_json(os.path.join(tmp, "chirp%d.json" % width), settings)
-        half = os.path.join(tmp, "chirp%d.png" % width)
-        render(cli, ["--phantom", "chirp", "--method", "filtered", "--config", config], half)
-        run("convert", half, "-font", "DejaVu-Sans", "-pointsize", "20", "-fill", "white",
-            "-annotate", "+14+30", "Shadow Filter Width %d" % width, half)
-        halves.append(half)
-    run("convert", *halves, "+append", os.path.join(HERE, "filtered.png"))
+    labelled_row(cli, tmp, "filtered", ["--phantom", "chirp", "--method", "filtered"],
+                 [("Shadow Filter Width %d" % width, dict(settings, filter_width=width))
+                  for width in (0, 9)])
+
+
+def soft(cli, tmp):
+    if not os.path.exists(ENGINE):
+        print("make_images.py: soft.png left as it is: it needs the engine, %s" % ENGINE)
+        return
+    def settings(radius):
+        return {"method": "filtered", "filter_width": 0, "image_size": [400, 400],
+                "ambient": 0.08, "camera": {"azimuth": 20, "elevation": 30, "zoom": 1.1},
+                "lights": [{"type": "directional", "position": [1.6, 0.9, 1.4],
+                            "focal_point": [0.5, 0.5, 0.5], "relative": True,
+                            "color": [1, 0.95, 0.85], "intensity": 1.2, "radius": radius}]}
+    labelled_row(cli, tmp, "soft", [ENGINE],
+                 [("Shadow Radius %d" % radius, settings(radius)) for radius in (0, 5, 15)])
 
 
 def unstructured(cli, tmp):
@@ -243,7 +269,7 @@ def gui(cli, tmp, plugin):
         xvfb.wait()
 
 
-PICTURES = {"hero": hero, "propagation": propagation, "filtered": filtered,
+PICTURES = {"hero": hero, "propagation": propagation, "filtered": filtered, "soft": soft,
             "unstructured": unstructured, "gui": gui}
 
 
@@ -269,7 +295,8 @@ def main():
         shutil.rmtree(tmp, ignore_errors=True)
     for name in args.only:
         path = os.path.join(HERE, name + ".png")
-        print("%s: %d KB" % (os.path.relpath(path, ROOT), os.path.getsize(path) // 1024))
+        if os.path.exists(path):
+            print("%s: %d KB" % (os.path.relpath(path, ROOT), os.path.getsize(path) // 1024))
 
 
 if __name__ == "__main__":

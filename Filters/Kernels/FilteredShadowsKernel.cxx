@@ -232,7 +232,7 @@ void ShadeSpherical(const PointShading& shading, const SphericalLookup& l, long 
   // A light of finite size: a cone from p toward its disc (DiscSquareRatio), starting where
   // the near segment ends.
   const double spread = DiscSquareRatio * l.Light.Radius / std::max(incidence.Distance, 1e-12);
-  const double start = std::sqrt(vtkMath::Distance2BetweenPoints(p, far));
+  const double start = spread > 0.0 ? std::sqrt(vtkMath::Distance2BetweenPoints(p, far)) : 0.0;
   double transmittance[3] = { 1.0, 1.0, 1.0 };
   for (int c = 0; c < channels; ++c)
   {

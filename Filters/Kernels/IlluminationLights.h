@@ -55,9 +55,10 @@ struct VOLILLUMKERNELS_EXPORT LightState
   double ConeAngle = 30.0;
   double Exponent = 1.0;
   bool On = true;
-  /// The light's size, as the Light Inspector's Radius: the apparent (angular) diameter in
-  /// degrees of a directional light, the radius in world units of a point or spot light's
-  /// disc facing the point it lights. 0: a hard light. Filtered shadows soften with it.
+  /// The light's size (the Lights' 15th number, the Light Inspector's Shadow Radius): the
+  /// apparent (angular) diameter in degrees of a directional light, the radius in world
+  /// units of a point or spot light's disc facing the point it lights. 0: a hard light.
+  /// Filtered shadows soften with it.
   double Radius = 0.0;
 
   /// Unit vector from the position toward the focal point (the direction light travels

@@ -510,14 +510,21 @@ double SphericalSAT::ConeFilteredOpticalDepth(
   double s[3];
   this->ToSpherical(p, s);
   const double r = std::max(s[2], 1e-12);
-  // Distances from the shadow ray's start (at distance D from the light) toward the light;
-  // the cone's half-width there, t spread, seen from the light at distance D - t.
+  // Distances t from the shadow ray's start (at distance D from the light) toward the light;
+  // the cone's half-width there, t spread, seen from the light at distance D - t: an angle
+  // below pi / 2 (which takes the whole half-space in front of the light), and at least the
+  // patch's and half a cell's (PatchDepth reads no narrower patch).
   const double D = r + start;
   const double end = D - std::min(this->RMin, r);
+  const double narrowest = std::max(halfWidth / r, 0.5 * std::min(this->DU, this->DV));
   return ConeSteps(
-    start, end, halfWidth / r, vtkMath::Pi(),
-    [=](double t) { return spread * t / std::max(D - t, 1e-12); },
-    [=](double w) { return w * D / (spread + w); },
+    start, end, narrowest, 0.5 * vtkMath::Pi(),
+    [=](double t) { return std::atan(spread * t / std::max(D - t, 1e-12)); },
+    [=](double w)
+    {
+      const double x = std::tan(w);
+      return x * D / (spread + x);
+    },
     [&](double t0, double t1, double w)
     { return this->PatchDepth(channel, s, w, D - t1, D - t0); });
 }

@@ -314,7 +314,9 @@ public:
    * FilteredOpticalDepth toward a light of finite size: the cuboid widens into a cone
    * (ConeSteps) whose half-width grows by `spread` per unit of distance from the point the
    * shadow ray starts at, `start` before p (its near segment), and is at least halfWidth.
-   * With spread 0 it is FilteredOpticalDepth's cuboid.
+   * With spread 0 it is FilteredOpticalDepth's cuboid. For whole tables: a window of a
+   * piece's table (Build with a piece) would add its columns beyond the window at the
+   * width of the cone's last box, not the serial stair's.
    */
   double ConeFilteredOpticalDepth(int channel, const double p[3], int axis, int sign,
     double halfWidth, double start, double spread) const;
@@ -416,7 +418,8 @@ public:
    * FilteredOpticalDepth toward a light of finite size: the pyramid narrows toward the
    * light no more than a cone (ConeSteps) whose half-width grows by `spread` per unit of
    * distance from the point the shadow ray starts at, `start` farther from the light than p
-   * (its near segment). With spread 0 it is FilteredOpticalDepth's pyramid.
+   * (its near segment), and never narrower than half a cell. For whole tables, as
+   * CartesianSAT::ConeFilteredOpticalDepth.
    */
   double ConeFilteredOpticalDepth(
     int channel, const double p[3], double halfWidth, double start, double spread) const;

@@ -94,7 +94,7 @@ int ChangedLights(const std::vector<LightValues>& now, const std::vector<LightVa
 }
 
 //------------------------------------------------------------------------------
-std::vector<LightValues> ReadViewLights(vtkPVRenderView* view, bool includeLightKit)
+std::vector<LightValues> ReadViewLights(vtkPVRenderView* view, bool includeLightKit, bool sizes)
 {
   std::vector<LightValues> values;
   vtkRenderer* renderer = view ? view->GetRenderer() : nullptr;
@@ -120,7 +120,10 @@ std::vector<LightValues> ReadViewLights(vtkPVRenderView* view, bool includeLight
     v.ConeAngle = light->GetConeAngle();
     v.Exponent = light->GetExponent();
     v.On = light->GetSwitch() != 0;
-    v.Radius = GetLightRadius(light);
+    // A directional light's size is an angle, below 180 degrees (a radius typed for a
+    // positional light may outgrow it when the light turns directional).
+    const double radius = sizes ? GetLightRadius(light) : 0.0;
+    v.Radius = v.Positional ? radius : std::min(radius, 179.0);
     values.push_back(v);
   }
   return values;

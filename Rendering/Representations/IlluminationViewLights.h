@@ -54,17 +54,19 @@ int ChangedLights(const std::vector<LightValues>& now, const std::vector<LightVa
 
 /**
  * The view's lights in world coordinates. With includeLightKit false only the Light
- * Inspector's lights (vtkPVLight) are taken.
+ * Inspector's lights (vtkPVLight) are taken; with sizes false every light's Radius is 0 (a
+ * method that ignores sizes sees no change when one is edited).
  */
-std::vector<LightValues> ReadViewLights(vtkPVRenderView* view, bool includeLightKit);
+std::vector<LightValues> ReadViewLights(vtkPVRenderView* view, bool includeLightKit, bool sizes);
 
 class ViewLights
 {
 public:
-  /// Re-read the view's lights (ReadViewLights).
+  /// Re-read the view's lights with their sizes (ReadViewLights; a filter that ignores the
+  /// sizes sees no change when one is edited: vtkIlluminationVolumeAlgorithm::UsesLightSize).
   void Update(vtkPVRenderView* view, bool includeLightKit)
   {
-    this->Update(ReadViewLights(view, includeLightKit));
+    this->Update(ReadViewLights(view, includeLightKit, true));
   }
   /// Rewrite the copies from values (a copy whose values did not change stays unmodified).
   void Update(const std::vector<LightValues>& values);

@@ -259,7 +259,7 @@ bool vtkIlluminatedUnstructuredGridRepresentation::LightSerially(vtkPVRenderView
     return true; // keep the current lighting while the camera moves
   }
   GridRequest r;
-  r.Lights = volillum::ReadViewLights(view, this->UseLightKit);
+  r.Lights = volillum::ReadViewLights(view, this->UseLightKit, false);
   r.Input = internals.Copies.Data(grid);
   r.ArrayName = array ? array : "";
   r.Association = association;

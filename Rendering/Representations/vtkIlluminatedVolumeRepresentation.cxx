@@ -278,7 +278,9 @@ LightingRequest vtkIlluminatedVolumeRepresentation::vtkInternals::MakeRequest(
   r.Chromatic = self->ChromaticAttenuation;
   r.FilterWidth = self->ShadowFilterWidth;
   r.FilterKernel = self->ShadowFilterKernel;
-  r.Lights = volillum::ReadViewLights(view, self->UseLightKit);
+  // Only Filtered Shadows uses a light's size: otherwise an edit of it changes nothing.
+  r.Lights = volillum::ReadViewLights(
+    view, self->UseLightKit, r.Method == vtkIlluminatedVolumeRepresentation::FilteredShadows);
   r.ArrayName = coloured.Name ? coloured.Name : "";
   r.Association = coloured.Association;
   vtkVolumeProperty* property = self->Property;

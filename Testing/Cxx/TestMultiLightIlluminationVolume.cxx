@@ -591,6 +591,28 @@ TEST(MultiLightIlluminationVolume, TogglingALightRestoresTheVolume)
   EXPECT_LE(MaxRelative(Result(filter), before), 1e-6);
 }
 
+TEST(MultiLightIlluminationVolume, ALightsSizeIsNoChange)
+{
+  // The propagation treats every light as a point or a direction: a radius edit (for
+  // Filtered Shadows) propagates nothing, while a position edit after it does.
+  auto image = PhantomScene(vtkIlluminationPhantomSource::ThreeSpheres, 32);
+  auto otf = RampOpacity(image, 0.3);
+  auto filter = ImageFilter<vtkMultiLightIlluminationVolume>(image, otf);
+  auto a = PointLight(-20, 16, 16, 1, 1, 0);
+  auto b = DirectionalLight(0, 0.3, -1);
+  filter->AddLight(a);
+  filter->AddLight(b);
+  filter->Update();
+  auto before = Result(filter);
+  volillum::SetLightRadius(a, 4.0);
+  filter->Update();
+  EXPECT_EQ(Field(filter, "PropagationPasses"), 0);
+  EXPECT_EQ(MaxRelative(Result(filter), before), 0.0);
+  a->SetPosition(-20, 18, 16);
+  filter->Update();
+  EXPECT_GT(Field(filter, "PropagationPasses"), 0);
+}
+
 TEST(MultiLightIlluminationVolume, GroupedPropagationEqualsOneLightPerPass)
 {
   auto image = PhantomScene(vtkIlluminationPhantomSource::ThreeSpheres, 32);

@@ -38,6 +38,18 @@ ClassifiedVolume RandomVolume(int nx, int ny, int nz, double spacing, int seed)
   return v;
 }
 
+// A table of v (cells of 0.5) in the frame of an oblique light, and the frame axis and sign
+// of that light's direction.
+CartesianSAT ObliqueTable(const ClassifiedVolume& v, int& axis, int& sign)
+{
+  double d[3] = { -0.4, 0.2, -0.9 };
+  vtkMath::Normalize(d);
+  CartesianSAT sat;
+  sat.Build(v, FrameForDirection(d), 0.5, 1);
+  axis = AxisOfDirection(sat.GetFrame(), d, sign);
+  return sat;
+}
+
 // Extinction of a table cell computed directly from the volume: the sample at the cell's
 // centre, zero outside the data.
 double CellExtinction(
@@ -222,12 +234,8 @@ TEST(SummedAreaTable, EmptyBlocksLeaveTheTableAsItIs)
 TEST(SummedAreaTable, FilteredOpticalDepthEqualsTheDirectBoxFilter)
 {
   ClassifiedVolume v = RandomVolume(24, 20, 22, 1.0, 17);
-  double d[3] = { -0.4, 0.2, -0.9 };
-  vtkMath::Normalize(d);
-  CartesianSAT sat;
-  sat.Build(v, FrameForDirection(d), 0.5, 1);
-  int sign = 0;
-  const int axis = AxisOfDirection(sat.GetFrame(), d, sign);
+  int axis, sign;
+  const CartesianSAT sat = ObliqueTable(v, axis, sign);
   ASSERT_EQ(axis, 2);
   vtkNew<vtkMinimalStandardRandomSequence> random;
   random->SetSeed(23);
@@ -560,29 +568,19 @@ double PenumbraWidth(const Depth& depth)
 
 TEST(SummedAreaTable, ConesOfALightOfNoSizeAreTheFilterBoxes)
 {
-  // Spread 0: the Cartesian cuboid and the spherical pyramid of FilteredOpticalDepth.
+  // Spread 0: FilteredOpticalDepth's cuboid, wherever the box starts.
   ClassifiedVolume v = RandomVolume(24, 20, 22, 1.0, 31);
-  double d[3] = { -0.4, 0.2, -0.9 };
-  vtkMath::Normalize(d);
-  CartesianSAT sat;
-  sat.Build(v, FrameForDirection(d), 0.5, 1);
-  int sign = 0;
-  const int axis = AxisOfDirection(sat.GetFrame(), d, sign);
-  SphericalSAT spherical;
-  const double light[3] = { -12.0, 30.0, 40.0 };
-  spherical.Build(v, light, 1.0, 1);
+  int axis, sign;
+  const CartesianSAT sat = ObliqueTable(v, axis, sign);
   double worst = 0.0;
   for (int n = 0; n < 40; ++n)
   {
     const double p[3] = { 1.0 + 0.5 * n, 3.0 + 0.3 * n, 20.0 - 0.4 * n };
     const double halfWidth = 0.3 + 0.08 * n;
     const double box = sat.FilteredOpticalDepth(0, p, axis, sign, halfWidth);
-    const double pyramid = spherical.FilteredOpticalDepth(0, p, halfWidth);
-    worst = std::max({ worst,
-      std::abs(sat.ConeFilteredOpticalDepth(0, p, axis, sign, halfWidth, 2.0, 0.0) - box) /
-        std::max(box, 1e-12),
-      std::abs(spherical.ConeFilteredOpticalDepth(0, p, halfWidth, 2.0, 0.0) - pyramid) /
-        std::max(pyramid, 1e-12) });
+    worst = std::max(worst,
+      std::abs(sat.ConeFilteredOpticalDepth(0, p, axis, sign, halfWidth, 0.1 * n, 0.0) - box) /
+        std::max(box, 1e-12));
   }
   std::cout << "cones of spread 0: largest relative difference " << worst << std::endl;
   EXPECT_LE(worst, 1e-9);
@@ -592,7 +590,7 @@ TEST(SummedAreaTable, ConesKeepTheDepthOfAUniformMedium)
 {
   // Extinction 0.0625 everywhere: however wide the cone, where it stays inside the medium the
   // mean optical depth is the medium's along the ray (the boxes' widths change what they
-  // average, not the depth), and a cone leaving the box sees the same or less.
+  // average, not the depth).
   ClassifiedVolume v;
   v.Geometry.Dimensions = { { 40, 40, 40 } };
   std::vector<float> values(4 * static_cast<size_t>(v.Geometry.NumberOfPoints()), 1.0f);
@@ -653,7 +651,7 @@ TEST(SummedAreaTable, PenumbraOfADirectionalDiscWidensAsItsAnalyticShadow)
       }
       else
       {
-        EXPECT_NEAR(width, expected, 0.1 * expected);
+        EXPECT_NEAR(width, expected, 0.05 * expected);
       }
       EXPECT_GT(width, previous); // wider with the light's size
       previous = width;
@@ -694,7 +692,7 @@ TEST(SummedAreaTable, PenumbraOfAPointDiscWidensAsItsAnalyticShadow)
     }
     else
     {
-      EXPECT_NEAR(width, expected, 0.1 * expected);
+      EXPECT_NEAR(width, expected, 0.05 * expected);
     }
     EXPECT_GT(width, previous);
     previous = width;
