@@ -1,17 +1,22 @@
 #include "pqIlluminationLightingBehavior.h"
 
+#include "IlluminationLights.h"
+
 #include "pqApplicationCore.h"
+#include "pqPipelineSource.h"
 #include "pqProgressManager.h"
 #include "pqRenderView.h"
 #include "pqRepresentation.h"
 #include "pqServer.h"
 #include "pqServerManagerModel.h"
+#include "vtkSMDoubleVectorProperty.h"
 #include "vtkSMPropertyHelper.h"
 #include "vtkSMProxy.h"
 #include "vtkSMProxyManager.h"
 #include "vtkSMSessionProxyManager.h"
 
 #include <algorithm>
+#include <vector>
 
 namespace
 {
@@ -45,6 +50,8 @@ void pqIlluminationLightingBehavior::startup()
     &pqIlluminationLightingBehavior::onRepresentationAdded);
   QObject::connect(
     model, &pqServerManagerModel::viewAdded, this, &pqIlluminationLightingBehavior::onViewAdded);
+  QObject::connect(model, &pqServerManagerModel::sourceAdded, this,
+    &pqIlluminationLightingBehavior::onSourceAdded);
   QObject::connect(core->getProgressManager(), &pqProgressManager::abort, this,
     &pqIlluminationLightingBehavior::cancel);
   // The plugin may be loaded after the session started.
@@ -56,6 +63,38 @@ void pqIlluminationLightingBehavior::startup()
   {
     this->onRepresentationAdded(representation);
   }
+  for (pqPipelineSource* source : model->findItems<pqPipelineSource*>())
+  {
+    this->onSourceAdded(source);
+  }
+}
+
+//------------------------------------------------------------------------------
+void pqIlluminationLightingBehavior::onSourceAdded(pqPipelineSource* source)
+{
+  // An illumination filter's Lights (rows of LightParameterCount numbers) as a state file
+  // or a script's constructor gave them, before the source was added: a list of 14 numbers
+  // a light gains radius 0 after each light. (A list set later keeps its layout in the GUI;
+  // the server reads both.)
+  vtkSMProxy* proxy = source->getProxy();
+  auto* lights = vtkSMDoubleVectorProperty::SafeDownCast(proxy->GetProperty("Lights"));
+  const int count = lights ? static_cast<int>(lights->GetNumberOfElements()) : 0;
+  if (!lights || lights->GetNumberOfElementsPerCommand() != volillum::LightParameterCount ||
+    volillum::LightParametersPerLight(count) != volillum::LegacyLightParameterCount)
+  {
+    return;
+  }
+  std::vector<double> padded;
+  for (int i = 0; i < count; ++i)
+  {
+    padded.push_back(lights->GetElement(i));
+    if (i % volillum::LegacyLightParameterCount == volillum::LegacyLightParameterCount - 1)
+    {
+      padded.push_back(0.0);
+    }
+  }
+  lights->SetElements(padded.data(), static_cast<unsigned int>(padded.size()));
+  proxy->UpdateVTKObjects();
 }
 
 //------------------------------------------------------------------------------

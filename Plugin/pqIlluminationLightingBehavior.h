@@ -11,7 +11,11 @@
  *    pqViewStreamingBehavior polls streaming views: when illuminations were published since
  *    the last poll, or a lighting the user cancelled has stopped, it renders the render views,
  *  - shows the computation in ParaView's progress bar without blocking input, and cancels
- *    it when the progress bar's abort is pressed.
+ *    it when the progress bar's abort is pressed,
+ *  - gives the illumination filters' Lights the lights table's layout: a list of 14
+ *    numbers a light that a filter is loaded or created with (state files and scripts
+ *    written before the radius column) becomes 15 a light with radius 0, as the server
+ *    reads it, so that the table shows and edits the lights it holds.
  */
 #ifndef pqIlluminationLightingBehavior_h
 #define pqIlluminationLightingBehavior_h
@@ -23,6 +27,7 @@
 
 #include "vtkSmartPointer.h"
 
+class pqPipelineSource;
 class pqRepresentation;
 class pqServer;
 class pqView;
@@ -43,6 +48,7 @@ private Q_SLOTS:
   void onServerRemoved(pqServer* server);
   void onRepresentationAdded(pqRepresentation* representation);
   void onViewAdded(pqView* view);
+  void onSourceAdded(pqPipelineSource* source);
   void poll();
   void cancel();
 

@@ -1,8 +1,9 @@
 """Driver of TestIlluminatedVolumeGUI.py: starts the real paraview GUI (it needs a display:
 run under xvfb-run) with the test script, waits for it to exit, and checks what the script
 recorded: the representation is Illuminated Volume, switching the only light off leaves
-only ambient light (mean illumination 0 and a darker image), and switching it on again
-gives back the first image exactly.
+only ambient light (mean illumination 0 and a darker image), switching it on again
+gives back the first image exactly, and a Lights list of 14 numbers a light becomes 15 a
+light (radius 0) in the GUI.
 Usage: python3 run_gui_test.py PARAVIEW PLUGIN OUTPUT_DIR
 """
 import os
@@ -35,6 +36,11 @@ else:
     if not brightness[0] > brightness[1] + 10:
         failures.append("switching the light off did not darken the image (%.1f vs %.1f)" %
                         tuple(brightness))
+    light = [0, 1, 2, 3, 4, 5, 6, 1, 1, 1, 1, 30, 1, 1]
+    padded = ",".join("%g" % v for v in (light + [0]) * 2)
+    if results.get("legacy_lights") != padded:
+        failures.append("a Lights list of 14 numbers a light reads back %s, expected %s"
+                        % (results.get("legacy_lights"), padded))
     difference = image_difference(on, again)
     print("light on again vs first image: %.3f" % difference)
     if difference > 0.5:
