@@ -1,5 +1,6 @@
 #include "vtkIlluminationVolumeAlgorithm.h"
 
+#include "AmbientOcclusionKernel.h"
 #include "IlluminationClassify.h"
 #include "IlluminationLightingMacros.h"
 #include "ImageBlocks.h"
@@ -129,6 +130,12 @@ bool vtkIlluminationVolumeAlgorithm::ValidGeometry(
   if (this->ResolutionScale != 1.0 && this->ResolutionScale != 0.5 && this->ResolutionScale != 0.25)
   {
     vtkErrorMacro("ResolutionScale must be 1, 0.5 or 0.25; it is " << this->ResolutionScale << ".");
+    return false;
+  }
+  if (!std::isfinite(this->AmbientOcclusion) || !std::isfinite(this->AmbientOcclusionRadius))
+  {
+    vtkErrorMacro("AmbientOcclusion and AmbientOcclusionRadius must be finite; they are "
+      << this->AmbientOcclusion << " and " << this->AmbientOcclusionRadius << ".");
     return false;
   }
   double spacing[3];
@@ -302,7 +309,8 @@ int vtkIlluminationVolumeAlgorithm::RequestData(
   }
   // Every process's errors reach the first process, which a client shows.
   volillum::ParallelMessages messages(controller, this);
-  if (this->LightsDistributedPieces())
+  // Ambient occlusion reads the neighbourhood of every point, across the pieces' faces.
+  if (this->LightsDistributedPieces() && !(this->AmbientOcclusion > 0.0))
   {
     this->IlluminateDistributed(controller, inputVector[0]->GetInformationObject(0), input, output);
     return 1;
@@ -455,7 +463,14 @@ void vtkIlluminationVolumeAlgorithm::Illuminate(
       this->OutputIllumination(none, target, illumination->GetPointer(0));
     }
   }
-  if (!computed)
+  if (inputModified)
+  {
+    this->Occlusion = nullptr;
+  }
+  this->OcclusionPoints = 0;
+  if (!computed ||
+    (this->AmbientOcclusion > 0.0 &&
+      !this->AddAmbientOcclusion(lit, inputModified, illumination->GetPointer(0))))
   {
     // Aborted: show what the last complete update produced.
     if (this->LastOutput)
@@ -470,6 +485,62 @@ void vtkIlluminationVolumeAlgorithm::Illuminate(
 }
 
 //------------------------------------------------------------------------------
+bool vtkIlluminationVolumeAlgorithm::AddAmbientOcclusion(
+  const volillum::GridGeometry& lit, bool inputModified, float* rgb)
+{
+  double bounds[6];
+  this->Classified.Geometry.GetBounds(bounds);
+  const double diagonal = std::sqrt((bounds[1] - bounds[0]) * (bounds[1] - bounds[0]) +
+    (bounds[3] - bounds[2]) * (bounds[3] - bounds[2]) +
+    (bounds[5] - bounds[4]) * (bounds[5] - bounds[4]));
+  // Rays longer than the diagonal have left the data (beyond it, nothing occludes).
+  const double radius = this->AmbientOcclusionRadius > 0.0
+    ? std::min(this->AmbientOcclusionRadius, diagonal)
+    : 0.05 * diagonal;
+  const std::array<double, 10> key = { radius, static_cast<double>(lit.Dimensions[0]),
+    static_cast<double>(lit.Dimensions[1]), static_cast<double>(lit.Dimensions[2]), lit.Origin[0],
+    lit.Origin[1], lit.Origin[2], lit.Spacing[0], lit.Spacing[1], lit.Spacing[2] };
+  if (inputModified || !this->Occlusion || key != this->OcclusionKey)
+  {
+    this->Occlusion = nullptr;
+    if (!(radius > 0.0))
+    {
+      // A flat extent (a single point) has no neighbourhood: nothing is occluded.
+      auto open = NewIlluminationArray(lit.NumberOfPoints());
+      std::fill_n(open->GetPointer(0), 3 * lit.NumberOfPoints(), 1.0f);
+      this->Occlusion = open;
+    }
+    else
+    {
+      volillum::AmbientOcclusionTable table;
+      table.Build(this->Classified, this->ChromaticAttenuation ? 3 : 1);
+      auto occlusion = NewIlluminationArray(lit.NumberOfPoints());
+      if (!volillum::ComputeAmbientOcclusion(table, lit, radius, occlusion->GetPointer(0),
+            [this](double fraction) { return this->ReportProgress(fraction); }))
+      {
+        return false;
+      }
+      this->Occlusion = occlusion;
+    }
+    this->Occlusion->SetName("AmbientOcclusion");
+    this->OcclusionKey = key;
+    this->OcclusionPoints = lit.NumberOfPoints();
+  }
+  const float strength = static_cast<float>(this->AmbientOcclusion);
+  const float* occlusion = this->Occlusion->GetPointer(0);
+  const long long values = 3 * lit.NumberOfPoints();
+  vtkSMPTools::For(0, values,
+    [&](long long begin, long long end)
+    {
+      for (long long v = begin; v < end; ++v)
+      {
+        rgb[v] += strength * occlusion[v];
+      }
+    });
+  return true;
+}
+
+//------------------------------------------------------------------------------
 void vtkIlluminationVolumeAlgorithm::FinishOutput(vtkImageData* output, const int extent[6],
   const volillum::GridGeometry& target, vtkMatrix3x3* direction, vtkFloatArray* illumination,
   const UpdateReport& report, double seconds)
@@ -480,6 +551,12 @@ void vtkIlluminationVolumeAlgorithm::FinishOutput(vtkImageData* output, const in
   output->SetDirectionMatrix(direction);
   output->GetPointData()->SetScalars(illumination);
   this->AddOutputArrays(output->GetPointData());
+  if (this->AmbientOcclusion > 0.0 && this->Occlusion)
+  {
+    output->GetPointData()->AddArray(this->Occlusion);
+    volillum::AddCountFieldData(
+      output->GetFieldData(), "AmbientOcclusionPoints", this->OcclusionPoints);
+  }
   this->AddOutputFieldData(output->GetFieldData());
   volillum::AddUpdateFieldData(output->GetFieldData(), report, seconds);
   volillum::AddCountFieldData(
@@ -707,6 +784,8 @@ void vtkIlluminationVolumeAlgorithm::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ResolutionScale: " << this->ResolutionScale << "\n";
   os << indent << "ScalarOpacityUnitDistance: " << this->ScalarOpacityUnitDistance << "\n";
   os << indent << "ChromaticAttenuation: " << this->ChromaticAttenuation << "\n";
+  os << indent << "AmbientOcclusion: " << this->AmbientOcclusion << "\n";
+  os << indent << "AmbientOcclusionRadius: " << this->AmbientOcclusionRadius << "\n";
   os << indent << "ColorTransferFunction: " << this->ColorTransferFunction << "\n";
   os << indent << "OpacityFunction: " << this->OpacityFunction << "\n";
   os << indent << "Controller: " << this->Controller << "\n";

@@ -49,6 +49,7 @@
 #include "vtkImageData.h"
 #include "vtkSmartPointer.h"
 
+#include <array>  // for std::array
 #include <memory> // for std::unique_ptr
 #include <vector>
 
@@ -153,6 +154,31 @@ public:
   vtkBooleanMacro(ChromaticAttenuation, bool);
   ///@}
 
+  ///@{
+  /**
+   * Ambient occlusion: the intensity of an even, white ambient light (0, the default: none)
+   * that reaches each point through the transmittance averaged over the directions around
+   * it, each ray AmbientOcclusionRadius long, read from a summed-area table of the
+   * extinction (AmbientOcclusionKernel.h: no ray is marched). It adds AmbientOcclusion x that
+   * transmittance to the lights' illumination, and the output gains the point array
+   * "AmbientOcclusion" (the transmittance, 3 components, per colour with
+   * ChromaticAttenuation) and the field array AmbientOcclusionPoints (the points whose
+   * transmittance the update computed: 0 when it was kept). The transmittance is computed
+   * again only when the data, the classification, the radius or the resolution change, not
+   * when a light does. A parallel run with ambient occlusion assembles the whole input on
+   * every process.
+   */
+  vtkSetClampMacro(AmbientOcclusion, double, 0.0, volillum::MaximumRadiance);
+  vtkGetMacro(AmbientOcclusion, double);
+  ///@}
+  ///@{
+  /**
+   * Length of the ambient-occlusion rays in world units; 0 (the default) is a twentieth of
+   * the diagonal of the data's bounds.
+   */
+  vtkSetClampMacro(AmbientOcclusionRadius, double, 0.0, volillum::MaximumCoordinate);
+  vtkGetMacro(AmbientOcclusionRadius, double);
+  ///@}
   ///@{
   /**
    * The processes of a parallel run (default: the global controller). With more than one
@@ -276,6 +302,8 @@ protected:
   vtkPiecewiseFunction* OpacityFunction = nullptr;
   double ScalarOpacityUnitDistance = 1.0;
   bool ChromaticAttenuation = false;
+  double AmbientOcclusion = 0.0;
+  double AmbientOcclusionRadius = 0.0;
 
 private:
   vtkIlluminationVolumeAlgorithm(const vtkIlluminationVolumeAlgorithm&) = delete;
@@ -310,6 +338,10 @@ private:
   // blocks' finite scalars, which the transfer functions span; false when any fails.
   bool DistributedScalarRange(
     vtkMultiProcessController* controller, vtkImageData* input, bool piece, double range[2]);
+  // Add AmbientOcclusion x the ambient transmittance at the points `lit` into rgb (3 floats a
+  // point), computing it unless the last one is still valid (inputModified: see
+  // UpdateClassification); false when aborted.
+  bool AddAmbientOcclusion(const volillum::GridGeometry& lit, bool inputModified, float* rgb);
   // The end of a successful update: the output's geometry (the illumination grid `target`,
   // or its part `extent`), its arrays and the update's report.
   void FinishOutput(vtkImageData* output, const int extent[6], const volillum::GridGeometry& target,
@@ -342,6 +374,11 @@ private:
   volillum::ClassifiedVolume Classified;
   std::unique_ptr<const volillum::EmptyBlocks> Empty; // of Classified, when asked for
   vtkSmartPointer<vtkImageData> LastOutput;
+  // The ambient transmittance of the last update with ambient occlusion, what it was computed
+  // for (the radius, the points' grid) and how many points this update computed it at.
+  vtkSmartPointer<vtkFloatArray> Occlusion;
+  std::array<double, 10> OcclusionKey{};
+  long long OcclusionPoints = 0;
   vtkMultiProcessController* Controller = nullptr;
   std::unique_ptr<volillum::DistributedInput> Distributed; // the whole input of a parallel run
   // Point scalars over this process's block from cell scalars (a parallel run lit where the

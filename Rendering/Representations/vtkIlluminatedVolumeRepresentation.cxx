@@ -49,6 +49,8 @@ struct LightingRequest
   bool Chromatic = false;
   double FilterWidth = 3.0;
   int FilterKernel = 0;
+  double AmbientOcclusion = 0.0;
+  double AmbientOcclusionRadius = 0.0;
   std::vector<volillum::LightValues> Lights;
   vtkSmartPointer<vtkImageData> Input;
   std::string ArrayName;
@@ -65,9 +67,10 @@ struct LightingRequest
   {
     return this->Method == o.Method && this->Scale == o.Scale && this->Chromatic == o.Chromatic &&
       this->FilterWidth == o.FilterWidth && this->FilterKernel == o.FilterKernel &&
-      this->Input == o.Input && this->ArrayName == o.ArrayName &&
-      this->Association == o.Association && this->Color == o.Color && this->Opacity == o.Opacity &&
-      this->UnitDistance == o.UnitDistance;
+      this->AmbientOcclusion == o.AmbientOcclusion &&
+      this->AmbientOcclusionRadius == o.AmbientOcclusionRadius && this->Input == o.Input &&
+      this->ArrayName == o.ArrayName && this->Association == o.Association &&
+      this->Color == o.Color && this->Opacity == o.Opacity && this->UnitDistance == o.UnitDistance;
   }
   bool SameAs(const LightingRequest& o) const
   {
@@ -278,6 +281,8 @@ LightingRequest vtkIlluminatedVolumeRepresentation::vtkInternals::MakeRequest(
   r.Chromatic = self->ChromaticAttenuation;
   r.FilterWidth = self->ShadowFilterWidth;
   r.FilterKernel = self->ShadowFilterKernel;
+  r.AmbientOcclusion = self->AmbientOcclusion;
+  r.AmbientOcclusionRadius = self->AmbientOcclusionRadius;
   // Only Filtered Shadows uses a light's size: otherwise an edit of it changes nothing.
   r.Lights = volillum::ReadViewLights(
     view, self->UseLightKit, r.Method == vtkIlluminatedVolumeRepresentation::FilteredShadows);
@@ -313,6 +318,8 @@ void vtkIlluminatedVolumeRepresentation::vtkInternals::Light(
     filter->SetScalarOpacityUnitDistance(r.UnitDistance);
     filter->SetResolutionScale(scale);
     filter->SetChromaticAttenuation(r.Chromatic);
+    filter->SetAmbientOcclusion(r.AmbientOcclusion);
+    filter->SetAmbientOcclusionRadius(r.AmbientOcclusionRadius);
     if (auto* shadows = vtkFilteredVolumetricShadows::SafeDownCast(filter))
     {
       shadows->SetFilterWidth(r.FilterWidth);
@@ -555,6 +562,8 @@ void vtkIlluminatedVolumeRepresentation::UpdateIllumination(vtkPVRenderView* vie
     filter, together ? internals.Piece->GetOutputPort() : port, coloured, this->Property);
   filter->SetResolutionScale(this->ResolutionScale);
   filter->SetChromaticAttenuation(this->ChromaticAttenuation);
+  filter->SetAmbientOcclusion(this->AmbientOcclusion);
+  filter->SetAmbientOcclusionRadius(this->AmbientOcclusionRadius);
   if (auto* shadows = vtkFilteredVolumetricShadows::SafeDownCast(filter))
   {
     shadows->SetFilterWidth(this->ShadowFilterWidth);
@@ -673,6 +682,8 @@ void vtkIlluminatedVolumeRepresentation::PrintSelf(ostream& os, vtkIndent indent
   os << indent << "ResolutionScale: " << this->ResolutionScale << "\n";
   os << indent << "ChromaticAttenuation: " << this->ChromaticAttenuation << "\n";
   os << indent << "ShadowFilterWidth: " << this->ShadowFilterWidth << "\n";
+  os << indent << "AmbientOcclusion: " << this->AmbientOcclusion << "\n";
+  os << indent << "AmbientOcclusionRadius: " << this->AmbientOcclusionRadius << "\n";
   os << indent << "ShadowFilterKernel: " << this->ShadowFilterKernel << "\n";
   os << indent << "AsynchronousLighting: " << this->AsynchronousLighting << "\n";
   os << indent << "UseLightKit: " << this->UseLightKit << "\n";

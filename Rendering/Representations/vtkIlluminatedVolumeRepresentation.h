@@ -94,6 +94,19 @@ public:
 
   ///@{
   /**
+   * Ambient occlusion (vtkIlluminationVolumeAlgorithm::SetAmbientOcclusion): the intensity of
+   * an even ambient light that reaches each sample through the transmittance averaged over
+   * the directions within AmbientOcclusionRadius (world units; 0: a twentieth of the data's
+   * diagonal); it adds to the lights, under every method. Default 0: none.
+   */
+  vtkSetClampMacro(AmbientOcclusion, double, 0.0, 1e6);
+  vtkGetMacro(AmbientOcclusion, double);
+  vtkSetClampMacro(AmbientOcclusionRadius, double, 0.0, 1e300);
+  vtkGetMacro(AmbientOcclusionRadius, double);
+  ///@}
+
+  ///@{
+  /**
    * Compute the illumination off the render call (see the class description). Default off
    * (scripts get the final illumination from each Render()); the GUI turns it on.
    */
@@ -189,6 +202,8 @@ protected:
   bool ChromaticAttenuation = false;
   double ShadowFilterWidth = 3.0;
   int ShadowFilterKernel = 0;
+  double AmbientOcclusion = 0.0;
+  double AmbientOcclusionRadius = 0.0;
   bool AsynchronousLighting = false;
   bool UseLightKit = true;
 

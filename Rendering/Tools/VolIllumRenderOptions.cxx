@@ -38,6 +38,7 @@ JSON (every key optional; the value shown is the default):
   {"method": "propagation", "resolution_scale": 1, "image_size": [512, 512],
    "output": "volillum.png", "ambient": 0.1, "diffuse": 1.0, "background": [0,0,0],
    "gradient_shading": false, "chromatic_attenuation": false, "filter_width": 3,
+   "ambient_occlusion": 0, "ambient_occlusion_radius": 0,
    "side_by_side": false, "labels": true, "component": -1,
    "lights": [{"type": "directional" | "point" | "spot",
                "position": [0.5,0.5,2], "focal_point": [0.5,0.5,0.5], "relative": false,
@@ -50,6 +51,9 @@ JSON (every key optional; the value shown is the default):
 A light's "radius" is its size, for the filtered method's soft shadows: the apparent
 diameter in degrees of a directional light, the radius in world units of a point or spot
 light (0: hard shadows).
+"ambient_occlusion" (volumes): the intensity of an even white ambient light that reaches
+each point through the transmittance averaged over the directions within
+"ambient_occlusion_radius" (world units; 0: a twentieth of the volume's diagonal).
 A light's "relative" (default false) gives its position and focal point as fractions of
 the volume's bounding box (0..1 inside, outside beyond); a light without a position or
 focal point gets the default above, always relative. A transfer function's "relative"

@@ -168,6 +168,10 @@ double LightImage(const json& config, const std::string& method, vtkImageData* i
     Number(config, "resolution_scale", illumination->GetResolutionScale()));
   illumination->SetChromaticAttenuation(
     Flag(config, "chromatic_attenuation", illumination->GetChromaticAttenuation()));
+  illumination->SetAmbientOcclusion(
+    Number(config, "ambient_occlusion", illumination->GetAmbientOcclusion()));
+  illumination->SetAmbientOcclusionRadius(
+    Number(config, "ambient_occlusion_radius", illumination->GetAmbientOcclusionRadius()));
   vtkNew<vtkTimerLog> timer;
   timer->StartTimer();
   illumination->Update();

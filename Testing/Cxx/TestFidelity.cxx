@@ -2,14 +2,19 @@
 // Filtered Volumetric Shadows (FilterWidth 0) against the ray-marched reference at the same
 // resolution scale, over the points that hold material (IlluminationFidelity.h), for the
 // slab, the three spheres and the engine, aneurism and chest CT volumes, each with a
-// directional, a point and a spot light. Every figure is printed; each test fails when a
+// directional, a point and a spot light; and the ambient occlusion against many marched
+// rays. Every figure is printed; each test fails when a
 // figure exceeds its bound, set just above what the methods achieve.
+#include "AmbientOcclusionKernel.h"
 #include "IlluminationFidelity.h"
+#include "vtkFieldData.h"
 #include "vtkFilteredVolumetricShadows.h"
 #include "vtkMultiLightIlluminationVolume.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <functional>
 
@@ -112,4 +117,98 @@ TEST(Fidelity, ChestCT)
 {
   CheckScene(
     volillumfidelity::FileScene("lidc2", Data + "/volumes/LIDC2.mha", 0.3, 0.8), 5, 10.5, 9.6, 4.7);
+}
+
+namespace
+{
+// Ambient occlusion (the filters' AmbientOcclusion array, read from a summed-area table)
+// against the transmittance averaged over 256 marched rays (MarchedAmbientOcclusion) at up
+// to 3000 material points, at the default radius (a twentieth of the diagonal) and at half
+// of it; bounds in per cent of the reference's RMS. The table's figures are darker on
+// average than the rays' where material is dense (a pyramid that reaches into opaque
+// material counts as hidden: AmbientOcclusionKernel.h), so the error grows with the radius.
+void CheckAmbientOcclusion(const Scene& scene, double bound, double halfRadiusBound)
+{
+  if (!scene.Image)
+  {
+    GTEST_SKIP() << scene.Name << " is not in " << Data;
+  }
+  vtkNew<vtkFilteredVolumetricShadows> filter; // no light: the ambient light alone
+  filter->SetInputData(scene.Image);
+  filter->SetOpacityFunction(scene.Opacity);
+  filter->SetResolutionScale(0.5);
+  filter->SetAmbientOcclusion(1.0);
+  double bounds[6];
+  scene.Image->GetBounds(bounds);
+  const double diagonal = std::sqrt((bounds[1] - bounds[0]) * (bounds[1] - bounds[0]) +
+    (bounds[3] - bounds[2]) * (bounds[3] - bounds[2]) +
+    (bounds[5] - bounds[4]) * (bounds[5] - bounds[4]));
+  for (double radius : { 0.0, 0.025 * diagonal })
+  {
+    filter->SetAmbientOcclusionRadius(radius);
+    filter->Update();
+    volillum::ClassifiedVolume classified;
+    volillum::GridGeometry target;
+    ASSERT_TRUE(volillumfidelity::ClassifiedInput(filter, classified, target));
+    const auto mask = volillumfidelity::MaterialMask(classified, target);
+    std::vector<long long> material;
+    for (long long id = 0; id < static_cast<long long>(mask.size()); ++id)
+    {
+      if (mask[id])
+      {
+        material.push_back(id);
+      }
+    }
+    const auto ids = volillumfidelity::Subsample(material, 3000);
+    const double length = radius > 0.0 ? radius : 0.05 * diagonal;
+    std::vector<double> reference(3 * ids.size());
+    const long long nx = target.Dimensions[0], ny = target.Dimensions[1];
+    vtkSMPTools::For(0, static_cast<long long>(ids.size()),
+      [&](long long begin, long long end)
+      {
+        for (long long n = begin; n < end; ++n)
+        {
+          double p[3], t[3];
+          target.PointPosition(ids[n] % nx, (ids[n] / nx) % ny, ids[n] / (nx * ny), p);
+          volillum::MarchedAmbientOcclusion(classified, p, length, 1, 256, t);
+          std::fill_n(reference.begin() + 3 * n, 3, t[0]);
+        }
+      });
+    auto* occlusion = vtkFloatArray::SafeDownCast(
+      filter->GetOutput()->GetPointData()->GetArray("AmbientOcclusion"));
+    ASSERT_NE(occlusion, nullptr);
+    const double rms =
+      100.0 * volillumfidelity::RelativeRms(occlusion->GetPointer(0), reference, ids);
+    double got = 0.0, expected = 0.0;
+    for (size_t n = 0; n < ids.size(); ++n)
+    {
+      got += occlusion->GetValue(3 * ids[n]);
+      expected += reference[3 * n];
+    }
+    std::printf("%s: ambient occlusion, radius %.3g (%zu material points): material RMS %.2f %%, "
+                "mean %.3f against %.3f\n",
+      scene.Name.c_str(), length, ids.size(), rms, got / ids.size(), expected / ids.size());
+    EXPECT_GT(ids.size(), 500u);
+    EXPECT_LT(rms, radius > 0.0 ? halfRadiusBound : bound) << scene.Name << ", radius " << length;
+  }
+}
+}
+
+TEST(Fidelity, AmbientOcclusionOfThreeSpheres)
+{
+  CheckAmbientOcclusion(
+    volillumfidelity::PhantomScene("spheres", vtkIlluminationPhantomSource::ThreeSpheres, 64, 0.3),
+    1.5, 0.8);
+}
+
+TEST(Fidelity, AmbientOcclusionOfTheEngine)
+{
+  CheckAmbientOcclusion(
+    volillumfidelity::FileScene("engine", Data + "/volumes/engine.vti", 0.3, 0.8), 18, 9.5);
+}
+
+TEST(Fidelity, AmbientOcclusionOfTheChestCT)
+{
+  CheckAmbientOcclusion(
+    volillumfidelity::FileScene("lidc2", Data + "/volumes/LIDC2.mha", 0.3, 0.8), 15, 10);
 }

@@ -786,6 +786,7 @@ def build(corpus):
              ("gradient_shading_string", {"gradient_shading": "yes"}),
              ("chromatic_attenuation_string", {"chromatic_attenuation": "yes"}),
              ("filter_width_string", {"method": "filtered", "filter_width": "wide"}),
+             ("ambient_occlusion_string", {"ambient_occlusion": "some"}),
              ("lights_number", {"lights": 3}), ("light_not_object", {"lights": [5]}),
              ("light_type_number", {"lights": [light(type=7)]}),
              ("light_position_string", {"lights": [light(position="x")]}),
@@ -829,6 +830,8 @@ def build(corpus):
                ("image_size_zero", {"image_size": [0, 0]}), ("image_size_1e9", {"image_size": [1e9, 1e9]}),
                ("filter_width_1e9", {"method": "filtered", "filter_width": 1e9}),
                ("filter_width_negative", {"method": "filtered", "filter_width": -3}),
+               ("ambient_occlusion_1e300", {"ambient_occlusion": 1e300,
+                                            "ambient_occlusion_radius": 1e300}),
                ("camera_zoom_zero", {"camera": {"zoom": 0}}),
                ("method_unknown", {"method": "bogus"})]
     for case, settings in numbers:
@@ -977,6 +980,11 @@ def build(corpus):
     props("resolution_scale_nan", valid_vti, "vti", image_filters,
           {f: {"ResolutionScale": NAN} for f in image_filters},
           expect={f: "error" for f in image_filters})
+    props("ambient_occlusion_nan", valid_vti, "vti", image_filters,
+          {f: {"AmbientOcclusion": NAN, "AmbientOcclusionRadius": NAN} for f in image_filters},
+          expect={f: "error" for f in image_filters})
+    props("ambient_occlusion_radius_1e300", valid_vti, "vti", image_filters,
+          {f: {"AmbientOcclusion": 1.0, "AmbientOcclusionRadius": 1e300} for f in image_filters})
     props("filter_width_1e9", valid_vti, "vti", ["FilteredVolumetricShadows"],
           {"FilteredVolumetricShadows": {"FilterWidth": 1e9}})
     props("absorption_nan", valid_vtu, "vtu", GRID_FILTERS,

@@ -223,6 +223,27 @@ key.ShadowRadius = 0
 Render(view)
 check(info(rep, "IlluminationMean") == hard_mean,
       "Shadow Radius 0 gives the hard light's illumination back")
+
+# Ambient Occlusion adds an ambient light through the local transmittance, as the filters'
+# AmbientOcclusion does: the representation's mean equals the filter's with the same
+# strength and radius, is brighter than the lights alone, and 0 gives them back.
+rep.AmbientOcclusion = 0.5
+rep.AmbientOcclusionRadius = 4
+Render(view)
+ambient_mean = info(rep, "IlluminationMean")
+soft_reference.AmbientOcclusion = 0.5
+soft_reference.AmbientOcclusionRadius = 4
+filter_ambient = filtered_mean(0)
+check(relative_difference(ambient_mean, filter_ambient) < 1e-5,
+      "Ambient Occlusion 0.5: mean illumination %s vs the filter's %s"
+      % (["%.5f" % v for v in ambient_mean], ["%.5f" % v for v in filter_ambient]))
+check(all(a > h + 0.01 for a, h in zip(ambient_mean, hard_mean)),
+      "the ambient light brightens the volume (mean %s, lights alone %s)"
+      % (["%.5f" % v for v in ambient_mean], ["%.5f" % v for v in hard_mean]))
+rep.AmbientOcclusion = 0
+Render(view)
+check(info(rep, "IlluminationMean") == hard_mean,
+      "Ambient Occlusion 0 gives the lights' illumination back")
 Delete(soft_reference)
 
 # Gradient shading is compiled into the shader only while it is on. With the Phong factor

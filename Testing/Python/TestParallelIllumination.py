@@ -75,6 +75,7 @@ FILES = ["multilight.pvti", "selective.pvti", "fresh.pvti", "swept.pvti", "swept
          "filtered.pvti", "filtered_hard.pvti",
          "filtered_soft.pvti", "filtered_axis.pvti", "filtered_point.pvti",
          "filtered_inside.pvti", "filtered_assembled.pvti", "filtered_sized.pvti",
+         "filtered_ambient.pvti", "swept_ambient.pvti",
          "swept_grazing.pvti",
          "raymarched.pvti",
          "tiny.pvti", "tiny_raymarched.pvti", "cells_raymarched.pvti", "cells_filtered.pvti",
@@ -220,6 +221,13 @@ def worker(plugin, out, grid_file, tiny_file, parallel):
                          DistributedTables=distributed)
         f.Lights = light
         save(f, name)
+    # Ambient occlusion reads every point's neighbourhood across the pieces' faces: the
+    # filters then assemble the whole input (Filtered Shadows even with DistributedTables).
+    for name, filter_name, properties in (
+            ("filtered_ambient.pvti", "FilteredVolumetricShadows", {"DistributedTables": 1}),
+            ("swept_ambient.pvti", "MultiLightIlluminationVolume", {})):
+        save(image_filter(filter_name, ResolutionScale=0.5, AmbientOcclusion=0.7,
+                          AmbientOcclusionRadius=6, **properties), name)
     save(image_filter("RayMarchedIllumination", ResolutionScale=0.25), "raymarched.pvti")
     # Cell scalars (averaged onto the points: a block's cells and a layer of its neighbours').
     # The propagation's light edit must stay selective (the converted scalars are kept).
@@ -802,7 +810,11 @@ def driver(plugin, out, pvbatch, mpiexec, flags, grid_file, counts):
                 print("%-5s %-26s points lit by each process %s of %d" % (run, f, lit, whole))
                 if not lit or max(lit) >= whole:
                     failures.append("%s/%s: a process lit the whole grid" % (run, f))
-            if f.startswith("filtered_"):
+            if f.endswith("_ambient.pvti"):
+                ambient = compare(serial[f], data, "AmbientOcclusion")
+                if ambient is None or ambient > TOLERANCE:
+                    failures.append("%s/%s: AmbientOcclusion difference %s" % (run, f, ambient))
+            elif f.startswith("filtered_"):
                 shadow = compare(serial[f], data, "Transmittance0")
                 if shadow is None or shadow > TOLERANCE:
                     failures.append("%s/%s: Transmittance0 difference %s" % (run, f, shadow))
