@@ -9,6 +9,7 @@
 #include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
+#include "vtkSMPTools.h"
 
 #include <algorithm>
 #include <cmath>
@@ -85,6 +86,32 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
 
   double bounds[6];
   volume.Geometry.GetBounds(bounds);
+  // Light by light, keeping what each light adds (its share) for the next update, unless the
+  // per-light transmittances are asked for (every light is then shaded again) or the shares
+  // would take more than MaximumShareBytes.
+  const double shareBytes = static_cast<double>(target.NumberOfPoints()) * channels *
+    static_cast<double>(lookups.size() + sphericalLookups.size()) * sizeof(float);
+  if (!this->PerLightTransmittance && shareBytes <= MaximumShareBytes)
+  {
+    const std::vector<double> key = { static_cast<double>(target.Dimensions[0]),
+      static_cast<double>(target.Dimensions[1]), static_cast<double>(target.Dimensions[2]),
+      target.Origin[0], target.Origin[1], target.Origin[2], target.Spacing[0], target.Spacing[1],
+      target.Spacing[2], this->FilterWidth, static_cast<double>(this->FilterKernel),
+      static_cast<double>(channels), static_cast<double>(lights.size()) };
+    const bool kept = !inputModified && key == this->SharesKey;
+    this->SharesKey = key;
+    if (!this->ShadeSelectively(
+          volume, bounds, lights, lookups, sphericalLookups, target, kept, rgb))
+    {
+      this->Shares.clear();
+      return false;
+    }
+    report.Mode =
+      this->ShadedLights < static_cast<int>(lookups.size() + sphericalLookups.size()) ? 1 : 0;
+    return true;
+  }
+  this->Shares.clear();
+  this->ShadedLights = static_cast<int>(lookups.size() + sphericalLookups.size());
   const volillum::PointShading shading = this->Shading(volume, bounds, lookups, sphericalLookups,
     this->AllocateTransmittances(lights, channels, target.NumberOfPoints()),
     this->GetEmptyBlocks());
@@ -94,6 +121,131 @@ bool vtkFilteredVolumetricShadows::ComputeIllumination(const volillum::Classifie
     return false;
   }
   report.Mode = 0;
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkFilteredVolumetricShadows::ShadeSelectively(const volillum::ClassifiedVolume& volume,
+  const double bounds[6], const std::vector<volillum::LightState>& lights,
+  const std::vector<volillum::ShadowLookup>& lookups,
+  const std::vector<volillum::SphericalLookup>& sphericalLookups,
+  const volillum::GridGeometry& target, bool kept, float* rgb)
+{
+  const int channels = this->ChromaticAttenuation ? 3 : 1;
+  const long long points = target.NumberOfPoints();
+  this->Transmittances.clear();
+  if (!kept)
+  {
+    this->Shares.clear();
+  }
+  this->Shares.resize(lights.size());
+  // A light's geometry: its state at radiance 1 (a colour or intensity edit shades nothing).
+  auto geometry = [&](size_t index)
+  {
+    volillum::LightState g = lights[index];
+    g.Color = { { 1.0, 1.0, 1.0 } };
+    g.Intensity = 1.0;
+    return g;
+  };
+  // The lights to shade again, each alone at radiance 1 (rgb holds its share meanwhile).
+  std::vector<volillum::ShadowLookup> directional;
+  std::vector<volillum::SphericalLookup> spherical;
+  // A light is shaded again when it has no share, its geometry changed or its table was
+  // built anew.
+  for (auto l : lookups)
+  {
+    if (this->Shares[l.Index].Values.empty() ||
+      this->Shares[l.Index].Geometry != geometry(l.Index) || this->RebuiltTables[l.Table])
+    {
+      l.Radiance = { { 1.0, 1.0, 1.0 } };
+      directional.push_back(l);
+    }
+  }
+  for (auto l : sphericalLookups)
+  {
+    if (this->Shares[l.Index].Values.empty() ||
+      this->Shares[l.Index].Geometry != geometry(l.Index) || this->RebuiltSphericalTables[l.Table])
+    {
+      l.Light = geometry(l.Index);
+      spherical.push_back(l);
+    }
+  }
+  this->ShadedLights = static_cast<int>(directional.size() + spherical.size());
+  int shaded = 0;
+  auto shade = [&](const std::vector<volillum::ShadowLookup>& one,
+                 const std::vector<volillum::SphericalLookup>& sphericalOne, size_t index)
+  {
+    const volillum::PointShading shading = this->Shading(volume, bounds, one, sphericalOne,
+      std::vector<float*>(lights.size(), nullptr), this->GetEmptyBlocks());
+    const double done = static_cast<double>(shaded++) / this->ShadedLights;
+    if (!volillum::ShadePoints(shading, target, rgb,
+          [this, done](double fraction)
+          { return this->ReportProgress(0.5 + 0.5 * (done + fraction / this->ShadedLights)); }))
+    {
+      return false;
+    }
+    LightShare& share = this->Shares[index];
+    share.Geometry = geometry(index);
+    share.Values.resize(static_cast<size_t>(points) * channels);
+    vtkSMPTools::For(0, points,
+      [&](long long begin, long long end)
+      {
+        for (long long p = begin; p < end; ++p)
+        {
+          for (int c = 0; c < channels; ++c)
+          {
+            share.Values[channels * p + c] = rgb[3 * p + c];
+          }
+        }
+      });
+    return true;
+  };
+  for (const auto& l : directional)
+  {
+    if (!shade({ l }, {}, l.Index))
+    {
+      return false;
+    }
+  }
+  for (const auto& l : spherical)
+  {
+    if (!shade({}, { l }, l.Index))
+    {
+      return false;
+    }
+  }
+  // The illumination: every light that is on, its radiance times its share, in the lights'
+  // order (the same sum whichever lights were shaded again).
+  std::vector<std::array<double, 3>> radiance;
+  std::vector<const float*> values;
+  for (size_t i = 0; i < lights.size(); ++i)
+  {
+    if (lights[i].On && !this->Shares[i].Values.empty())
+    {
+      radiance.push_back(lights[i].Radiance());
+      values.push_back(this->Shares[i].Values.data());
+    }
+    else
+    {
+      this->Shares[i] = LightShare();
+    }
+  }
+  vtkSMPTools::For(0, points,
+    [&](long long begin, long long end)
+    {
+      for (long long p = begin; p < end; ++p)
+      {
+        for (int c = 0; c < 3; ++c)
+        {
+          double sum = 0.0;
+          for (size_t l = 0; l < values.size(); ++l)
+          {
+            sum += radiance[l][c] * values[l][channels * p + (channels == 3 ? c : 0)];
+          }
+          rgb[3 * p + c] = static_cast<float>(sum);
+        }
+      }
+    });
   return true;
 }
 
@@ -184,6 +336,8 @@ void vtkFilteredVolumetricShadows::ComputeDistributedIllumination(
   report.Mode = 0;
   report.Passes = 0;
   this->Transmittances.clear(); // none from an earlier update
+  this->Shares.clear();
+  this->SharesKey.clear();
   this->DistributedUpdate = true;
   this->GrownPoints = 0;
   this->SentBytes = 0;
@@ -207,6 +361,7 @@ void vtkFilteredVolumetricShadows::ComputeDistributedIllumination(
   std::vector<volillum::ShadowLookup> lookups;
   std::vector<volillum::SphericalLookup> sphericalLookups;
   volillum::GroupShadowLights(lights, frames, lookups, sphericalLookups);
+  this->ShadedLights = static_cast<int>(lookups.size() + sphericalLookups.size());
   double reach, margin;
   this->TableReach(data, cell, sphericalLookups, reach, margin);
   // The tables' windows over this process's grown block, and the classification they read.
@@ -304,10 +459,13 @@ bool vtkFilteredVolumetricShadows::UpdateTables(const volillum::ClassifiedVolume
     this->Tables, frames.size(),
     [&](size_t f, const volillum::CartesianSAT& t) { return SameFrame(t.GetFrame(), frames[f]); },
     found);
+  this->RebuiltTables.assign(frames.size(), true);
+  this->RebuiltSphericalTables.assign(sphericalLookups.size(), true);
   for (size_t f = 0; f < frames.size(); ++f)
   {
     if (found[f] && settingsKept && tables[f].GetNumberOfChannels() == channels)
     {
+      this->RebuiltTables[f] = false;
       continue;
     }
     tables[f].Build(volume, frames[f], cellSize, channels, empty, piece, margin);
@@ -329,6 +487,7 @@ bool vtkFilteredVolumetricShadows::UpdateTables(const volillum::ClassifiedVolume
   {
     if (found[i] && settingsKept && spherical[i].GetTable().GetNumberOfChannels() == channels)
     {
+      this->RebuiltSphericalTables[i] = false;
       continue;
     }
     spherical[i].Build(
@@ -384,6 +543,7 @@ void vtkFilteredVolumetricShadows::AddOutputArrays(vtkPointData* pointData)
 //------------------------------------------------------------------------------
 void vtkFilteredVolumetricShadows::AddOutputFieldData(vtkFieldData* fieldData)
 {
+  volillum::AddCountFieldData(fieldData, "ShadedLights", this->ShadedLights);
   if (this->DistributedUpdate)
   {
     volillum::AddCountFieldData(fieldData, "GrownPoints", this->GrownPoints);

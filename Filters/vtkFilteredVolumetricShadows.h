@@ -109,6 +109,18 @@ public:
   vtkGetMacro(SATResolutionScale, double);
   ///@}
 
+  /**
+   * Largest memory the filter keeps for selective updates (bytes): the light each light
+   * brings to every point per unit of its radiance (4 bytes a point and light, 12 with
+   * ChromaticAttenuation). Within it, an update shades again only the lights whose geometry
+   * (type, position, direction, cone, size, switch) or table changed since the last one,
+   * when the classification, FilterWidth, FilterKernel and the grid are those of that update:
+   * a colour or intensity edit shades nothing, a Radius edit or a move that light alone (the
+   * field array ShadedLights counts the lights shaded). Beyond it, and with PerLightTransmittance,
+   * every update shades every light.
+   */
+  static constexpr double MaximumShareBytes = 1024.0 * 1024.0 * 1024.0;
+
 protected:
   vtkFilteredVolumetricShadows() = default;
   ~vtkFilteredVolumetricShadows() override = default;
@@ -174,6 +186,15 @@ private:
     const std::vector<volillum::SphericalLookup>& sphericalLookups,
     const std::vector<volillum::LightState>& lights, const volillum::GridGeometry& target,
     const int own[6], const volillum::EmptyBlocks* empty, float* rgb);
+  // Shade the points of `target` light by light into Shares and sum them into rgb: when
+  // `kept` (the classification, the shading settings and the grid are the last update's),
+  // only the lights whose geometry or table changed since then are shaded again; false when
+  // aborted.
+  bool ShadeSelectively(const volillum::ClassifiedVolume& volume, const double bounds[6],
+    const std::vector<volillum::LightState>& lights,
+    const std::vector<volillum::ShadowLookup>& lookups,
+    const std::vector<volillum::SphericalLookup>& sphericalLookups,
+    const volillum::GridGeometry& target, bool kept, float* rgb);
   // The per-light transmittance arrays (PerLightTransmittance), null for the others.
   std::vector<float*> AllocateTransmittances(
     const std::vector<volillum::LightState>& lights, int channels, long long points);
@@ -183,8 +204,24 @@ private:
   std::vector<volillum::CartesianSAT> Tables;
   std::vector<volillum::SphericalSAT> SphericalTables;
   double TablesScale = 0.0;
+  // Which tables the last UpdateTables built (per frame and per point or spot light).
+  std::vector<bool> RebuiltTables;
+  std::vector<bool> RebuiltSphericalTables;
   std::vector<double> TablesWindow; // the whole grid and piece of windows; empty: whole tables
   std::vector<vtkSmartPointer<vtkFloatArray>> Transmittances;
+  // Per light of the last serial update: the light that reaches each point per unit of its
+  // radiance (spot factor x transmittance, one value a point, three with chromatic
+  // attenuation; empty for a light that is off or when there are none), the light's state
+  // it was shaded for (radiance 1), and what else it depends on (SharesKey: the grid and the
+  // shading settings). ShadedLights: how many lights the last update shaded.
+  struct LightShare
+  {
+    volillum::LightState Geometry;
+    std::vector<float> Values;
+  };
+  std::vector<LightShare> Shares;
+  std::vector<double> SharesKey;
+  int ShadedLights = 0;
   // The last parallel update with distributed tables (field arrays GrownPoints, SentBytes).
   bool DistributedUpdate = false;
   long long GrownPoints = 0;

@@ -1,6 +1,7 @@
 // Tests of vtkFilteredVolumetricShadows: hard shadows against the ray-marched reference,
 // sharing of tables between orthodirectional lights, reuse of tables when only light
-// colours change, lights of finite size, and lights it cannot handle yet.
+// colours change, lights of finite size, selective shading of edited lights, and lights it
+// cannot handle yet.
 #include "IlluminationFidelity.h"
 #include "IlluminationLightList.h"
 #include "IlluminationTestUtilities.h"
@@ -11,12 +12,14 @@
 #include "vtkExecutive.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
+#include "vtkMinimalStandardRandomSequence.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 using volillumtest::DirectionalLight;
 using volillumtest::ErrorCounter;
@@ -239,6 +242,96 @@ TEST(FilteredVolumetricShadows, ALightsRadiusSoftensItsShadowsAndZeroRestoresThe
       largest = std::max(largest, std::abs(again->GetComponent(i, 0) - hard->GetComponent(i, 0)));
     }
     EXPECT_EQ(largest, 0.0);
+  }
+}
+
+TEST(FilteredVolumetricShadows, EditsShadeOnlyTheLightsWhoseGeometryChanged)
+{
+  // Three lights (two directional, one spot) under 60 random edits of one light each: its
+  // colour or intensity (no light shaded again), its radius, its switch or its position
+  // (that light only, when it is on; a move builds its table anew). After every edit the
+  // output equals a new filter's with the same lights, bit for bit.
+  auto image = Spheres(32);
+  auto otf = Opacity();
+  std::vector<vtkSmartPointer<vtkLight>> lights = { DirectionalLight(0.3, 0.2, -1, 1, 0.8, 0.6),
+    DirectionalLight(-1, 0.1, 0.2, 0.4, 0.5, 1), PointLight(-10, 12, 40, 0.9, 1, 0.7) };
+  lights[2]->SetConeAngle(40);
+  vtkNew<vtkFilteredVolumetricShadows> filter;
+  filter->SetInputData(image);
+  filter->SetOpacityFunction(otf);
+  filter->SetChromaticAttenuation(true);
+  for (const auto& l : lights)
+  {
+    filter->AddLight(l);
+  }
+  filter->Update();
+  auto shaded = [&]()
+  {
+    return static_cast<int>(
+      filter->GetOutput()->GetFieldData()->GetArray("ShadedLights")->GetTuple1(0));
+  };
+  EXPECT_EQ(shaded(), 3);
+  vtkNew<vtkMinimalStandardRandomSequence> random;
+  random->SetSeed(48);
+  auto next = [&]()
+  {
+    random->Next();
+    return random->GetValue();
+  };
+  int counts[4] = { 0, 0, 0, 0 };
+  for (int edit = 0; edit < 60; ++edit)
+  {
+    vtkLight* light = lights[static_cast<size_t>(next() * 2.999)];
+    const int kind = static_cast<int>(next() * 3.999);
+    const bool wasOn = light->GetSwitch() != 0;
+    if (kind == 0)
+    {
+      light->SetDiffuseColor(next(), next(), next());
+      light->SetIntensity(0.5 + next());
+    }
+    else if (kind == 1)
+    {
+      volillum::SetLightRadius(light, light->GetPositional() ? 6 * next() : 20 * next());
+    }
+    else if (kind == 2)
+    {
+      light->SetSwitch(!light->GetSwitch());
+    }
+    else
+    {
+      double p[3];
+      light->GetPosition(p);
+      light->SetPosition(p[0] + next() - 0.5, p[1] + next() - 0.5, p[2]);
+    }
+    filter->Update();
+    // The edited light alone is shaded again when it is on and its geometry changed.
+    const int expected = kind != 0 && light->GetSwitch() && (kind != 2 || !wasOn) ? 1 : 0;
+    EXPECT_EQ(shaded(), expected) << "edit " << edit << ", kind " << kind;
+    if (kind < 2)
+    {
+      EXPECT_EQ(Passes(filter), 0) << "edit " << edit;
+    }
+    ++counts[kind];
+    vtkNew<vtkFilteredVolumetricShadows> fresh;
+    fresh->SetInputData(image);
+    fresh->SetOpacityFunction(otf);
+    fresh->SetChromaticAttenuation(true);
+    for (const auto& l : lights)
+    {
+      fresh->AddLight(l);
+    }
+    fresh->Update();
+    auto a = Result(filter), b = Result(fresh);
+    double largest = 0.0;
+    for (vtkIdType i = 0; i < a->GetNumberOfValues(); ++i)
+    {
+      largest = std::max(largest, std::abs(double(a->GetValue(i)) - b->GetValue(i)));
+    }
+    ASSERT_EQ(largest, 0.0) << "edit " << edit << ", kind " << kind;
+  }
+  for (int count : counts)
+  {
+    EXPECT_GT(count, 5);
   }
 }
 
