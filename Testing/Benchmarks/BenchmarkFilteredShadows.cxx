@@ -106,13 +106,15 @@ json FilteredShadows(const Volume& v, double scale, bool large)
     l->SetFocalPoint(travel.data());
     lights.push_back(l);
   }
-  // radius: the lights' size (apparent diameter in degrees; 0: hard lights).
-  auto filtered = [&](double width, int kernel, double radius)
+  // radius: the lights' size (apparent diameter in degrees; 0: hard lights); ambient: the
+  // ambient occlusion's strength (0: none; the default radius).
+  auto filtered = [&](double width, int kernel, double radius, double ambient = 0.0)
   {
     vtkNew<vtkFilteredVolumetricShadows> f;
     Configure(f, v, scale);
     f->SetFilterWidth(width);
     f->SetFilterKernel(kernel);
+    f->SetAmbientOcclusion(ambient);
     for (const auto& l : lights)
     {
       volillum::SetLightRadius(l, radius);
@@ -122,9 +124,10 @@ json FilteredShadows(const Volume& v, double scale, bool large)
     json r;
     r["tf_change_s"] = AfterTransferFunctionChange(f, v);
     r["tables_built"] = Passes(f);
-    lights[0]->SetDiffuseColor(1.0, 0.9, 0.8);
-    r["color_change_s"] = Seconds([&] { f->Update(); });
-    lights[0]->SetDiffuseColor(1.0, 1.0, 1.0);
+    // One light's size edited (2 degrees more): that light alone is shaded again, no table
+    // built.
+    volillum::SetLightRadius(lights[0], radius + 2.0);
+    r["radius_edit_s"] = Seconds([&] { f->Update(); });
     for (const auto& l : lights)
     {
       volillum::SetLightRadius(l, 0.0);
@@ -138,6 +141,9 @@ json FilteredShadows(const Volume& v, double scale, bool large)
   const json box11 = filtered(11, vtkFilteredVolumetricShadows::Box, 0.0);
   // Lights 5 degrees across: a cone of boxes a light and point.
   const json soft3 = filtered(3, vtkFilteredVolumetricShadows::Box, 5.0);
+  // Ambient occlusion at its default radius (a twentieth of the diagonal), computed again
+  // after a transfer-function change and kept when a light's colour changes.
+  const json ambient3 = filtered(3, vtkFilteredVolumetricShadows::Box, 0.0, 1.0);
   // The Gaussian reads 25 cuboids a light and point: timed on the smaller volume only.
   const json gauss3 = large ? json() : filtered(3, vtkFilteredVolumetricShadows::Gaussian, 0.0);
   const double t3 = box3["tf_change_s"].get<double>();
@@ -145,9 +151,15 @@ json FilteredShadows(const Volume& v, double scale, bool large)
   r["filtered_width11_s"] = box11["tf_change_s"].get<double>();
   r["tables_built"] = box3["tables_built"];
   r["width11_over_width3"] = box11["tf_change_s"].get<double>() / t3;
-  r["table_build_share"] = 1.0 - box3["color_change_s"].get<double>() / t3;
+  // One of the three sized lights' size edited against all three after a transfer-function
+  // change (tables and every light shaded).
+  r["radius_edit_over_tf_change"] =
+    soft3["radius_edit_s"].get<double>() / soft3["tf_change_s"].get<double>();
   r["gaussian_over_box"] = large ? 0.0 : gauss3["tf_change_s"].get<double>() / t3;
   r["radius5_over_hard"] = soft3["tf_change_s"].get<double>() / t3;
+  r["ambient_over_none"] = ambient3["tf_change_s"].get<double>() / t3;
+  r["ambient_radius_edit_over_none"] =
+    ambient3["radius_edit_s"].get<double>() / box3["radius_edit_s"].get<double>();
 
   vtkNew<vtkMultiLightIlluminationVolume> propagation;
   Configure(propagation, v, scale);
@@ -171,9 +183,10 @@ json FilteredShadows(const Volume& v, double scale, bool large)
             << std::setw(12) << referenceSeconds << std::setw(11) << t3 << std::setw(11)
             << r["filtered_speedup_over_reference"].get<double>() << std::setw(10)
             << r["width11_over_width3"].get<double>() << std::setw(12)
-            << r["table_build_share"].get<double>() << std::setw(12)
+            << r["radius_edit_over_tf_change"].get<double>() << std::setw(12)
             << r["gaussian_over_box"].get<double>() << std::setw(11)
-            << r["radius5_over_hard"].get<double>() << std::setw(12)
+            << r["radius5_over_hard"].get<double>() << std::setw(10)
+            << r["ambient_over_none"].get<double>() << std::setw(12)
             << r["propagation_over_filtered"].get<double>() << "\n";
   return r;
 }
@@ -183,9 +196,9 @@ json FilteredShadowsSuite(const Volume& v, bool smoke)
   std::cout << "\nFiltered shadows after a transfer-function change, 3 orthodirectional lights\n"
             << std::left << std::setw(16) << "volume" << std::setw(7) << "scale" << std::right
             << std::setw(12) << "ref [s]" << std::setw(11) << "filt [s]" << std::setw(11)
-            << "ref/filt" << std::setw(10) << "w11/w3" << std::setw(12) << "table share"
-            << std::setw(12) << "gauss/box" << std::setw(11) << "r5/hard" << std::setw(12)
-            << "prop/filt"
+            << "ref/filt" << std::setw(10) << "w11/w3" << std::setw(12) << "edit1/tf"
+            << std::setw(12) << "gauss/box" << std::setw(11) << "r5/hard" << std::setw(10)
+            << "ao/none" << std::setw(12) << "prop/filt"
             << "\n";
   json rows = json::array();
   rows.push_back(FilteredShadows(v, 0.5, false));
