@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """Makes the pictures of the README and of Documentation/ (this folder's PNGs).
 
-Every picture but soft.png comes from the shipped CT head (Data/headsq.vti) or a generated
-phantom, so any clone with a build can remake them; soft.png needs the engine of
-../shared/data beside the clone:
+Every picture but soft.png and ambient.png comes from the shipped CT head (Data/headsq.vti)
+or a generated phantom, so any clone with a build can remake them; soft.png and ambient.png
+need the engine of ../shared/data beside the clone:
 
   hero.png          the demo (`./setup.sh demo`): the head lit by a warm point light and a
                     blue directional light, beside local shading
@@ -14,6 +14,8 @@ phantom, so any clone with a build can remake them; soft.png needs the engine of
   filtered.png      Filtered Shadows: the chirp phantom's shadow with filter width 0 and 9
   soft.png          Filtered Shadows from a directional light 0, 5 and 15 degrees across
                     (Shadow Radius) on the engine
+  ambient.png       the engine under one directional light, without and with ambient
+                    occlusion (an ambient light through the local transmittance)
   unstructured.png  the two-level solver on a tetrahedral mesh made from the head
 
 Usage, from anywhere (python3, no display needed):
@@ -109,6 +111,22 @@ def soft(cli, tmp):
                             "color": [1, 0.95, 0.85], "intensity": 1.2, "radius": radius}]}
     labelled_row(cli, tmp, "soft", [ENGINE],
                  [("Shadow Radius %d" % radius, settings(radius)) for radius in (0, 5, 15)])
+
+
+def ambient(cli, tmp):
+    if not os.path.exists(ENGINE):
+        print("make_images.py: ambient.png left as it is: it needs the engine, %s" % ENGINE)
+        return
+    def settings(strength):
+        return {"method": "filtered", "image_size": [400, 400], "ambient": 0.05,
+                "ambient_occlusion": strength,
+                "camera": {"azimuth": 20, "elevation": 30, "zoom": 1.1},
+                "lights": [{"type": "directional", "position": [1.6, 0.9, 1.4],
+                            "focal_point": [0.5, 0.5, 0.5], "relative": True,
+                            "color": [1, 0.95, 0.85], "intensity": 0.8}]}
+    labelled_row(cli, tmp, "ambient", [ENGINE],
+                 [("No ambient occlusion", settings(0)),
+                  ("Ambient Occlusion 0.8", settings(0.8))])
 
 
 def unstructured(cli, tmp):
@@ -270,7 +288,7 @@ def gui(cli, tmp, plugin):
 
 
 PICTURES = {"hero": hero, "propagation": propagation, "filtered": filtered, "soft": soft,
-            "unstructured": unstructured, "gui": gui}
+            "ambient": ambient, "unstructured": unstructured, "gui": gui}
 
 
 def main():
