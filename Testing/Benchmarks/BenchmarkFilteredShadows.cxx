@@ -124,6 +124,7 @@ json FilteredShadows(const Volume& v, double scale, bool large)
     json r;
     r["tf_change_s"] = AfterTransferFunctionChange(f, v);
     r["tables_built"] = Passes(f);
+    f->Update(); // the transfer function back as it was (a change of its own, not timed)
     // One light's size edited (2 degrees more): that light alone is shaded again, no table
     // built.
     volillum::SetLightRadius(lights[0], radius + 2.0);
