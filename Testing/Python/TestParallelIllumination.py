@@ -522,24 +522,46 @@ def read_whole(path):
 
 
 def values_by_point(data, name):
-    """The array's tuples keyed by the coordinates of their points (exact: the pieces hold
-    the points the serial grid has)."""
+    """The array's tuples at the distinct points, sorted by their coordinates (exact: the
+    pieces hold the points the serial grid has): (coordinates, tuples), where points coincide
+    the last one's tuple; None when the array is missing."""
+    import numpy
     from vtkmodules.util.numpy_support import vtk_to_numpy
     array = data.GetPointData().GetArray(name)
-    values = vtk_to_numpy(array).reshape(-1, array.GetNumberOfComponents())
-    points = [data.GetPoint(i) for i in range(data.GetNumberOfPoints())]
-    return dict(zip(points, values))
+    if array is None:
+        return None
+    values = vtk_to_numpy(array).reshape(-1, array.GetNumberOfComponents()).astype(numpy.float64)
+    if data.GetNumberOfPoints() == 0:
+        return numpy.zeros((0, 3)), values
+    if data.IsA("vtkImageData"):
+        extent = data.GetExtent()
+        k, j, i = numpy.meshgrid(*(numpy.arange(extent[2 * a], extent[2 * a + 1] + 1)
+                                   for a in (2, 1, 0)), indexing="ij")
+        index = numpy.stack([i.ravel(), j.ravel(), k.ravel()], axis=1) * data.GetSpacing()
+        direction = data.GetDirectionMatrix()
+        rotation = [[direction.GetElement(r, c) for c in range(3)] for r in range(3)]
+        points = data.GetOrigin() + index @ numpy.array(rotation).T
+    else:
+        points = vtk_to_numpy(data.GetPoints().GetData()).astype(numpy.float64)
+    # numpy.unique keeps each row's first index: that of its last point, read backwards.
+    coordinates, first = numpy.unique(points[::-1], axis=0, return_index=True)
+    return coordinates, values[::-1][first]
 
 
 def compare(serial, parallel, name="Illumination"):
-    """Largest difference over the largest serial value; None when points are missing."""
+    """Largest difference over the largest serial value (infinite where a value is not a
+    finite number); None when points or the array are missing."""
+    import numpy
     a = values_by_point(serial, name)
     b = values_by_point(parallel, name)
-    if set(a) != set(b):
+    if a is None or b is None or a[0].shape != b[0].shape or (a[0] != b[0]).any():
         return None
-    largest = max(abs(float(x)) for v in a.values() for x in v)
-    difference = max(abs(float(x) - float(y)) for k in a for x, y in zip(a[k], b[k]))
-    return difference / largest
+    inf = float("inf")
+    if not (numpy.isfinite(a[1]).all() and numpy.isfinite(b[1]).all()):
+        return inf
+    largest = numpy.abs(a[1]).max(initial=0.0)
+    difference = numpy.abs(a[1] - b[1]).max(initial=0.0)
+    return float(difference / largest) if largest > 0 else (0.0 if difference == 0 else inf)
 
 
 def held_less(out, run, f, field, what, held, failures):
