@@ -54,7 +54,15 @@ def lights(bounds, count, turn=0.0, kind=0):
     return rows
 
 
-def worker(plugin, volume, mode):
+def worker(plugin, volume, modes):
+    """Runs the modes given (comma-separated) in turn, each as `measure` describes."""
+    from paraview.simple import LoadPlugin
+    LoadPlugin(plugin, remote=False, ns=globals())
+    for mode in modes.split(","):
+        measure(volume, mode)
+
+
+def measure(volume, mode):
     """Times a full update and a one-light edit of the propagation and (mode "all") a full
     update of filtered shadows and of the ray marcher; prints one JSON line. Mode "bands":
     the propagation only; "assembled": the propagation only, with DistributedSweeps off
@@ -63,9 +71,8 @@ def worker(plugin, volume, mode):
     with DistributedTables on and off."""
     assembled = mode in ("assembled", "point_assembled")
     kind = 1 if mode.startswith("point") else 0
-    from paraview.simple import (LoadPlugin, XMLImageDataReader, GetColorTransferFunction,
+    from paraview.simple import (XMLImageDataReader, GetColorTransferFunction,
                                  GetOpacityTransferFunction)
-    LoadPlugin(plugin, remote=False, ns=globals())
     reader = XMLImageDataReader(FileName=[volume])
     reader.UpdatePipeline()
     array = reader.PointData.keys()[0]
@@ -184,22 +191,23 @@ def worker(plugin, volume, mode):
                                   lit.GetNumberOfComponents() * value.GetDataTypeSize()}))
 
 
-def run(command, plugin, volume, mode="all"):
+def run(command, plugin, volume, modes):
+    """The worker's results for each mode (a list), all run by one process."""
     sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Python"))
     from IlluminatedVolumeTestUtilities import environment_for_mpiexec
     environment = environment_for_mpiexec()
     environment["VTK_SMP_BACKEND_IN_USE"] = "Sequential"
     result = subprocess.run(command + [os.path.abspath(__file__), "--worker", plugin, volume,
-                                       mode],
+                                       ",".join(modes)],
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                             env=environment, timeout=3000)
     # pvbatch runs the script on the first process (the others serve it): its times and its
     # peak memory.
     results = [json.loads(line[len("RESULT "):]) for line in result.stdout.splitlines()
                if line.startswith("RESULT ")]
-    if not results:
+    if len(results) != len(modes):
         raise RuntimeError("the run failed:\n" + result.stdout[-3000:])
-    return results[0]
+    return results
 
 
 def prepare(data_dir, out, smoke):
@@ -269,33 +277,35 @@ def main():
     os.makedirs(out, exist_ok=True)
     volume, name = prepare(data_dir, out, smoke)
     pvbatch = shutil.which("pvbatch")
-    one = run([pvbatch], plugin, volume)
-    two = run([mpiexec] + flags.split() + ["-np", "2", pvbatch], plugin, volume)
-    two_assembled = run([mpiexec] + flags.split() + ["-np", "2", pvbatch], plugin, volume,
-                        "assembled")
-    # Memory on 4 processes (oversubscribed on 2 cores: their times mean nothing).
-    four = {mode: run([mpiexec] + flags.split() + ["-np", "4", pvbatch], plugin, volume, mode)
-            for mode in ("bands", "assembled", "filtered", "filtered_assembled", "filtered_point",
-                         "filtered_point_assembled")}
-    # The propagation with the lights made point lights (each swept over wedges of its rays,
-    # one a process), on 1, 2 and 4 processes, and with the input assembled.
-    point_lights = {"1": run([pvbatch], plugin, volume, "point")}
-    for n in ("2", "4"):
-        for mode in ("point", "point_assembled"):
-            point_lights[n + mode[len("point"):]] = run(
-                [mpiexec] + flags.split() + ["-np", n, pvbatch], plugin, volume, mode)
-    # Filtered shadows alone, for their peak memory (directional and point lights).
-    shadows = {"1": run([pvbatch], plugin, volume, "filtered"),
-               "1_point": run([pvbatch], plugin, volume, "filtered_point")}
+    # The worker's modes on each number of processes. Memory on 4 processes (oversubscribed on
+    # 2 cores: their times mean nothing). The propagation with the lights made point lights
+    # ("point": each swept over wedges of its rays, one a process; "point_assembled"), filtered
+    # shadows alone for their peak memory (directional and point lights, with distributed
+    # tables and assembled), and the representation as ParaView renders it.
+    plan = {1: ["all", "point", "filtered", "filtered_point", "render", "render_shadows"],
+            2: ["all", "assembled", "point", "point_assembled", "filtered", "filtered_assembled",
+                "filtered_point", "filtered_point_assembled", "render", "render_shadows"],
+            4: ["bands", "assembled", "filtered", "filtered_assembled", "filtered_point",
+                "filtered_point_assembled", "point", "point_assembled"]}
+    measured = {}
+    for n, modes in plan.items():
+        command = [pvbatch] if n == 1 else [mpiexec] + flags.split() + ["-np", str(n), pvbatch]
+        # Each mode in a process of its own, so that each peak memory is its own; the smoke
+        # run (tiny sizes: only whether it runs) starts one process per count.
+        runs = [modes] if smoke else [[mode] for mode in modes]
+        for group in runs:
+            measured.update(((n, mode), r) for mode, r in zip(group, run(command, plugin, volume,
+                                                                          group)))
+    one, two, two_assembled = measured[1, "all"], measured[2, "all"], measured[2, "assembled"]
+    four = {mode: measured[4, mode] for mode in plan[4]}
+    point_lights = {"1": measured[1, "point"], "2": measured[2, "point"],
+                    "2_assembled": measured[2, "point_assembled"], "4": measured[4, "point"],
+                    "4_assembled": measured[4, "point_assembled"]}
+    shadows = {"1": measured[1, "filtered"], "1_point": measured[1, "filtered_point"]}
     for mode in ("filtered", "filtered_assembled", "filtered_point", "filtered_point_assembled"):
-        shadows["2" + mode[len("filtered"):]] = run(
-            [mpiexec] + flags.split() + ["-np", "2", pvbatch], plugin, volume, mode)
-    # The representation, as ParaView renders it.
-    rendering = {}
-    for mode in ("render", "render_shadows"):
-        rendering[mode] = {"1": run([pvbatch], plugin, volume, mode),
-                           "2": run([mpiexec] + flags.split() + ["-np", "2", pvbatch], plugin,
-                                    volume, mode)}
+        shadows["2" + mode[len("filtered"):]] = measured[2, mode]
+    rendering = {mode: {"1": measured[1, mode], "2": measured[2, mode]}
+                 for mode in ("render", "render_shadows")}
     # Each process receives the other pieces of the lit array: (N - 1) / N of it.
     received = two["bytes"] / 2
     # Assembled: each process sends the fixed-point units (3 x 4 bytes a point) of the other
