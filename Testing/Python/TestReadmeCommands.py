@@ -19,6 +19,7 @@ import shlex
 import subprocess
 import sys
 import tempfile
+import time
 
 # Programs whose README command runs long: the flag that gives their smoke run.
 SMOKE = {
@@ -104,9 +105,11 @@ def main():
             ran += 1
             outputs = [] if stdin else named_outputs(command, work)
             print("$ " + command, flush=True)
+            start = time.time()
             run = subprocess.run(command, shell=True, cwd=work, env=env, input=stdin, text=True,
                                  stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=1200)
             print("\n".join(run.stdout.splitlines()[-8:]))
+            print("(%.1f s)" % (time.time() - start), flush=True)
             if run.returncode != 0:
                 failures.append("exit %d: %s" % (run.returncode, command))
                 continue
