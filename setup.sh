@@ -53,6 +53,7 @@ build() {
   install_packages "${packages[@]}"
   cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
   cmake --build build -j"$(nproc)"
+  echo "setup.sh: installed and built in ${SECONDS} s"
 }
 
 # AddressSanitizer + UndefinedBehaviorSanitizer: a second build folder with the C++ tests
@@ -147,7 +148,7 @@ cmake -S . -B build-paraview-5.13 -DCMAKE_BUILD_TYPE=Release -DVOLILLUM_SHARED_D
   -Wno-dev
 cmake --build build-paraview-5.13 -j"$(nproc)"
 cd build-paraview-5.13
-xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" ctest --output-on-failure
+xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" ctest --output-on-failure -j"$(nproc)"
 EOS
 }
 
@@ -164,10 +165,13 @@ case "${1:-}" in
     # One X server for the tests (each xvfb-run start is a chance for a display race);
     # -noreset keeps it from resetting whenever its last client leaves, which a program
     # connecting at that moment sees as a bad connection. The benchmarks' smoke runs are
-    # the README's commands, run by the test README.CommandsRunAsWritten.
+    # the README's commands, run by the test README.CommandsRunAsWritten. Tests run as many at
+    # a time as there are cores (those that must run alone say so: RUN_SERIAL).
     xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" bash -c 'set -e
-      (cd build && ctest --output-on-failure)
-      ./setup.sh sanitize'
+      (cd build && ctest --output-on-failure -j"$(nproc)")
+      echo "setup.sh: tests passed after ${SECONDS} s"
+      ./setup.sh sanitize
+      echo "setup.sh: sanitizer stage passed after ${SECONDS} s"'
     ;;
   build)
     build
@@ -178,6 +182,7 @@ case "${1:-}" in
     ;;
   test-paraview-5.13)
     test_paraview_513
+    echo "setup.sh: ParaView 5.13's tests passed in ${SECONDS} s"
     ;;
   *)
     echo "usage: ./setup.sh demo | test | build | sanitize | test-paraview-5.13" >&2
